@@ -1,0 +1,64 @@
+#include "kerf/app/Arguments.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+namespace kerf {
+
+Arguments::Arguments(const std::vector<std::string>& args, const std::vector<std::string>& valueOptions,
+                     const std::vector<std::string>& flags)
+{
+    auto isIn = [](const std::vector<std::string>& v, const std::string& s) {
+        return std::find(v.begin(), v.end(), s) != v.end();
+    };
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (a.size() > 1 && a[0] == '-') {
+            std::string name = a, value;
+            const auto eq = a.find('=');
+            const bool inlineValue = eq != std::string::npos && a.rfind("--", 0) == 0;
+            if (inlineValue) {
+                name = a.substr(0, eq);
+                value = a.substr(eq + 1);
+            }
+            if (isIn(flags, name) && !inlineValue) {
+                flags_.push_back(name);
+            } else if (isIn(valueOptions, name)) {
+                if (!inlineValue) {
+                    if (i + 1 >= args.size()) throw UsageError("option " + name + " needs a value");
+                    value = args[++i];
+                }
+                values_.emplace_back(name, value);
+            } else {
+                throw UsageError("unknown option " + name);
+            }
+        } else {
+            positional_.push_back(a);
+        }
+    }
+}
+
+bool Arguments::has(const std::string& flag) const
+{
+    return std::find(flags_.begin(), flags_.end(), flag) != flags_.end();
+}
+
+std::optional<std::string> Arguments::value(const std::string& option) const
+{
+    std::optional<std::string> v;
+    for (const auto& [name, value] : values_)
+        if (name == option) v = value; // the last one wins
+    return v;
+}
+
+double Arguments::parsePositiveMillimetres(const std::string& option, const std::string& text)
+{
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(v) || !(v > 0.0))
+        throw UsageError(option + " must be a positive number of millimetres, not '" + text + "'");
+    return v;
+}
+
+} // namespace kerf

@@ -1,0 +1,114 @@
+// kerf check FILE.kerf: loads and validates a document and reports what it
+// holds. Exit 0 when valid, 2 when the file is refused or usage is wrong.
+
+#include "kerf/app/Arguments.hpp"
+#include "kerf/app/Commands.hpp"
+#include "kerf/app/DocumentSummary.hpp"
+#include "kerf/document/DocumentError.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <ostream>
+
+namespace kerf {
+
+namespace {
+
+const char* kCheckHelp = R"(Usage: kerf check FILE.kerf [--json]
+
+Loads and validates a Kerf document. Prints the feature count, the bounding
+box and the feature size the viewport resolves.
+
+Options:
+  --json     print the figures as one JSON object
+  --help     show this help
+
+Exit status: 0 valid, 2 bad usage or a refused document (the reason, naming
+the file, the node id and the field, goes to stderr).
+)";
+
+std::string mm(double v)
+{
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.3f", v);
+    std::string s = buf;
+    while (s.size() > 1 && s.back() == '0') s.pop_back();
+    if (!s.empty() && s.back() == '.') s.pop_back();
+    return s;
+}
+
+std::string point(const glm::dvec3& p) { return "(" + mm(p.x) + ", " + mm(p.y) + ", " + mm(p.z) + ")"; }
+
+} // namespace
+
+int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
+{
+    try {
+        const Arguments a(args, {}, {"--json", "--help", "-h"});
+        if (a.has("--help") || a.has("-h")) {
+            out << kCheckHelp;
+            return 0;
+        }
+        if (a.positional().size() != 1) throw UsageError("expects exactly one FILE.kerf");
+        const std::filesystem::path file = a.positional()[0];
+        const Document doc = Document::load(file);
+        const DocumentSummary s = summarize(doc, file.parent_path().string());
+
+        if (a.has("--json")) {
+            nlohmann::ordered_json j;
+            j["file"] = file.string();
+            j["valid"] = true;
+            j["name"] = doc.name.value_or("");
+            j["nodes"] = s.nodes;
+            j["visible_nodes"] = s.visibleNodes;
+            j["primitives"] = s.primitives;
+            j["primitive_copies"] = s.primitiveCopies;
+            j["tape_instructions"] = s.tapeLength;
+            j["empty"] = s.bounds.isEmpty();
+            if (!s.bounds.isEmpty()) {
+                j["bounds_mm"] = {{s.bounds.min.x, s.bounds.min.y, s.bounds.min.z},
+                                  {s.bounds.max.x, s.bounds.max.y, s.bounds.max.z}};
+                j["size_mm"] = {s.bounds.size().x, s.bounds.size().y, s.bounds.size().z};
+            }
+            j["feature_size_mm"] = s.featureSize;
+            j["feature_size_from_document"] = s.featureSizeFromDocument;
+            j["meshes"] = s.meshes;
+            j["missing_meshes"] = s.missingMeshes;
+            out << j.dump(2) << "\n";
+            return 0;
+        }
+
+        out << file.string() << ": valid Kerf document" << (doc.name ? " \"" + *doc.name + "\"" : "") << "\n";
+        out << "  features:      " << s.nodes << " nodes (" << s.visibleNodes << " visible, " << s.primitives
+            << " primitives, " << s.primitiveCopies << " primitive copies after arrays and mirrors)\n";
+        if (s.bounds.isEmpty()) {
+            out << "  bounding box:  none (the part is empty: nothing visible)\n";
+        } else {
+            const glm::dvec3 e = s.bounds.size();
+            out << "  bounding box:  " << point(s.bounds.min) << " to " << point(s.bounds.max) << " mm\n";
+            out << "  size:          " << mm(e.x) << " x " << mm(e.y) << " x " << mm(e.z) << " mm\n";
+        }
+        out << "  feature size:  " << mm(s.featureSize) << " mm"
+            << (s.featureSizeFromDocument ? " (document)" : " (default: the document sets none)") << "\n";
+        out << "  tape:          " << s.tapeLength << " instructions\n";
+        if (s.meshes) {
+            out << "  meshes:        " << s.meshes << " reference mesh(es)";
+            if (s.missingMeshes) out << ", " << s.missingMeshes << " missing on disk";
+            out << "\n";
+        }
+        return 0;
+    } catch (const UsageError& e) {
+        err << "kerf check: " << e.what() << " (see kerf check --help)\n";
+        return 2;
+    } catch (const DocumentError& e) {
+        err << "kerf check: " << e.what() << "\n";
+        return 2;
+    } catch (const std::exception& e) {
+        err << "kerf check: " << e.what() << "\n";
+        return 1;
+    }
+}
+
+} // namespace kerf

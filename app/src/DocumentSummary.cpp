@@ -1,0 +1,53 @@
+#include "kerf/app/DocumentSummary.hpp"
+
+#include "kerf/document/NodeBounds.hpp"
+#include "kerf/evaluator/TapeCompiler.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+namespace kerf {
+
+namespace {
+void countNodes(const Node& n, bool visible, DocumentSummary& s)
+{
+    ++s.nodes;
+    visible = visible && n.visible;
+    if (visible) {
+        ++s.visibleNodes;
+        if (isPrimitive(n.type)) ++s.primitives;
+    }
+    for (const auto& c : n.children) countNodes(c, visible, s);
+}
+} // namespace
+
+double defaultFeatureSize(const Aabb& bounds)
+{
+    if (bounds.isEmpty() || !bounds.isBounded()) return 1.0;
+    const glm::dvec3 e = bounds.size();
+    const double target = std::max({e.x, e.y, e.z}) / 1000.0;
+    if (!(target > 0.0)) return 1.0;
+    const double decade = std::pow(10.0, std::floor(std::log10(target)));
+    for (double m : {5.0, 2.0, 1.0})
+        if (m * decade <= target) return m * decade;
+    return decade;
+}
+
+DocumentSummary summarize(const Document& doc, const std::string& documentFolder)
+{
+    DocumentSummary s;
+    countNodes(doc.root, true, s);
+    s.primitiveCopies = primitiveInstanceCount(doc.root, UINT64_MAX - 1);
+    s.tapeLength = compileTape(doc).size();
+    s.bounds = partBounds(doc);
+    s.featureSizeFromDocument = doc.settings.featureSize.has_value();
+    s.featureSize = doc.settings.featureSize.value_or(defaultFeatureSize(s.bounds));
+    s.meshes = doc.meshes.size();
+    for (const auto& m : doc.meshes) {
+        std::error_code ec;
+        if (!std::filesystem::exists(std::filesystem::path(documentFolder) / m.path, ec)) ++s.missingMeshes;
+    }
+    return s;
+}
+
+} // namespace kerf

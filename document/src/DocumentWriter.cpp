@@ -1,0 +1,149 @@
+// Serialization of Kerf documents: known fields in a stable order, then every
+// unknown field exactly as it was read.
+
+#include "kerf/document/AtomicFile.hpp"
+#include "kerf/document/Document.hpp"
+#include "kerf/document/DocumentError.hpp"
+
+namespace kerf {
+
+namespace {
+
+Json vec3(const glm::dvec3& v) { return Json::array({v.x, v.y, v.z}); }
+
+void mergeExtra(Json& out, const Json& extra)
+{
+    for (auto it = extra.begin(); it != extra.end(); ++it)
+        if (!out.contains(it.key())) out[it.key()] = it.value();
+}
+
+std::optional<Json> writeTransform(const Transform& t)
+{
+    if (t.isIdentity() && t.extra.empty()) return std::nullopt;
+    Json j = Json::object();
+    if (t.translate != glm::dvec3(0.0)) j["translate"] = vec3(t.translate);
+    if (t.rotate != glm::dvec3(0.0)) j["rotate"] = vec3(t.rotate);
+    mergeExtra(j, t.extra);
+    return j;
+}
+
+void writeParams(const Node& n, Json& j)
+{
+    switch (n.type) {
+    case NodeType::Box: {
+        const auto& p = n.as<BoxParams>();
+        j["size"] = vec3(p.size);
+        if (p.round != 0.0) j["round"] = p.round;
+        break;
+    }
+    case NodeType::Sphere: j["radius"] = n.as<SphereParams>().radius; break;
+    case NodeType::Cylinder:
+        j["radius"] = n.as<CylinderParams>().radius;
+        j["height"] = n.as<CylinderParams>().height;
+        break;
+    case NodeType::Cone: {
+        const auto& p = n.as<ConeParams>();
+        j["radius_bottom"] = p.radiusBottom;
+        j["radius_top"] = p.radiusTop;
+        j["height"] = p.height;
+        break;
+    }
+    case NodeType::Torus:
+        j["major_radius"] = n.as<TorusParams>().majorRadius;
+        j["minor_radius"] = n.as<TorusParams>().minorRadius;
+        break;
+    case NodeType::Extrude: {
+        const auto& p = n.as<ExtrudeParams>();
+        Json prof = Json::array();
+        for (const auto& v : p.profile) prof.push_back(Json::array({v.x, v.y}));
+        j["profile"] = std::move(prof);
+        j["height"] = p.height;
+        break;
+    }
+    case NodeType::Halfspace:
+        j["normal"] = vec3(n.as<HalfspaceParams>().normal);
+        j["offset"] = n.as<HalfspaceParams>().offset;
+        break;
+    case NodeType::Union:
+    case NodeType::Intersection:
+    case NodeType::Difference:
+        if (n.as<BooleanParams>().blend != 0.0) j["blend"] = n.as<BooleanParams>().blend;
+        break;
+    case NodeType::Offset: j["distance"] = n.as<OffsetParams>().distance; break;
+    case NodeType::Shell: j["thickness"] = n.as<ShellParams>().thickness; break;
+    case NodeType::Array: {
+        const auto& p = n.as<ArrayParams>();
+        j["count"] = Json::array({p.count[0], p.count[1], p.count[2]});
+        j["step"] = vec3(p.step);
+        break;
+    }
+    case NodeType::Mirror:
+        j["normal"] = vec3(n.as<MirrorParams>().normal);
+        if (n.as<MirrorParams>().offset != 0.0) j["offset"] = n.as<MirrorParams>().offset;
+        break;
+    }
+}
+
+Json writeNode(const Node& n)
+{
+    Json j = Json::object();
+    j["id"] = n.id;
+    j["type"] = std::string(nodeTypeName(n.type));
+    if (n.name) j["name"] = *n.name;
+    writeParams(n, j);
+    if (auto t = writeTransform(n.transform)) j["transform"] = std::move(*t);
+    if (!n.visible) j["visible"] = false;
+    if (n.color) j["color"] = formatColor(*n.color);
+    if (!isPrimitive(n.type)) {
+        Json kids = Json::array();
+        for (const auto& c : n.children) kids.push_back(writeNode(c));
+        j["children"] = std::move(kids);
+    }
+    mergeExtra(j, n.extra);
+    return j;
+}
+
+} // namespace
+
+std::string Document::serialize() const
+{
+    Json j = Json::object();
+    j["format"] = "kerf";
+    j["version"] = kFormatVersion;
+    if (units) j["units"] = *units;
+    if (name) j["name"] = *name;
+    Json s = Json::object();
+    if (settings.featureSize) s["feature_size"] = *settings.featureSize;
+    if (settings.bounds) s["bounds"] = Json::array({vec3(settings.bounds->min), vec3(settings.bounds->max)});
+    mergeExtra(s, settings.extra);
+    if (!s.empty()) j["settings"] = std::move(s);
+    j["root"] = writeNode(root);
+    if (!meshes.empty()) {
+        Json ms = Json::array();
+        for (const auto& m : meshes) {
+            Json mj = Json::object();
+            mj["id"] = m.id;
+            mj["path"] = m.path;
+            if (auto t = writeTransform(m.transform)) mj["transform"] = std::move(*t);
+            if (m.color) mj["color"] = formatColor(*m.color);
+            mergeExtra(mj, m.extra);
+            ms.push_back(std::move(mj));
+        }
+        j["meshes"] = std::move(ms);
+    }
+    mergeExtra(j, extra);
+    return j.dump(2) + "\n";
+}
+
+void Document::save(const std::filesystem::path& file) const
+{
+    const std::string text = serialize();
+    (void)parse(text, file.string()); // refuse to write what could not be read back
+    try {
+        writeFileAtomically(file, text);
+    } catch (const std::runtime_error& e) {
+        throw DocumentError(file.string(), "", "", e.what());
+    }
+}
+
+} // namespace kerf

@@ -1,0 +1,204 @@
+#include "kerf/document/NodeBounds.hpp"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+namespace kerf {
+
+namespace {
+
+std::vector<const Node*> visibleChildren(const Node& n)
+{
+    std::vector<const Node*> out;
+    for (const auto& c : n.children)
+        if (c.visible) out.push_back(&c);
+    return out;
+}
+
+// Bounds of a primitive's sublevel set {f < margin} in its own frame. Every
+// primitive's field is an exact distance, so the set lies within `margin` of
+// the solid's box (and inside it when margin <= 0).
+Aabb primitiveLocalBounds(const Node& n, double margin)
+{
+    const double inf = std::numeric_limits<double>::infinity();
+    Aabb box;
+    switch (n.type) {
+    case NodeType::Box: box = Aabb::centered(0.5 * n.as<BoxParams>().size); break;
+    case NodeType::Sphere: box = Aabb::centered(glm::dvec3(n.as<SphereParams>().radius)); break;
+    case NodeType::Cylinder: {
+        const auto& p = n.as<CylinderParams>();
+        box = Aabb::centered({p.radius, p.radius, 0.5 * p.height});
+        break;
+    }
+    case NodeType::Cone: {
+        const auto& p = n.as<ConeParams>();
+        const double r = std::max(p.radiusBottom, p.radiusTop);
+        box = Aabb::centered({r, r, 0.5 * p.height});
+        break;
+    }
+    case NodeType::Torus: {
+        const auto& p = n.as<TorusParams>();
+        const double r = p.majorRadius + p.minorRadius;
+        box = Aabb::centered({r, r, p.minorRadius});
+        break;
+    }
+    case NodeType::Extrude: {
+        const auto& p = n.as<ExtrudeParams>();
+        for (const auto& v : p.profile) box = box.merged(Aabb{{v.x, v.y, 0.0}, {v.x, v.y, 0.0}});
+        box.min.z = -0.5 * p.height;
+        box.max.z = 0.5 * p.height;
+        break;
+    }
+    case NodeType::Halfspace: {
+        // dot(n, p) <= offset is bounded along one axis only when n is axis-aligned.
+        const auto& p = n.as<HalfspaceParams>();
+        box = Aabb::infinite();
+        int axis = -1, nonZero = 0;
+        for (int i = 0; i < 3; ++i)
+            if (p.normal[i] != 0.0) {
+                axis = i;
+                ++nonZero;
+            }
+        if (nonZero == 1) {
+            if (p.normal[axis] > 0)
+                box.max[axis] = p.offset / p.normal[axis];
+            else
+                box.min[axis] = p.offset / p.normal[axis];
+        }
+        (void)inf;
+        break;
+    }
+    default: break;
+    }
+    return box.grown(std::max(margin, 0.0));
+}
+
+// Bounds of {f < margin} in the node's own frame (its transform not applied).
+Aabb localBounds(const Node& n, double margin);
+
+Aabb boundsInParent(const Node& n, double margin)
+{
+    if (!n.visible) return Aabb::empty();
+    return Affine::fromTransform(n.transform).apply(localBounds(n, margin));
+}
+
+Aabb arrayOffsets(const ArrayParams& p)
+{
+    Aabb offsets{glm::dvec3(0.0), glm::dvec3(0.0)};
+    for (int i = 0; i < 3; ++i) {
+        const double far = static_cast<double>(p.count[static_cast<std::size_t>(i)] - 1) * p.step[i];
+        offsets.min[i] = std::min(0.0, far);
+        offsets.max[i] = std::max(0.0, far);
+    }
+    return offsets;
+}
+
+Aabb localBounds(const Node& n, double margin)
+{
+    if (isPrimitive(n.type)) return primitiveLocalBounds(n, margin);
+    const auto kids = visibleChildren(n);
+    if (kids.empty()) return Aabb::empty();
+    switch (n.type) {
+    case NodeType::Union: {
+        // smin(a, b) >= min(a, b) - k/4: the blend adds material at most k/4 past
+        // where a child's field is below the margin.
+        const double k = n.as<BooleanParams>().blend;
+        Aabb box;
+        for (const Node* c : kids) box = box.merged(boundsInParent(*c, margin + 0.25 * k));
+        return box;
+    }
+    case NodeType::Intersection: {
+        // smax >= max: below the margin only where every child is.
+        Aabb box = Aabb::infinite();
+        for (const Node* c : kids) box = box.intersected(boundsInParent(*c, margin));
+        return box;
+    }
+    case NodeType::Difference: return boundsInParent(*kids.front(), margin);
+    case NodeType::Offset: return boundsInParent(*kids.front(), margin + n.as<OffsetParams>().distance);
+    case NodeType::Shell: return boundsInParent(*kids.front(), margin);
+    case NodeType::Array: return boundsInParent(*kids.front(), margin).swept(arrayOffsets(n.as<ArrayParams>()));
+    case NodeType::Mirror: {
+        const auto& p = n.as<MirrorParams>();
+        const Aabb child = boundsInParent(*kids.front(), margin);
+        return child.merged(Affine::reflection(p.normal, p.offset).apply(child));
+    }
+    default: return Aabb::empty();
+    }
+}
+
+// Maps a box in some node's frame to world bounds over every instance of that
+// node: a chain of stages from the node outwards (placements, array sweeps,
+// mirror images).
+using ToWorld = std::function<Aabb(const Aabb&)>;
+
+void collectWorldBounds(const Node& n, const ToWorld& parentToWorld, double margin,
+                        std::unordered_map<std::string, Aabb>& out)
+{
+    if (!n.visible) return;
+    out[n.id] = parentToWorld(boundsInParent(n, margin));
+    const Affine placement = Affine::fromTransform(n.transform);
+    ToWorld selfToWorld;
+    switch (n.type) {
+    case NodeType::Array: {
+        const Aabb offsets = arrayOffsets(n.as<ArrayParams>());
+        selfToWorld = [=](const Aabb& b) { return parentToWorld(placement.apply(b.swept(offsets))); };
+        break;
+    }
+    case NodeType::Mirror: {
+        const auto& p = n.as<MirrorParams>();
+        const Affine reflect = Affine::reflection(p.normal, p.offset);
+        selfToWorld = [=](const Aabb& b) { return parentToWorld(placement.apply(b.merged(reflect.apply(b)))); };
+        break;
+    }
+    default: selfToWorld = [=](const Aabb& b) { return parentToWorld(placement.apply(b)); }; break;
+    }
+    // Margins reaching children: the same rules as localBounds.
+    double childMargin = margin;
+    if (n.type == NodeType::Union) childMargin += 0.25 * n.as<BooleanParams>().blend;
+    if (n.type == NodeType::Offset) childMargin += n.as<OffsetParams>().distance;
+    for (const auto& c : n.children) collectWorldBounds(c, selfToWorld, childMargin, out);
+}
+
+} // namespace
+
+Aabb nodeBounds(const Node& node, double margin) { return boundsInParent(node, margin); }
+
+std::unordered_map<std::string, Aabb> worldBoundsOfNodes(const Document& doc, double margin)
+{
+    std::unordered_map<std::string, Aabb> out;
+    collectWorldBounds(doc.root, [](const Aabb& b) { return b; }, margin, out);
+    return out;
+}
+
+Aabb partBounds(const Document& doc)
+{
+    Aabb box = nodeBounds(doc.root);
+    if (doc.settings.bounds) box = box.intersected(Aabb{doc.settings.bounds->min, doc.settings.bounds->max});
+    return box;
+}
+
+std::uint64_t primitiveInstanceCount(const Node& node, std::uint64_t limit)
+{
+    if (!node.visible) return 0;
+    if (isPrimitive(node.type)) return 1;
+    std::uint64_t sum = 0;
+    for (const auto& c : node.children) {
+        sum += primitiveInstanceCount(c, limit);
+        if (sum > limit) return limit + 1;
+    }
+    std::uint64_t factor = 1;
+    if (node.type == NodeType::Mirror) factor = 2;
+    if (node.type == NodeType::Array) {
+        for (auto c : node.as<ArrayParams>().count) {
+            factor *= static_cast<std::uint64_t>(std::max<std::int64_t>(c, 1));
+            if (factor > limit) return limit + 1;
+        }
+    }
+    if (sum != 0 && factor > limit / sum) return limit + 1;
+    return std::min(sum * factor, limit + 1);
+}
+
+} // namespace kerf

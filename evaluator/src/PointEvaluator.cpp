@@ -1,0 +1,164 @@
+#include "kerf/evaluator/PointEvaluator.hpp"
+
+#include "kerf/evaluator/Combine.hpp"
+#include "kerf/evaluator/Primitives.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace kerf {
+
+namespace {
+
+template <class S> const std::array<S, 12>& frameOf(const ShapeInstance& s)
+{
+    if constexpr (std::is_same_v<S, float>)
+        return s.frameF;
+    else
+        return s.frame;
+}
+
+// Local coordinate `row` of a tape-relative point. For dual numbers the
+// derivative of the local coordinate with respect to the tape frame is the
+// frame's row: gradients come out in the tape (= world) frame.
+template <class V, class S> inline V localCoordinate(const std::array<S, 12>& f, int row, S x, S y, S z)
+{
+    const auto r = static_cast<std::size_t>(row);
+    const S v = f[r * 3] * x + f[r * 3 + 1] * y + f[r * 3 + 2] * z + f[9 + r];
+    if constexpr (std::is_same_v<V, S>)
+        return v;
+    else
+        return V(v, f[r * 3], f[r * 3 + 1], f[r * 3 + 2]);
+}
+
+template <class V> inline bool lessThan(const V& a, const V& b)
+{
+    if constexpr (std::is_arithmetic_v<V>)
+        return a < b;
+    else
+        return a.v < b.v;
+}
+
+} // namespace
+
+template <class V>
+void PointEvaluator<V>::evaluate(const Tape& tape, const Scalar* x, const Scalar* y, const Scalar* z, std::size_t n,
+                                 V* out, std::uint32_t* features)
+{
+    if (tape.empty()) {
+        std::fill(out, out + n, V(std::numeric_limits<Scalar>::infinity()));
+        if (features) std::fill(features, features + n, std::numeric_limits<std::uint32_t>::max());
+        return;
+    }
+    const std::size_t slots = std::size_t(tape.maxStack()) * kBlock;
+    if (stack_.size() < slots) stack_.resize(slots);
+    if (features && featureStack_.size() < slots) featureStack_.resize(slots);
+    for (std::size_t start = 0; start < n; start += kBlock) {
+        const std::size_t count = std::min(kBlock, n - start);
+        evaluateBlock(tape, x + start, y + start, z + start, count, out + start, features ? features + start : nullptr);
+    }
+}
+
+template <class V>
+void PointEvaluator<V>::evaluateBlock(const Tape& tape, const Scalar* x, const Scalar* y, const Scalar* z,
+                                      std::size_t n, V* out, std::uint32_t* features)
+{
+    using S = Scalar;
+    using std::max;
+    using std::min;
+    V* const st = stack_.data();
+    std::uint32_t* const fs = featureStack_.data();
+    std::size_t sp = 0; // number of occupied slots
+    for (const Instruction& ins : tape.code()) {
+        switch (ins.op) {
+        case Op::Primitive: {
+            const ShapeInstance& s = tape.shapes()[ins.shape];
+            const auto& f = frameOf<S>(s);
+            V* dst = st + sp * kBlock;
+            for (std::size_t i = 0; i < n; ++i) {
+                const V lx = localCoordinate<V>(f, 0, x[i], y[i], z[i]);
+                const V ly = localCoordinate<V>(f, 1, x[i], y[i], z[i]);
+                const V lz = localCoordinate<V>(f, 2, x[i], y[i], z[i]);
+                dst[i] = shapeDistanceLocal<V>(s, lx, ly, lz);
+            }
+            if (features) std::fill(fs + sp * kBlock, fs + sp * kBlock + n, s.feature);
+            ++sp;
+            break;
+        }
+        case Op::Min:
+        case Op::Max:
+        case Op::SmoothMin:
+        case Op::SmoothMax: {
+            V* a = st + (sp - 2) * kBlock;
+            const V* b = st + (sp - 1) * kBlock;
+            if (features) {
+                // The deciding feature: the operand the exact min/max would pick.
+                std::uint32_t* fa = fs + (sp - 2) * kBlock;
+                const std::uint32_t* fb = fs + (sp - 1) * kBlock;
+                const bool isMin = ins.op == Op::Min || ins.op == Op::SmoothMin;
+                for (std::size_t i = 0; i < n; ++i)
+                    if (isMin ? lessThan(b[i], a[i]) : lessThan(a[i], b[i])) fa[i] = fb[i];
+            }
+            const S k = static_cast<S>(ins.k);
+            switch (ins.op) {
+            case Op::Min:
+                for (std::size_t i = 0; i < n; ++i) a[i] = min(a[i], b[i]);
+                break;
+            case Op::Max:
+                for (std::size_t i = 0; i < n; ++i) a[i] = max(a[i], b[i]);
+                break;
+            case Op::SmoothMin:
+                for (std::size_t i = 0; i < n; ++i) a[i] = combine::smoothMin(a[i], b[i], k);
+                break;
+            default:
+                for (std::size_t i = 0; i < n; ++i) a[i] = combine::smoothMax(a[i], b[i], k);
+                break;
+            }
+            --sp;
+            break;
+        }
+        case Op::Negate: {
+            V* a = st + (sp - 1) * kBlock;
+            for (std::size_t i = 0; i < n; ++i) a[i] = -a[i];
+            break;
+        }
+        case Op::Offset: {
+            V* a = st + (sp - 1) * kBlock;
+            const V k(static_cast<S>(ins.k));
+            for (std::size_t i = 0; i < n; ++i) a[i] = a[i] - k;
+            break;
+        }
+        case Op::Shell: {
+            V* a = st + (sp - 1) * kBlock;
+            const S t = static_cast<S>(ins.k);
+            for (std::size_t i = 0; i < n; ++i) a[i] = combine::shell(a[i], t);
+            break;
+        }
+        }
+    }
+    std::copy(st, st + n, out);
+    if (features) std::copy(fs, fs + n, features);
+}
+
+template <class S>
+void GradientEvaluator<S>::evaluate(const Tape& tape, const S* x, const S* y, const S* z, std::size_t n, S* distance,
+                                    S* gx, S* gy, S* gz, std::uint32_t* features)
+{
+    if (scratch_.size() < n) scratch_.resize(n);
+    points_.evaluate(tape, x, y, z, n, scratch_.data(), features);
+    for (std::size_t i = 0; i < n; ++i) {
+        distance[i] = scratch_[i].v;
+        gx[i] = scratch_[i].d[0];
+        gy[i] = scratch_[i].d[1];
+        gz[i] = scratch_[i].d[2];
+    }
+}
+
+template class PointEvaluator<float>;
+template class PointEvaluator<double>;
+template class PointEvaluator<Dual<float>>;
+template class PointEvaluator<Dual<double>>;
+template class GradientEvaluator<float>;
+template class GradientEvaluator<double>;
+
+} // namespace kerf

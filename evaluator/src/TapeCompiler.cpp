@@ -1,0 +1,251 @@
+#include "kerf/evaluator/TapeCompiler.hpp"
+
+#include "kerf/document/NodeBounds.hpp"
+
+#include <glm/glm.hpp>
+
+#include <functional>
+#include <unordered_map>
+
+namespace kerf {
+
+namespace {
+
+class Compiler {
+public:
+    Tape compile(const Node& root, const std::optional<Bounds3>& clip, const Aabb& bounds)
+    {
+        features_ = std::make_shared<std::vector<Feature>>();
+        const bool any = emitNode(root, Affine{}, std::nullopt);
+        if (any && clip) {
+            // The solid is the root's solid intersected with the bounds box.
+            Node box;
+            box.id = root.id;
+            box.type = NodeType::Box;
+            box.params = BoxParams{clip->max - clip->min, 0.0};
+            box.transform.translate = 0.5 * (clip->min + clip->max);
+            emitNode(box, Affine{}, root.color);
+            push(Op::Max);
+        }
+        return Tape::assemble(std::move(code_), std::move(shapes_), features_, glm::dvec3(0.0), bounds);
+    }
+
+private:
+    void push(Op op, double k = 0.0)
+    {
+        Instruction ins;
+        ins.op = op;
+        ins.k = k;
+        code_.push_back(ins);
+    }
+
+    std::uint32_t featureFor(const Node& n, const std::optional<Color>& color)
+    {
+        const auto it = featureIndex_.find(n.id);
+        if (it != featureIndex_.end()) return it->second;
+        Feature f;
+        f.nodeId = n.id;
+        f.hasColor = color.has_value();
+        if (color) f.color = *color;
+        features_->push_back(f);
+        const auto idx = static_cast<std::uint32_t>(features_->size() - 1);
+        featureIndex_[n.id] = idx;
+        return idx;
+    }
+
+    void emitPrimitive(const Node& n, const Affine& worldFromLocal, const std::optional<Color>& color)
+    {
+        ShapeInstance s;
+        s.feature = featureFor(n, color);
+        s.worldToLocal = worldFromLocal.inverseOrthogonal();
+        Node self = n;
+        self.transform = Transform{};
+        s.worldBounds = worldFromLocal.apply(nodeBounds(self));
+        auto& p = s.param;
+        switch (n.type) {
+        case NodeType::Box: {
+            const auto& b = n.as<BoxParams>();
+            s.kind = ShapeKind::Box;
+            p = {0.5 * b.size.x - b.round, 0.5 * b.size.y - b.round, 0.5 * b.size.z - b.round, b.round, 0, 0};
+            break;
+        }
+        case NodeType::Sphere:
+            s.kind = ShapeKind::Sphere;
+            p[0] = n.as<SphereParams>().radius;
+            break;
+        case NodeType::Cylinder:
+            s.kind = ShapeKind::Cylinder;
+            p[0] = n.as<CylinderParams>().radius;
+            p[1] = 0.5 * n.as<CylinderParams>().height;
+            break;
+        case NodeType::Cone: {
+            const auto& c = n.as<ConeParams>();
+            s.kind = ShapeKind::Cone;
+            const double dr = c.radiusTop - c.radiusBottom;
+            p = {c.radiusBottom, c.radiusTop, 0.5 * c.height, dr, c.height, 1.0 / (dr * dr + c.height * c.height)};
+            break;
+        }
+        case NodeType::Torus:
+            s.kind = ShapeKind::Torus;
+            p[0] = n.as<TorusParams>().majorRadius;
+            p[1] = n.as<TorusParams>().minorRadius;
+            break;
+        case NodeType::Extrude: {
+            const auto& e = n.as<ExtrudeParams>();
+            s.kind = ShapeKind::Extrude;
+            p[0] = 0.5 * e.height;
+            auto poly = std::make_shared<Polygon>();
+            poly->points = e.profile;
+            for (const auto& v : e.profile) poly->pointsF.emplace_back(static_cast<float>(v.x), static_cast<float>(v.y));
+            s.polygon = std::move(poly);
+            break;
+        }
+        case NodeType::Halfspace: {
+            const auto& h = n.as<HalfspaceParams>();
+            s.kind = ShapeKind::Halfspace;
+            p = {h.normal.x, h.normal.y, h.normal.z, h.offset, 0, 0};
+            break;
+        }
+        default: break;
+        }
+        for (std::size_t i = 0; i < p.size(); ++i) s.paramF[i] = static_cast<float>(p[i]);
+        shapes_.push_back(std::move(s));
+        Instruction ins;
+        ins.op = Op::Primitive;
+        ins.shape = static_cast<std::uint32_t>(shapes_.size() - 1);
+        code_.push_back(ins);
+    }
+
+    // Emits `count` operands combined by an exact, associative op as a
+    // balanced tree. emitOne(i) returns false when operand i is empty.
+    bool emitBalanced(std::size_t lo, std::size_t hi, Op op, const std::function<bool(std::size_t)>& emitOne)
+    {
+        if (hi - lo == 1) return emitOne(lo);
+        const std::size_t mid = lo + (hi - lo) / 2;
+        const bool left = emitBalanced(lo, mid, op, emitOne);
+        const bool right = emitBalanced(mid, hi, op, emitOne);
+        if (left && right) push(op);
+        return left || right;
+    }
+
+    // Rolls the tape back to a mark (an intersection with an empty operand).
+    struct Mark {
+        std::size_t code, shapes;
+    };
+    Mark mark() const { return {code_.size(), shapes_.size()}; }
+    void rollback(Mark m)
+    {
+        code_.resize(m.code);
+        shapes_.resize(m.shapes);
+    }
+
+    // Emits the node's field; returns false (and emits nothing) when empty.
+    bool emitNode(const Node& n, const Affine& worldFromParent, std::optional<Color> color)
+    {
+        if (!n.visible) return false;
+        if (n.color) color = n.color;
+        const Affine frame = worldFromParent * Affine::fromTransform(n.transform);
+        if (isPrimitive(n.type)) {
+            emitPrimitive(n, frame, color);
+            return true;
+        }
+        std::vector<const Node*> kids;
+        for (const auto& c : n.children)
+            if (c.visible) kids.push_back(&c);
+        if (kids.empty()) return false;
+        auto emitChild = [&](std::size_t i) { return emitNode(*kids[i], frame, color); };
+
+        switch (n.type) {
+        case NodeType::Union: {
+            const double k = n.as<BooleanParams>().blend;
+            if (k == 0.0) return emitBalanced(0, kids.size(), Op::Min, emitChild);
+            bool any = false;
+            for (std::size_t i = 0; i < kids.size(); ++i) {
+                const bool got = emitChild(i);
+                if (got && any) push(Op::SmoothMin, k);
+                any = any || got;
+            }
+            return any;
+        }
+        case NodeType::Intersection: {
+            const double k = n.as<BooleanParams>().blend;
+            const Mark m = mark();
+            bool ok = true;
+            if (k == 0.0) {
+                emitBalanced(0, kids.size(), Op::Max, [&](std::size_t i) {
+                    const bool got = ok && emitChild(i);
+                    ok = ok && got;
+                    return got;
+                });
+            } else {
+                for (std::size_t i = 0; i < kids.size() && ok; ++i) {
+                    ok = emitChild(i);
+                    if (ok && i > 0) push(Op::SmoothMax, k);
+                }
+            }
+            if (!ok) rollback(m);
+            return ok;
+        }
+        case NodeType::Difference: {
+            const double k = n.as<BooleanParams>().blend;
+            if (!emitChild(0)) return false;
+            if (kids.size() == 1) return true;
+            if (k == 0.0) {
+                // max(a, -b1, -b2, ...) = max(a, -min(b1, b2, ...)).
+                if (emitBalanced(1, kids.size(), Op::Min, emitChild)) {
+                    push(Op::Negate);
+                    push(Op::Max);
+                }
+                return true;
+            }
+            for (std::size_t i = 1; i < kids.size(); ++i) {
+                if (!emitChild(i)) continue;
+                push(Op::Negate);
+                push(Op::SmoothMax, k);
+            }
+            return true;
+        }
+        case NodeType::Offset:
+            if (!emitChild(0)) return false;
+            push(Op::Offset, n.as<OffsetParams>().distance);
+            return true;
+        case NodeType::Shell:
+            if (!emitChild(0)) return false;
+            push(Op::Shell, n.as<ShellParams>().thickness);
+            return true;
+        case NodeType::Array: {
+            const auto& a = n.as<ArrayParams>();
+            const auto nx = static_cast<std::size_t>(a.count[0]), ny = static_cast<std::size_t>(a.count[1]),
+                       nz = static_cast<std::size_t>(a.count[2]);
+            // Child's own transform, then the copy's offset, then the array's transform.
+            return emitBalanced(0, nx * ny * nz, Op::Min, [&](std::size_t idx) {
+                const double i = static_cast<double>(idx % nx), j = static_cast<double>((idx / nx) % ny),
+                             k = static_cast<double>(idx / (nx * ny));
+                const Affine copy = frame * Affine::translate(glm::dvec3(i, j, k) * a.step);
+                return emitNode(*kids[0], copy, color);
+            });
+        }
+        case NodeType::Mirror: {
+            const auto& m = n.as<MirrorParams>();
+            const Affine reflect = Affine::reflection(m.normal, m.offset);
+            return emitBalanced(0, 2, Op::Min, [&](std::size_t idx) {
+                return emitNode(*kids[0], idx == 0 ? frame : frame * reflect, color);
+            });
+        }
+        default: return false;
+        }
+    }
+
+    std::vector<Instruction> code_;
+    std::vector<ShapeInstance> shapes_;
+    std::shared_ptr<std::vector<Feature>> features_;
+    std::unordered_map<std::string, std::uint32_t> featureIndex_;
+};
+
+} // namespace
+
+Tape compileTape(const Document& doc) { return Compiler().compile(doc.root, doc.settings.bounds, partBounds(doc)); }
+
+Tape compileTape(const Node& node) { return Compiler().compile(node, std::nullopt, nodeBounds(node)); }
+
+} // namespace kerf

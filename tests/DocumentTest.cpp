@@ -1,0 +1,274 @@
+// Loading, validating and saving documents: every refusal in the spec's list
+// names the file, the node id and the field and changes nothing; round trips
+// keep every field, unknown ones included; saves are atomic.
+
+#include "kerf/document/Document.hpp"
+#include "kerf/document/DocumentError.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace kerf {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* kValid = R"({
+  "format": "kerf",
+  "version": 1,
+  "units": "mm",
+  "name": "Test part",
+  "settings": { "feature_size": 0.5, "vendor_setting": {"a": 1} },
+  "root": { "id": "root", "type": "difference", "color": "#8b5a2b", "x_note": "kept",
+    "children": [
+      { "id": "board", "type": "box", "size": [100, 50, 18], "round": 2, "transform": { "translate": [0, 0, 9], "x_t": 1 } },
+      { "id": "hole", "type": "cylinder", "radius": 4, "height": 40, "name": "Dowel hole" },
+      { "id": "holes", "type": "array", "count": [2, 1, 1], "step": [40, 0, 0], "children": [
+        { "id": "pin", "type": "cone", "radius_bottom": 2.5, "radius_top": 2, "height": 12 } ] },
+      { "id": "cut", "type": "extrude", "profile": [[0,0],[10,0],[10,5],[0,5]], "height": 3, "visible": false },
+      { "id": "ring", "type": "torus", "major_radius": 10, "minor_radius": 1 },
+      { "id": "m", "type": "mirror", "normal": [0, 3, 0], "offset": 6, "children": [
+        { "id": "sh", "type": "shell", "thickness": 1, "children": [
+          { "id": "off", "type": "offset", "distance": -0.5, "children": [
+            { "id": "ball", "type": "sphere", "radius": 3 } ] } ] } ] },
+      { "id": "cap", "type": "intersection", "blend": 1.5, "children": [
+        { "id": "s2", "type": "sphere", "radius": 5 },
+        { "id": "hs", "type": "halfspace", "normal": [0, 0, 1], "offset": 1 } ] }
+    ] },
+  "meshes": [ { "id": "hinge", "path": "hinge.stl", "transform": { "translate": [1, 2, 3] }, "color": "#a0a0a0", "x_m": true } ],
+  "x_top": [1, 2, 3]
+})";
+
+Document valid() { return Document::parse(kValid, "valid.kerf"); }
+
+// Replaces the first occurrence of `from` in the valid document with `to`.
+std::string variant(const std::string& from, const std::string& to)
+{
+    std::string s = kValid;
+    const auto pos = s.find(from);
+    EXPECT_NE(pos, std::string::npos) << "test bug: '" << from << "' not in the document";
+    if (pos != std::string::npos) s.replace(pos, from.size(), to);
+    return s;
+}
+
+struct Refusal {
+    std::string name;
+    std::string text;
+    std::string nodeId;
+    std::string field;
+    std::string reasonContains;
+};
+
+std::vector<Refusal> refusals()
+{
+    return {
+        {"MalformedJson", variant(R"("units": "mm",)", R"("units": "mm" "oops",)"), "", "", "malformed JSON at line 4"},
+        {"NotAnObject", "[1, 2]", "", "", "JSON object"},
+        {"MissingFormat", variant(R"("format": "kerf",)", ""), "", "format", "missing"},
+        {"WrongFormat", variant(R"("format": "kerf")", R"("format": "stl")"), "", "format", "\"kerf\""},
+        {"NewerVersion", variant(R"("version": 1)", R"("version": 2)"), "", "version", "newer"},
+        {"FractionalVersion", variant(R"("version": 1)", R"("version": 1.0)"), "", "version", "integer"},
+        {"Units", variant(R"("units": "mm")", R"("units": "in")"), "", "units", "only \"mm\""},
+        {"UnknownType", variant(R"("type": "torus")", R"("type": "donut")"), "ring", "type", "unknown type 'donut'"},
+        {"MissingRequired", variant(R"(, "height": 40)", ""), "hole", "height", "missing"},
+        {"MissingId", variant(R"("id": "ring", )", ""), "", "root.children[4].id", "missing"},
+        {"WrongKindString", variant(R"("radius": 4)", R"("radius": "4")"), "hole", "radius", "must be a number"},
+        {"WrongKindArray", variant(R"("size": [100, 50, 18])", R"("size": [100, 50])"), "board", "size", "3 numbers"},
+        {"WrongKindBool", variant(R"("visible": false)", R"("visible": 0)"), "cut", "visible", "true or false"},
+        {"Infinite", variant(R"("radius": 4)", R"("radius": 1e999)"), "hole", "radius", "finite"},
+        {"NegativeInfinite", variant(R"("translate": [0, 0, 9])", R"("translate": [0, -1E+400, 9])"), "board", "transform.translate[1]", "finite"},
+        {"NegativeRadius", variant(R"("radius": 4)", R"("radius": -4)"), "hole", "radius", "> 0"},
+        {"ZeroSize", variant(R"("size": [100, 50, 18])", R"("size": [100, 0, 18])"), "board", "size[1]", "> 0"},
+        {"RoundTooLarge", variant(R"("round": 2)", R"("round": 9.5)"), "board", "round", "half the smallest size"},
+        {"ZeroHeight", variant(R"("height": 12)", R"("height": 0)"), "pin", "height", "> 0"},
+        {"ConeBothZero", variant(R"("radius_bottom": 2.5, "radius_top": 2)", R"("radius_bottom": 0, "radius_top": 0)"),
+         "pin", "radius_bottom", "both be 0"},
+        {"NegativeThickness", variant(R"("thickness": 1)", R"("thickness": -1)"), "sh", "thickness", "> 0"},
+        {"NegativeBlend", variant(R"("blend": 1.5)", R"("blend": -1)"), "cap", "blend", ">= 0"},
+        {"ZeroCount", variant(R"("count": [2, 1, 1])", R"("count": [2, 0, 1])"), "holes", "count[1]", ">= 1"},
+        {"FractionalCount", variant(R"("count": [2, 1, 1])", R"("count": [2.5, 1, 1])"), "holes", "count[0]", "integer"},
+        {"HugeArray", variant(R"("count": [2, 1, 1])", R"("count": [1000, 1000, 1000])"), "holes", "count",
+         "more than"},
+        {"ZeroNormal", variant(R"("normal": [0, 3, 0])", R"("normal": [0, 0, 0])"), "m", "normal", "non-zero"},
+        {"DuplicateId", variant(R"("id": "ring")", R"("id": "hole")"), "hole", "id", "duplicate"},
+        {"DuplicateMeshId", variant(R"("id": "hinge")", R"("id": "board")"), "board", "id", "duplicate"},
+        {"SelfIntersectingProfile", variant("[[0,0],[10,0],[10,5],[0,5]]", "[[0,0],[10,5],[10,0],[0,8]]"), "cut",
+         "profile", "self-intersecting"},
+        {"DegenerateProfile", variant("[[0,0],[10,0],[10,5],[0,5]]", "[[0,0],[5,0],[10,0]]"), "cut", "profile",
+         "no area"},
+        {"RepeatedPoint", variant("[[0,0],[10,0],[10,5],[0,5]]", "[[0,0],[10,0],[10,5],[0,5],[0,0]]"), "cut",
+         "profile", "repeats"},
+        {"TwoPointProfile", variant("[[0,0],[10,0],[10,5],[0,5]]", "[[0,0],[10,0]]"), "cut", "profile", "at least 3"},
+        {"UnboundedRoot", variant(R"("id": "board", "type": "box",)", R"("id": "board", "type": "halfspace", "normal": [1,0,0], "offset": 0,)"),
+         "root", "settings.bounds", "unbounded"},
+        {"OperationWithoutChildren", variant(R"("id": "sh", "type": "shell", "thickness": 1, "children": [)",
+                                             R"("id": "sh", "type": "shell", "thickness": 1, "kids": [)"),
+         "sh", "children", "missing"},
+        {"TwoChildrenForOffset", variant(R"({ "id": "ball", "type": "sphere", "radius": 3 })",
+                                         R"({ "id": "ball", "type": "sphere", "radius": 3 }, { "id": "b2", "type": "sphere", "radius": 3 })"),
+         "off", "children", "exactly 1"},
+        {"BadColor", variant(R"("color": "#8b5a2b")", R"("color": "brown")"), "root", "color", "#rrggbb"},
+        {"BadBounds", variant(R"("feature_size": 0.5,)", R"("feature_size": 0.5, "bounds": [[0,0,0],[1,-1,1]],)"), "",
+         "settings.bounds", "below its maximum"},
+        {"ZeroFeatureSize", variant(R"("feature_size": 0.5)", R"("feature_size": 0)"), "", "settings.feature_size",
+         "> 0"},
+    };
+}
+
+void PrintTo(const Refusal& r, std::ostream* os) { *os << r.name; }
+
+class DocumentRefusal : public ::testing::TestWithParam<Refusal> {};
+
+TEST_P(DocumentRefusal, NamesFileNodeAndFieldAndChangesNothing)
+{
+    const Refusal& r = GetParam();
+    Document doc = valid();
+    const Document before = doc;
+    try {
+        doc = Document::parse(r.text, "part.kerf");
+        FAIL() << "accepted: " << r.name;
+    } catch (const DocumentError& e) {
+        EXPECT_EQ(e.file(), "part.kerf");
+        EXPECT_EQ(e.nodeId(), r.nodeId) << e.what();
+        EXPECT_EQ(e.field(), r.field) << e.what();
+        EXPECT_NE(std::string(e.what()).find(r.reasonContains), std::string::npos) << e.what();
+        EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << "one line";
+        EXPECT_EQ(std::string(e.what()).rfind("part.kerf: ", 0), 0u) << e.what();
+    }
+    EXPECT_EQ(doc, before);
+}
+
+INSTANTIATE_TEST_SUITE_P(SpecList, DocumentRefusal, ::testing::ValuesIn(refusals()),
+                         [](const auto& p) { return p.param.name; });
+
+TEST(Document, LoadsEveryFieldOfTheSpec)
+{
+    const Document d = valid();
+    EXPECT_EQ(d.name, "Test part");
+    EXPECT_EQ(d.settings.featureSize, 0.5);
+    EXPECT_EQ(d.root.type, NodeType::Difference);
+    EXPECT_EQ(formatColor(*d.root.color), "#8b5a2b");
+    const Node* board = d.root.find("board");
+    ASSERT_NE(board, nullptr);
+    EXPECT_EQ(board->as<BoxParams>().size, glm::dvec3(100, 50, 18));
+    EXPECT_EQ(board->as<BoxParams>().round, 2.0);
+    EXPECT_EQ(board->transform.translate, glm::dvec3(0, 0, 9));
+    EXPECT_EQ(d.root.find("hole")->name, "Dowel hole");
+    EXPECT_FALSE(d.root.find("cut")->visible);
+    EXPECT_EQ(d.root.find("holes")->as<ArrayParams>().count, (std::array<std::int64_t, 3>{2, 1, 1}));
+    // Normals are normalised; offsets become distances along the unit normal.
+    EXPECT_EQ(d.root.find("m")->as<MirrorParams>().normal, glm::dvec3(0, 1, 0));
+    EXPECT_EQ(d.root.find("m")->as<MirrorParams>().offset, 2.0);
+    EXPECT_EQ(d.root.find("cap")->as<BooleanParams>().blend, 1.5);
+    ASSERT_EQ(d.meshes.size(), 1u);
+    EXPECT_EQ(d.meshes[0].path, "hinge.stl");
+    EXPECT_EQ(d.meshes[0].transform.translate, glm::dvec3(1, 2, 3));
+}
+
+TEST(Document, RoundTripKeepsEverythingIncludingUnknownFields)
+{
+    const Document d = valid();
+    const std::string text = d.serialize();
+    const Document again = Document::parse(text, "again.kerf");
+    EXPECT_EQ(again, d);
+    EXPECT_EQ(again.serialize(), text); // stable
+    for (const char* kept : {"\"x_top\"", "\"x_note\"", "\"x_t\"", "\"x_m\"", "\"vendor_setting\""})
+        EXPECT_NE(text.find(kept), std::string::npos) << kept;
+}
+
+class TempDir : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        dir = fs::temp_directory_path() / ("kerf-doc-test-" + std::to_string(::getpid()) + "-" +
+                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+    }
+    void TearDown() override { fs::remove_all(dir); }
+    static std::string read(const fs::path& p)
+    {
+        std::ifstream in(p);
+        std::stringstream s;
+        s << in.rdbuf();
+        return s.str();
+    }
+    fs::path dir;
+};
+
+TEST_F(TempDir, SaveAndLoadRoundTrip)
+{
+    const Document d = valid();
+    d.save(dir / "part.kerf");
+    EXPECT_EQ(Document::load(dir / "part.kerf"), d);
+    // Only the file itself: no temporary left behind.
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+}
+
+TEST_F(TempDir, RefusedSaveLeavesTheOldFileIntact)
+{
+    const Document d = valid();
+    d.save(dir / "part.kerf");
+    const std::string before = read(dir / "part.kerf");
+    Document broken = d;
+    broken.root.find("hole")->as<CylinderParams>().radius = -1.0;
+    EXPECT_THROW(broken.save(dir / "part.kerf"), DocumentError);
+    EXPECT_EQ(read(dir / "part.kerf"), before);
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+}
+
+TEST_F(TempDir, SaveIntoAMissingFolderFailsCleanly)
+{
+    try {
+        valid().save(dir / "no-such-folder" / "part.kerf");
+        FAIL();
+    } catch (const DocumentError& e) {
+        EXPECT_NE(std::string(e.what()).find("part.kerf"), std::string::npos);
+    }
+}
+
+TEST_F(TempDir, MissingFileIsAClearError)
+{
+    try {
+        Document::load(dir / "absent.kerf");
+        FAIL();
+    } catch (const DocumentError& e) {
+        EXPECT_NE(std::string(e.what()).find("absent.kerf: cannot open"), std::string::npos) << e.what();
+    }
+}
+
+TEST(Document, ValidateRunsTheLoadChecksOnAnEditedDocument)
+{
+    Document d = valid();
+    EXPECT_NO_THROW(d.validate());
+    d.root.find("board")->as<BoxParams>().size.x = std::nan("");
+    EXPECT_THROW(d.validate(), DocumentError);
+}
+
+TEST(Document, HiddenChildrenStillCountForChildrenChecks)
+{
+    // A difference with only hidden children loads (an empty part).
+    const Document d = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"d","type":"difference",
+        "children":[{"id":"a","type":"sphere","radius":1,"visible":false}]}})",
+                                       "t");
+    EXPECT_EQ(d.root.children.size(), 1u);
+}
+
+TEST(Examples, EveryBundledExampleLoadsAndRoundTrips)
+{
+    int count = 0;
+    for (const auto& entry : fs::directory_iterator(KERF_EXAMPLES_DIR)) {
+        if (entry.path().extension() != ".kerf") continue;
+        ++count;
+        SCOPED_TRACE(entry.path().string());
+        const Document d = Document::load(entry.path());
+        EXPECT_EQ(Document::parse(d.serialize(), "again"), d);
+    }
+    EXPECT_GE(count, 5);
+}
+
+} // namespace
+} // namespace kerf

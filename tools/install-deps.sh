@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package that Kerf's build, program and tests need.
+# Idempotent and quiet: packages already present are not fetched again, and the
+# package lists are refreshed only when something is actually missing.
+set -euo pipefail
+
+packages=(
+  # toolchain
+  build-essential cmake ninja-build ccache pkg-config git
+  # core
+  nlohmann-json3-dev libtbb-dev libglm-dev libopenmesh-dev
+  # tests and benchmarks
+  libgtest-dev libgmock-dev libbenchmark-dev
+  # viewport
+  libvulkan-dev glslang-dev glslang-tools spirv-tools mesa-vulkan-drivers
+  vulkan-tools vulkan-validationlayers
+  # desktop application and its tests
+  qt6-base-dev qt6-base-dev-tools libqt6opengl6-dev libqt6openglwidgets6
+  libqt6charts6-dev libxkbcommon-dev xvfb xauth
+  # packaging
+  dpkg-dev fakeroot lintian
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${#missing[@]} package(s): ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

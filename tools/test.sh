@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Builds Kerf and runs the whole test suite; ends with ctest's summary.
+#   bash tools/test.sh              Release build in build/
+#   bash tools/test.sh --sanitize   Debug + AddressSanitizer/UndefinedBehaviorSanitizer in build-asan/
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+build_dir=build
+cmake_args=(-DCMAKE_BUILD_TYPE=Release)
+if [ "${1:-}" = "--sanitize" ]; then
+  build_dir=build-asan
+  cmake_args=(-DCMAKE_BUILD_TYPE=Debug -DKERF_SANITIZE=ON -DKERF_BUILD_BENCH=OFF)
+fi
+# Warnings are errors in CI (CI=true), warnings elsewhere.
+if [ "${CI:-}" = "true" ]; then cmake_args+=(-DKERF_WERROR=ON); fi
+
+bash tools/install-deps.sh
+
+generator=()
+if command -v ninja >/dev/null 2>&1; then generator=(-G Ninja); fi
+if [ ! -f "$build_dir/CMakeCache.txt" ]; then
+  cmake -S . -B "$build_dir" "${generator[@]}" "${cmake_args[@]}" >/dev/null
+else
+  cmake -S . -B "$build_dir" "${cmake_args[@]}" >/dev/null
+fi
+cmake --build "$build_dir" -j "$(nproc)"
+
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+cd "$build_dir"
+ctest -j "$(nproc)" --output-on-failure --timeout 900
