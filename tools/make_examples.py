@@ -199,7 +199,7 @@ def side_chair():
                  profile=profile, height=crest_h)
     lower = node("lower-back-rail", "extrude", "Curved lower back rail",
                  translate=on_post(lower_d, dy=-4), rotate=tilt,
-                 profile=[list(p) for p in profile], height=lower_h)
+                 profile=profile, height=lower_h)
     # Spindles sit on the arc: between x = -90 and 90 its centre line is
     # 16.8 .. 21.2 mm behind the ends, so y = 19 keeps them inside the band.
     sp_bottom, sp_top = lower_d, crest_d     # centre to centre of the rails
@@ -213,7 +213,6 @@ def side_chair():
     frame = op("frame", "union", "Chair frame (blended joints)",
                [seat, sides, front_apron, back_apron, crest, lower, spindles],
                blend=4, color=BEECH)
-    frame["children"][0]["color"] = OAK
 
     # --- dowel holes: 8 mm, 30 deep from the seat top into each front leg ---
     dowel_depth = 30.0
@@ -419,6 +418,25 @@ EXAMPLES = {
 }
 
 
+def to_json(value, indent=0):
+    """json.dumps with a 2-space indent, but short lists of numbers (sizes,
+    transforms, profile points) kept on one line for readability."""
+    pad, inner = "  " * indent, "  " * (indent + 1)
+    if isinstance(value, dict):
+        if not value:
+            return "{}"
+        items = [f"{inner}{json.dumps(k)}: {to_json(v, indent + 1)}" for k, v in value.items()]
+        return "{\n" + ",\n".join(items) + "\n" + pad + "}"
+    if isinstance(value, list):
+        if all(isinstance(v, (int, float)) for v in value):
+            return "[" + ", ".join(json.dumps(v) for v in value) + "]"
+        if not value:
+            return "[]"
+        items = [inner + to_json(v, indent + 1) for v in value]
+        return "[\n" + ",\n".join(items) + "\n" + pad + "]"
+    return json.dumps(value)
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "..", "resources", "examples")
@@ -426,8 +444,10 @@ def main():
     for fname, make in EXAMPLES.items():
         path = os.path.join(out, fname)
         with open(path, "w", encoding="utf-8") as f:
-            json.dump(make(), f, indent=2)
-            f.write("\n")
+            doc = make()
+            text = to_json(doc)
+            assert json.loads(text) == doc
+            f.write(text + "\n")
         print(path)
 
 

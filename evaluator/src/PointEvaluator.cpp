@@ -31,6 +31,110 @@ template <class V, class S> inline V localCoordinate(const std::array<S, 12>& f,
         return V(v, f[r * 3], f[r * 3 + 1], f[r * 3 + 2]);
 }
 
+// Applies a per-point distance function over a block, with the shape's kind
+// already decided: the loop body has no dispatch, so it vectorizes.
+template <class V, class S, class F>
+inline void forEachPoint(const std::array<S, 12>& f, const S* x, const S* y, const S* z, std::size_t n, V* dst, F&& sdfAt)
+{
+    for (std::size_t i = 0; i < n; ++i) {
+        const V lx = localCoordinate<V>(f, 0, x[i], y[i], z[i]);
+        const V ly = localCoordinate<V>(f, 1, x[i], y[i], z[i]);
+        const V lz = localCoordinate<V>(f, 2, x[i], y[i], z[i]);
+        dst[i] = sdfAt(lx, ly, lz);
+    }
+}
+
+constexpr std::size_t kMaxBlock = 64;
+
+// Extrusions in plain floating point: edges in the outer loop, points in the
+// inner one, so the per-edge work vectorizes across points.
+template <class S>
+void extrudeBlock(const ShapeInstance& s, const S* x, const S* y, const S* z, std::size_t n, S* dst)
+{
+    const auto& f = frameOf<S>(s);
+    S lx[kMaxBlock], ly[kMaxBlock], lz[kMaxBlock], d[kMaxBlock], sign[kMaxBlock];
+    for (std::size_t i = 0; i < n; ++i) {
+        lx[i] = localCoordinate<S>(f, 0, x[i], y[i], z[i]);
+        ly[i] = localCoordinate<S>(f, 1, x[i], y[i], z[i]);
+        lz[i] = localCoordinate<S>(f, 2, x[i], y[i], z[i]);
+        d[i] = std::numeric_limits<S>::max();
+        sign[i] = S(1);
+    }
+    const auto& v = [&]() -> const auto& {
+        if constexpr (std::is_same_v<S, float>) return s.polygon->pointsF;
+        else return s.polygon->points;
+    }();
+    const std::size_t m = v.size();
+    for (std::size_t e = 0, j = m - 1; e < m; j = e++) {
+        const S vx = S(v[e].x), vy = S(v[e].y);
+        const S ex = S(v[j].x) - vx, ey = S(v[j].y) - vy;
+        const S invLen2 = S(1) / (ex * ex + ey * ey);
+        const S vjy = S(v[j].y);
+        for (std::size_t i = 0; i < n; ++i) {
+            const S wx = lx[i] - vx, wy = ly[i] - vy;
+            const S t = std::min(std::max((wx * ex + wy * ey) * invLen2, S(0)), S(1));
+            const S bx = wx - ex * t, by = wy - ey * t;
+            d[i] = std::min(d[i], bx * bx + by * by);
+            const bool c1 = ly[i] >= vy, c2 = ly[i] < vjy, c3 = ex * wy > ey * wx;
+            const bool flip = (c1 && c2 && c3) || (!c1 && !c2 && !c3);
+            sign[i] = flip ? -sign[i] : sign[i];
+        }
+    }
+    const S h = S(s.param[0]);
+    for (std::size_t i = 0; i < n; ++i) dst[i] = sdf::extrusion(sign[i] * std::sqrt(d[i]), lz[i], h);
+}
+
+template <class V, class S>
+void evaluateShape(const ShapeInstance& s, const S* x, const S* y, const S* z, std::size_t n, V* dst)
+{
+    const auto& f = frameOf<S>(s);
+    auto p = [&](int i) -> V {
+        if constexpr (std::is_same_v<S, float>)
+            return V(s.paramF[static_cast<std::size_t>(i)]);
+        else
+            return V(s.param[static_cast<std::size_t>(i)]);
+    };
+    switch (s.kind) {
+    case ShapeKind::Box: {
+        const V bx = p(0), by = p(1), bz = p(2), r = p(3);
+        forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return sdf::box(a, b, c, bx, by, bz, r); });
+        break;
+    }
+    case ShapeKind::Sphere: {
+        const V r = p(0);
+        forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return sdf::sphere(a, b, c, r); });
+        break;
+    }
+    case ShapeKind::Cylinder: {
+        const V r = p(0), h = p(1);
+        forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return sdf::cylinder(a, b, c, r, h); });
+        break;
+    }
+    case ShapeKind::Cone: {
+        const V r1 = p(0), r2 = p(1), h = p(2), kx = p(3), ky = p(4), inv = p(5);
+        forEachPoint(f, x, y, z, n, dst,
+                     [&](V a, V b, V c) { return sdf::cone(a, b, c, r1, r2, h, kx, ky, inv); });
+        break;
+    }
+    case ShapeKind::Torus: {
+        const V R = p(0), r = p(1);
+        forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return sdf::torus(a, b, c, R, r); });
+        break;
+    }
+    case ShapeKind::Halfspace: {
+        const V nx = p(0), ny = p(1), nz = p(2), o = p(3);
+        forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return sdf::halfspace(a, b, c, nx, ny, nz, o); });
+        break;
+    }
+    case ShapeKind::Extrude:
+        if constexpr (std::is_same_v<V, S>)
+            extrudeBlock(s, x, y, z, n, dst);
+        else
+            forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return shapeDistanceLocal<V>(s, a, b, c); });
+        break;
+    }
+}
+
 template <class V> inline bool lessThan(const V& a, const V& b)
 {
     if constexpr (std::is_arithmetic_v<V>)
@@ -73,14 +177,7 @@ void PointEvaluator<V>::evaluateBlock(const Tape& tape, const Scalar* x, const S
         switch (ins.op) {
         case Op::Primitive: {
             const ShapeInstance& s = tape.shapes()[ins.shape];
-            const auto& f = frameOf<S>(s);
-            V* dst = st + sp * kBlock;
-            for (std::size_t i = 0; i < n; ++i) {
-                const V lx = localCoordinate<V>(f, 0, x[i], y[i], z[i]);
-                const V ly = localCoordinate<V>(f, 1, x[i], y[i], z[i]);
-                const V lz = localCoordinate<V>(f, 2, x[i], y[i], z[i]);
-                dst[i] = shapeDistanceLocal<V>(s, lx, ly, lz);
-            }
+            evaluateShape(s, x, y, z, n, st + sp * kBlock);
             if (features) std::fill(fs + sp * kBlock, fs + sp * kBlock + n, s.feature);
             ++sp;
             break;
