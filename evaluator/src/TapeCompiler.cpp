@@ -13,9 +13,16 @@ namespace {
 
 class Compiler {
 public:
+    explicit Compiler(FeatureRegistry* registry = nullptr) : registry_(registry) {}
+
     Tape compile(const Node& root, const std::optional<Bounds3>& clip, const Aabb& bounds)
     {
         features_ = std::make_shared<std::vector<Feature>>();
+        if (registry_) {
+            // Every feature ever registered keeps its slot (and its name).
+            features_->resize(registry_->ids.size());
+            for (std::size_t i = 0; i < registry_->ids.size(); ++i) (*features_)[i].nodeId = registry_->ids[i];
+        }
         const bool any = emitNode(root, Affine{}, std::nullopt);
         if (any && clip) {
             // The solid is the root's solid intersected with the bounds box.
@@ -41,6 +48,20 @@ private:
 
     std::uint32_t featureFor(const Node& n, const std::optional<Color>& color)
     {
+        if (registry_) {
+            auto [it, added] = registry_->index.emplace(n.id, std::uint32_t(registry_->ids.size()));
+            if (added) registry_->ids.push_back(n.id);
+            const std::uint32_t idx = it->second;
+            if (features_->size() <= idx) {
+                const std::size_t old = features_->size();
+                features_->resize(idx + 1);
+                for (std::size_t i = old; i <= idx; ++i) (*features_)[i].nodeId = registry_->ids[i];
+            }
+            auto& f = (*features_)[idx];
+            f.hasColor = color.has_value();
+            if (color) f.color = *color;
+            return idx;
+        }
         const auto it = featureIndex_.find(n.id);
         if (it != featureIndex_.end()) return it->second;
         Feature f;
@@ -240,11 +261,15 @@ private:
     std::vector<ShapeInstance> shapes_;
     std::shared_ptr<std::vector<Feature>> features_;
     std::unordered_map<std::string, std::uint32_t> featureIndex_;
+    FeatureRegistry* registry_ = nullptr;
 };
 
 } // namespace
 
-Tape compileTape(const Document& doc) { return Compiler().compile(doc.root, doc.settings.bounds, partBounds(doc)); }
+Tape compileTape(const Document& doc, FeatureRegistry* registry)
+{
+    return Compiler(registry).compile(doc.root, doc.settings.bounds, partBounds(doc));
+}
 
 Tape compileTape(const Node& node) { return Compiler().compile(node, std::nullopt, nodeBounds(node)); }
 

@@ -13,9 +13,21 @@
 #include "kerf/document/Document.hpp"
 #include "kerf/evaluator/Tape.hpp"
 
+#include <string>
+#include <unordered_map>
+#include <vector>
+
 namespace kerf {
 
-Tape compileTape(const Document& doc);
+/// Keeps feature indices stable across compilations of successive versions
+/// of a document, so that voxel data built for an earlier version still
+/// names the right features. Indices are never reused.
+struct FeatureRegistry {
+    std::unordered_map<std::string, std::uint32_t> index;
+    std::vector<std::string> ids;
+};
+
+Tape compileTape(const Document& doc, FeatureRegistry* registry = nullptr);
 
 /// Compiles one node (with its own transform) as if it were the root.
 Tape compileTape(const Node& node);

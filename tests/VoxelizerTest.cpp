@@ -1,0 +1,434 @@
+// The voxelizer against exact evaluation: stored corners equal the exact
+// field, every voxel the surface crosses is populated and none is farther
+// from the surface than its diagonal; incremental rebuilds equal full ones;
+// cancellation never publishes a partial tile; memory follows surface area.
+
+#include "kerf/evaluator/PointEvaluator.hpp"
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/voxelizer/DirtyRegion.hpp"
+#include "kerf/voxelizer/TileBuilder.hpp"
+#include "kerf/voxelizer/VoxelQuery.hpp"
+#include "kerf/voxelizer/Voxelize.hpp"
+#include "kerf/voxelizer/Voxelizer.hpp"
+#include "support/RandomShapes.hpp"
+
+#include <gtest/gtest.h>
+
+#include <glm/glm.hpp>
+
+#include <mutex>
+
+namespace kerf {
+namespace {
+
+Document parse(const std::string& root, double featureSize)
+{
+    return Document::parse(R"({"format":"kerf","version":1,"settings":{"feature_size":)" + std::to_string(featureSize) +
+                               R"(},"root":)" + root + "}",
+                           "test.kerf");
+}
+
+const char* kSphere = R"({"id":"s","type":"sphere","radius":10})";
+const char* kRotatedBox =
+    R"({"id":"b","type":"box","size":[30,14,9],"round":2,"transform":{"rotate":[20,35,-15],"translate":[3,-2,1]}})";
+const char* kBoardWithHoles = R"({"id":"d","type":"difference","children":[
+    {"id":"board","type":"box","size":[60,30,12],"round":1},
+    {"id":"holes","type":"array","count":[3,1,1],"step":[18,0,0],"transform":{"translate":[-18,0,0]},
+     "children":[{"id":"hole","type":"cylinder","radius":4,"height":20}]},
+    {"id":"groove","type":"box","size":[70,4,5],"transform":{"translate":[0,9,6]}}]})";
+
+struct Checked {
+    long voxels = 0, corners = 0, normalsWithin1Degree = 0;
+};
+
+// Every populated voxel: corners straddle the surface in the stored data,
+// stored distances equal exact double evaluation (within the encoding's
+// quantization), every corner within a voxel diagonal of the surface.
+Checked checkAgainstExact(const Tape& tape, const VoxelSnapshot& snap)
+{
+    Checked c;
+    PointEvaluator<double> exact;
+    GradientEvaluator<double> grad;
+    const GridLayout& g = snap.layout;
+    for (long i = 0; i < g.tileCount(); ++i) {
+        const auto& tile = snap.tiles[std::size_t(i)];
+        if (!tile) continue;
+        const double h = g.voxelSizeAt(tile->levels);
+        const glm::dvec3 base = g.tileBox(g.tileCoord(i)).min;
+        const double quantum = voxel::kDistanceRange * h / 32767.0;
+        forEachVoxel(*tile, float(h), [&](const glm::ivec3& v, const VoxelCorners& k) {
+            ++c.voxels;
+            bool neg = false, pos = false;
+            for (int q = 0; q < 8; ++q) {
+                const glm::dvec3 p = base + h * (glm::dvec3(v) + glm::dvec3(q & 1, (q >> 1) & 1, q >> 2));
+                const double e = exact.evaluate(tape, p.x, p.y, p.z);
+                ++c.corners;
+                EXPECT_NEAR(k.distance[q], e, quantum + 1e-4 + 1e-6 * h) << "tile " << i;
+                EXPECT_LE(std::fabs(e), std::sqrt(3.0) * h + 1e-6) << "corner farther than a diagonal";
+                neg = neg || k.distance[q] < 0.0f;
+                pos = pos || k.distance[q] >= 0.0f;
+                const Dual<double> d = grad.evaluate(tape, p.x, p.y, p.z);
+                const glm::dvec3 n = glm::normalize(glm::dvec3(d.d[0], d.d[1], d.d[2]));
+                if (glm::dot(n, glm::dvec3(k.normal[q])) > std::cos(glm::radians(1.0))) ++c.normalsWithin1Degree;
+            }
+            EXPECT_TRUE(neg && pos) << "populated voxel without a sign change";
+        });
+    }
+    return c;
+}
+
+// Dense sampling of the whole grid at half-voxel spacing: every voxel in
+// which the exact field takes both signs by more than `tolerance` must be
+// populated.
+long checkCompleteness(const Tape& tape, const VoxelSnapshot& snap, double toleranceInVoxels)
+{
+    PointEvaluator<double> exact;
+    const GridLayout& g = snap.layout;
+    long crossed = 0;
+    for (long i = 0; i < g.tileCount(); ++i) {
+        const auto& tile = snap.tiles[std::size_t(i)];
+        const int levels = tile ? tile->levels : g.levels;
+        const int n = 1 << (2 * levels);
+        const double h = g.voxelSizeAt(levels);
+        const double tol = toleranceInVoxels * h;
+        const glm::dvec3 base = g.tileBox(g.tileCoord(i)).min;
+        // Cheap rejection: no sample in this tile can be near the surface.
+        const double centre = exact.evaluate(tape, base.x + 0.5 * g.tileSize, base.y + 0.5 * g.tileSize,
+                                             base.z + 0.5 * g.tileSize);
+        if (std::fabs(centre) > g.tileSize) continue;
+        const int m = 2 * n + 1;
+        std::vector<double> s(std::size_t(m) * m * m);
+        for (int z = 0; z < m; ++z)
+            for (int y = 0; y < m; ++y)
+                for (int x = 0; x < m; ++x) {
+                    const glm::dvec3 p = base + 0.5 * h * glm::dvec3(x, y, z);
+                    s[std::size_t(x + m * (y + m * z))] = exact.evaluate(tape, p.x, p.y, p.z);
+                }
+        for (int z = 0; z < n; ++z)
+            for (int y = 0; y < n; ++y)
+                for (int x = 0; x < n; ++x) {
+                    bool neg = false, pos = false;
+                    for (int k = 0; k < 27; ++k) {
+                        const double v = s[std::size_t((2 * x + k % 3) + m * ((2 * y + (k / 3) % 3) + m * (2 * z + k / 9)))];
+                        neg = neg || v < -tol;
+                        pos = pos || v > tol;
+                    }
+                    if (!(neg && pos)) continue;
+                    ++crossed;
+                    const bool populated = tile && findVoxel(*tile, {x, y, z}, float(h)).has_value();
+                    EXPECT_TRUE(populated) << "tile " << i << " voxel (" << x << ", " << y << ", " << z << ")";
+                    if (!populated) return crossed;
+                }
+    }
+    return crossed;
+}
+
+struct Part {
+    const char* name;
+    const char* json;
+    double featureSize;
+};
+void PrintTo(const Part& p, std::ostream* os) { *os << p.name; }
+
+class VoxelizeAgainstExact : public ::testing::TestWithParam<Part> {};
+
+TEST_P(VoxelizeAgainstExact, CornersSurfaceAndCompleteness)
+{
+    const Document d = parse(GetParam().json, GetParam().featureSize);
+    const Tape tape = compileTape(d);
+    const GridLayout g = GridLayout::choose(tape.bounds(), GetParam().featureSize);
+    EXPECT_DOUBLE_EQ(g.voxelSize, GetParam().featureSize) << "the feature size is never rounded";
+    const VoxelSnapshot snap = voxelize(tape, g);
+    const Checked c = checkAgainstExact(tape, snap);
+    EXPECT_GT(c.voxels, 1000);
+    EXPECT_GT(c.normalsWithin1Degree, c.corners * 95 / 100);
+    // Faces lying exactly on lattice planes have corners at 0, which count as
+    // outside: those voxels are populated without a robust sign change.
+    EXPECT_GT(checkCompleteness(tape, snap, 0.02), c.voxels / 4);
+}
+
+INSTANTIATE_TEST_SUITE_P(Parts, VoxelizeAgainstExact,
+                         ::testing::Values(Part{"Sphere", kSphere, 0.5}, Part{"RotatedRoundedBox", kRotatedBox, 0.4},
+                                           Part{"BoardWithHoles", kBoardWithHoles, 0.5}),
+                         [](const auto& p) { return std::string(p.param.name); });
+
+TEST(Voxelize, RandomTreesMatchExactEvaluation)
+{
+    test::RandomShapes r(17);
+    for (int t = 0; t < 12; ++t) {
+        Document d = test::RandomShapes::document(r.tree(3));
+        const Tape tape = compileTape(d);
+        if (tape.empty() || tape.bounds().isEmpty()) continue;
+        const GridLayout g = GridLayout::choose(tape.bounds(), 1.0);
+        const VoxelSnapshot snap = voxelize(tape, g);
+        checkAgainstExact(tape, snap);
+        if (HasFailure()) return;
+    }
+}
+
+TEST(Voxelize, MemoryGrowsWithSurfaceAreaNotVolume)
+{
+    // Same feature size, radius doubled: area x4, volume x8.
+    auto bytes = [](double radius) {
+        const Document d = parse(R"({"id":"s","type":"sphere","radius":)" + std::to_string(radius) + "}", 0.5);
+        const Tape tape = compileTape(d);
+        return double(voxelize(tape, GridLayout::choose(tape.bounds(), 0.5)).bytes());
+    };
+    const double small = bytes(12.0), large = bytes(24.0);
+    const double ratio = large / small;
+    EXPECT_GT(ratio, 3.0);
+    EXPECT_LT(ratio, 5.5) << "memory should scale like the area (4x), not the volume (8x)";
+}
+
+TEST(Voxelize, OneThreadAndTwoGiveIdenticalTiles)
+{
+    const Document d = parse(kBoardWithHoles, 0.5);
+    const Tape tape = compileTape(d);
+    const GridLayout g = GridLayout::choose(tape.bounds(), 0.5);
+    const VoxelSnapshot a = voxelize(tape, g, {.levels = -1, .threads = 1});
+    const VoxelSnapshot b = voxelize(tape, g, {.levels = -1, .threads = 2});
+    ASSERT_EQ(a.tiles.size(), b.tiles.size());
+    const FlatVoxelBuffers fa = FlatVoxelBuffers::flatten(a), fb = FlatVoxelBuffers::flatten(b);
+    EXPECT_EQ(fa.tiles, fb.tiles);
+    EXPECT_EQ(fa.bytes(), fb.bytes());
+    EXPECT_EQ(0, std::memcmp(fa.vertices.data(), fb.vertices.data(), fa.vertices.size() * sizeof(voxel::Vertex)));
+}
+
+TEST(GridLayout, ChoosesWholeTilesAndSaysWhenTheDepthRunsOut)
+{
+    const Aabb chair{{-226, -241, 0}, {226, 262, 882}};
+    const GridLayout g = GridLayout::choose(chair, 0.5);
+    EXPECT_DOUBLE_EQ(g.voxelSize, 0.5);
+    EXPECT_LE(g.tileCount(), 32 * 32 * 32);
+    EXPECT_TRUE(g.bounds().contains(chair.min) && g.bounds().contains(chair.max));
+    EXPECT_TRUE(g.note.empty());
+    // 0.01 mm on a 5 m part needs more than the addressing allows.
+    const GridLayout deep = GridLayout::choose(Aabb{{0, 0, 0}, {5000, 400, 30}}, 0.0001, {.maxTiles = 32768, .maxLevels = 6});
+    EXPECT_GT(deep.voxelSize, 0.0001);
+    EXPECT_FALSE(deep.note.empty());
+    EXPECT_LE(deep.tileCount(), 32768);
+    EXPECT_TRUE(GridLayout::choose(Aabb::empty(), 1.0).empty());
+}
+
+TEST(VoxelFormat, CompactEncodingErrors)
+{
+    test::RandomShapes r(3);
+    double worstAngle = 0.0;
+    for (int i = 0; i < 100000; ++i) {
+        glm::dvec3 n = r.vec(-1, 1);
+        if (glm::length(n) < 1e-3) continue;
+        n = glm::normalize(n);
+        const glm::vec3 back = voxel::decodeNormal(voxel::encodeNormal(glm::vec3(n)));
+        worstAngle = std::max(worstAngle, glm::degrees(std::acos(std::min(1.0, glm::dot(glm::dvec3(back), n)))));
+    }
+    EXPECT_LT(worstAngle, 0.05); // degrees: two snorm16 in the octahedral square
+    for (float d : {-0.99f, -0.25f, 0.0f, 0.3f, 0.999f}) {
+        const std::uint32_t p = voxel::encodeDistanceFeature(d, 0.5f, 1234);
+        EXPECT_NEAR(voxel::decodeDistance(p, 0.5f), d, 1.0 / 32767.0 + 1e-7);
+        EXPECT_EQ(voxel::decodeFeature(p), 1234u);
+    }
+}
+
+// --- The background voxelizer -------------------------------------------------
+
+bool sameTile(const TileData* a, const TileData* b, const std::vector<Feature>& fa, const std::vector<Feature>& fb)
+{
+    if (!a || !b) return !a && !b;
+    if (a->state != b->state || a->levels != b->levels || a->nodes.size() != b->nodes.size() ||
+        a->leafData.size() != b->leafData.size() || a->vertices.size() != b->vertices.size())
+        return false;
+    for (std::size_t i = 0; i < a->nodes.size(); ++i)
+        if (a->nodes[i].header != b->nodes[i].header || a->nodes[i].mask() != b->nodes[i].mask()) return false;
+    for (std::size_t i = 0; i < a->leafData.size(); ++i)
+        if (a->leafData[i].corner != b->leafData[i].corner) return false;
+    for (std::size_t i = 0; i < a->vertices.size(); ++i) {
+        const auto& va = a->vertices[i];
+        const auto& vb = b->vertices[i];
+        if (va.normal != vb.normal || (va.distanceFeature & 0xFFFF) != (vb.distanceFeature & 0xFFFF)) return false;
+        // Feature indices may differ between registries; the node they name may not.
+        if (fa[voxel::decodeFeature(va.distanceFeature)].nodeId != fb[voxel::decodeFeature(vb.distanceFeature)].nodeId)
+            return false;
+    }
+    return true;
+}
+
+// The snapshot equals a full voxelization of `doc` at the snapshot's depth.
+void expectEqualsFullRebuild(const VoxelSnapshot& snap, const Document& doc)
+{
+    const Tape tape = compileTape(doc);
+    const GridLayout g = GridLayout::choose(tape.bounds(), *doc.settings.featureSize);
+    ASSERT_TRUE(snap.layout == g);
+    const VoxelSnapshot full = voxelize(tape, g);
+    long differing = 0;
+    for (std::size_t i = 0; i < full.tiles.size(); ++i)
+        if (!sameTile(snap.tiles[i].get(), full.tiles[i].get(), *snap.features, *full.features)) ++differing;
+    EXPECT_EQ(differing, 0) << "tiles differing from a full rebuild";
+}
+
+Document editableDoc()
+{
+    return parse(R"({"id":"root","type":"union","blend":2,"children":[
+        {"id":"d","type":"difference","children":[
+          {"id":"board","type":"box","size":[80,40,12],"round":1},
+          {"id":"hole1","type":"cylinder","radius":4,"height":20,"transform":{"translate":[-25,0,0]}},
+          {"id":"hole2","type":"cylinder","radius":4,"height":20,"transform":{"translate":[25,0,0]}}]},
+        {"id":"knob","type":"sphere","radius":6,"transform":{"translate":[0,0,8]}},
+        {"id":"pins","type":"array","count":[4,1,1],"step":[12,0,0],"transform":{"translate":[-18,15,6]},
+         "children":[{"id":"pin","type":"cylinder","radius":1.5,"height":8}]}]})",
+                 0.5);
+}
+
+TEST(Voxelizer, RandomEditSequencesEqualAFullRebuild)
+{
+    Voxelizer vox({.limits = {}, .coarseLevelDrop = 1, .threads = 2, .featureSize = 0.0, .onPublish = {}});
+    Document doc = editableDoc();
+    std::uint64_t rev = vox.setDocument(doc);
+    ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(60)));
+    test::RandomShapes r(99);
+    for (int step = 0; step < 12; ++step) {
+        const int kind = r.integer(0, 4);
+        Node* n = nullptr;
+        switch (kind) {
+        case 0: // move a hole within the board (the grid keeps its size)
+            n = doc.root.find(r.chance(0.5) ? "hole1" : "hole2");
+            n->transform.translate.x = r.uniform(-30, 30);
+            break;
+        case 1:
+            n = doc.root.find("knob");
+            n->as<SphereParams>().radius = r.uniform(3, 7);
+            break;
+        case 2:
+            n = doc.root.find("pin");
+            n->visible = !n->visible;
+            break;
+        case 3: {
+            n = doc.root.find("d");
+            if (n->children.size() > 3 || r.chance(0.5)) {
+                if (n->children.size() > 1) {
+                    n->children.pop_back();
+                }
+            } else {
+                Node h = makeNode(NodeType::Cylinder, "extra" + std::to_string(step));
+                h.params = CylinderParams{2.5, 30};
+                h.transform.translate = {r.uniform(-30, 30), r.uniform(-12, 12), 0};
+                n->children.push_back(h);
+            }
+            break;
+        }
+        default:
+            doc.root.find("pins")->as<ArrayParams>().step.x = r.uniform(8, 14);
+            break;
+        }
+        rev = vox.setDocument(doc);
+        // Half of the edits arrive before the previous one finished (cancellation).
+        if (r.chance(0.5)) {
+            ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(60)));
+        }
+    }
+    ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(60)));
+    const auto snap = vox.snapshot();
+    EXPECT_TRUE(snap->complete);
+    EXPECT_EQ(snap->documentRevision, rev);
+    expectEqualsFullRebuild(*snap, doc);
+}
+
+TEST(Voxelizer, AnEditRebuildsOnlyTheTilesItReaches)
+{
+    Voxelizer vox({.limits = {}, .coarseLevelDrop = 1, .threads = 2, .featureSize = 0.0, .onPublish = {}});
+    Document doc = editableDoc();
+    std::uint64_t rev = vox.setDocument(doc);
+    ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(60)));
+    const auto before = vox.snapshot();
+    doc.root.find("hole1")->transform.translate.x = -22.0; // move one hole by 3 mm
+    rev = vox.setDocument(doc);
+    ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(60)));
+    const auto after = vox.snapshot();
+    const VoxelizerStats stats = vox.lastStats();
+    EXPECT_GT(stats.dirtyTiles, 0u);
+    EXPECT_LT(stats.dirtyTiles * 4, stats.tilesInGrid) << "a small edit rebuilt most of the grid";
+    // Tiles outside the edit's reach are the very same objects as before.
+    const Aabb reach = Aabb{{-29.5, -4.5, -10.5}, {-17.5, 4.5, 10.5}}.grown(4 * after->layout.voxelSize);
+    std::size_t untouchedShared = 0, touched = 0;
+    for (long i = 0; i < after->layout.tileCount(); ++i) {
+        if (after->layout.tileBox(after->layout.tileCoord(i)).overlaps(reach)) {
+            ++touched;
+            continue;
+        }
+        EXPECT_EQ(after->tiles[std::size_t(i)], before->tiles[std::size_t(i)]) << "tile " << i << " was rebuilt";
+        ++untouchedShared;
+    }
+    EXPECT_GT(untouchedShared, touched);
+    expectEqualsFullRebuild(*after, doc);
+}
+
+TEST(Voxelizer, PublicationsAreConsistentAndNeverHoldPartialTiles)
+{
+    std::mutex m;
+    std::vector<std::shared_ptr<const VoxelSnapshot>> published;
+    Voxelizer vox({.limits = {}, .coarseLevelDrop = 2, .threads = 2, .featureSize = 0.0,
+                   .onPublish = [&](std::shared_ptr<const VoxelSnapshot> s) {
+                       std::lock_guard lock(m);
+                       published.push_back(std::move(s));
+                   }});
+    std::vector<Document> docs;
+    Document doc = editableDoc();
+    for (int i = 0; i < 5; ++i) {
+        doc.root.find("knob")->as<SphereParams>().radius = 4.0 + i;
+        docs.push_back(doc);
+        vox.setDocument(doc); // no waiting: most of these are cancelled
+    }
+    ASSERT_TRUE(vox.waitFor(5, true, std::chrono::seconds(60)));
+    std::lock_guard lock(m);
+    ASSERT_FALSE(published.empty());
+    std::uint64_t lastVersion = 0;
+    for (const auto& s : published) {
+        EXPECT_GT(s->version, lastVersion);
+        lastVersion = s->version;
+        // Every tile equals a fresh build of its revision's document at its depth.
+        const Document& d = docs[s->documentRevision - 1];
+        const Tape tape = compileTape(d);
+        TileBuildScratch scratch;
+        for (long i = 0; i < s->layout.tileCount(); ++i) {
+            const auto& t = s->tiles[std::size_t(i)];
+            const int levels = t ? t->levels : s->layout.levels;
+            auto fresh = buildTile(tape, s->layout, s->layout.tileCoord(i), levels, scratch);
+            ASSERT_TRUE(fresh.has_value());
+            const TileData* f = fresh->state == TileState::Empty ? nullptr : &*fresh;
+            ASSERT_TRUE(sameTile(t.get(), f, *s->features, *tape.sharedFeatures()))
+                << "revision " << s->documentRevision << " tile " << i;
+        }
+    }
+    EXPECT_TRUE(published.back()->complete);
+    EXPECT_EQ(published.back()->documentRevision, 5u);
+}
+
+TEST(Voxelizer, CoarsePublicationComesFirst)
+{
+    std::mutex m;
+    std::vector<std::pair<bool, int>> seen; // complete, shallowest depth
+    Voxelizer vox({.limits = {}, .coarseLevelDrop = 1, .threads = 2, .featureSize = 0.0,
+                   .onPublish = [&](std::shared_ptr<const VoxelSnapshot> s) {
+                       std::lock_guard lock(m);
+                       seen.emplace_back(s->complete, s->shallowestLevels());
+                   }});
+    const auto rev = vox.setDocument(editableDoc());
+    ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(60)));
+    std::lock_guard lock(m);
+    ASSERT_GE(seen.size(), 2u);
+    EXPECT_FALSE(seen.front().first);
+    EXPECT_TRUE(seen.back().first);
+    EXPECT_LT(seen.front().second, seen.back().second);
+}
+
+TEST(DirtyRegion, ColourAndNameChangesNeedNoRebuild)
+{
+    Document a = editableDoc(), b = a;
+    b.root.find("knob")->color = Color{200, 10, 10};
+    b.root.find("board")->name = "Seat board";
+    const DirtyRegion r = dirtyRegion(a, b, 1.0);
+    EXPECT_FALSE(r.geometryChanged);
+    EXPECT_TRUE(r.boxes.empty());
+}
+
+} // namespace
+} // namespace kerf

@@ -1,0 +1,36 @@
+#pragma once
+// Builds one tile's contree: interval tests prune empty and full space and
+// simplify the tape at every level, so deep nodes evaluate short tapes; at a
+// leaf node the 5 x 5 x 5 shared corner points are sampled in one batched
+// call, voxels whose corners change sign are populated, and their corners
+// keep distance, normal and deciding feature (each shared corner once).
+
+#include "kerf/evaluator/IntervalEvaluator.hpp"
+#include "kerf/evaluator/PointEvaluator.hpp"
+#include "kerf/evaluator/Tape.hpp"
+#include "kerf/voxelizer/GridLayout.hpp"
+#include "kerf/voxelizer/TileData.hpp"
+
+#include <functional>
+#include <optional>
+
+namespace kerf {
+
+/// Per-thread scratch memory for building tiles (reused across tiles).
+struct TileBuildScratch {
+    IntervalEvaluator intervals;
+    PointEvaluator<float> points;
+    GradientEvaluator<float> gradients;
+    std::vector<Tape> levelTapes; // the simplified tape of the node being built at each level
+};
+
+/// Returns true when the work should stop (a newer edit arrived).
+using CancelCheck = std::function<bool()>;
+
+/// Builds tile `tile` of `layout` from `tape` (a tape in world coordinates,
+/// origin at zero) with a contree `levels` deep (1..voxel::kMaxLevels).
+/// Returns nothing when cancelled: never half a tile.
+std::optional<TileData> buildTile(const Tape& tape, const GridLayout& layout, const glm::ivec3& tile, int levels,
+                                  TileBuildScratch& scratch, const CancelCheck& cancelled = {});
+
+} // namespace kerf

@@ -1,0 +1,30 @@
+#pragma once
+// One tile's voxel data in the GPU layout, with offsets relative to the
+// tile's own arrays. Immutable once built; shared between snapshots.
+
+#include "kerf/voxelizer/VoxelFormat.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace kerf {
+
+enum class TileState : std::uint8_t { Empty, Full, Surface };
+
+struct TileData {
+    TileState state = TileState::Empty;
+    int levels = 0; // contree depth this tile was built at
+    std::vector<voxel::Node> nodes; // nodes[0] is the root
+    std::vector<voxel::LeafIndirection> leafIndirections;
+    std::vector<voxel::LeafData> leafData; // one per populated voxel
+    std::vector<voxel::Vertex> vertices;
+
+    std::size_t populatedVoxels() const { return leafData.size(); }
+    std::size_t bytes() const
+    {
+        return nodes.size() * sizeof(voxel::Node) + leafIndirections.size() * sizeof(voxel::LeafIndirection) +
+               leafData.size() * sizeof(voxel::LeafData) + vertices.size() * sizeof(voxel::Vertex);
+    }
+};
+
+} // namespace kerf

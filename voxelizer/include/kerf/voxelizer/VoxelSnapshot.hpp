@@ -1,0 +1,54 @@
+#pragma once
+// A published, consistent voxelization: every tile belongs to the same
+// document (some possibly at a coarser depth while refinement runs).
+// Immutable; readers hold it by shared_ptr as long as they need it.
+
+#include "kerf/evaluator/Tape.hpp"
+#include "kerf/voxelizer/GridLayout.hpp"
+#include "kerf/voxelizer/TileData.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace kerf {
+
+struct VoxelSnapshot {
+    std::uint64_t version = 0;          // increases with every publication
+    std::uint64_t documentRevision = 0; // the request this snapshot answers
+    bool complete = false;              // every tile at the target depth
+    GridLayout layout;
+    std::vector<std::shared_ptr<const TileData>> tiles; // layout.tileCount() entries, null = empty
+    std::shared_ptr<const std::vector<Feature>> features;
+
+    std::size_t bytes() const;
+    std::size_t populatedVoxels() const;
+    int shallowestLevels() const; // of surface tiles
+};
+
+/// Concatenated GPU buffers of a snapshot: the tile buffer maps each tile to
+/// a TileEntry (or kEmptyTile / kFullTile); the entry's offsets turn the
+/// tile-relative offsets into absolute ones.
+struct TileEntry {
+    std::uint32_t node = 0;
+    std::uint32_t leafIndirection = 0;
+    std::uint32_t leafData = 0;
+    std::uint32_t vertex = 0;
+    std::uint32_t levels = 0;
+    std::uint32_t reserved[3] = {0, 0, 0};
+};
+static_assert(sizeof(TileEntry) == 32);
+
+struct FlatVoxelBuffers {
+    GridLayout layout;
+    std::vector<std::uint32_t> tiles;
+    std::vector<TileEntry> entries;
+    std::vector<voxel::Node> nodes;
+    std::vector<voxel::LeafIndirection> leafIndirections;
+    std::vector<voxel::LeafData> leafData;
+    std::vector<voxel::Vertex> vertices;
+
+    std::size_t bytes() const;
+    static FlatVoxelBuffers flatten(const VoxelSnapshot& snapshot);
+};
+
+} // namespace kerf

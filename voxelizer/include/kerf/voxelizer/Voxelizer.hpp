@@ -1,0 +1,100 @@
+#pragma once
+// The background voxelizer: give it each new version of the document; it
+// rebuilds only the tiles the edit can change, first at a coarse depth, then
+// at the full depth, and publishes consistent snapshots as it goes.
+//
+// Threading: setDocument() and every other public function return at once
+// and may be called from any thread (the GUI thread, typically). Work runs on
+// one coordinating thread and a oneTBB arena. A newer document cancels the
+// work for an older one within one contree node's work; a cancelled tile is
+// discarded, never published. Each snapshot's tiles all describe the same
+// document (a tile the edit cannot reach is the same for both versions).
+//
+// Lifetime: the destructor cancels the work and waits for it.
+
+#include "kerf/document/Document.hpp"
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/voxelizer/VoxelSnapshot.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+namespace kerf {
+
+struct VoxelizerOptions {
+    GridLimits limits;
+    /// The coarse pass builds dirty tiles this many levels shallower
+    /// (each level is 4x coarser voxels); 0 disables it.
+    int coarseLevelDrop = 2;
+    int threads = 0; // 0: every core
+    /// Overrides the document's feature size (mm); 0: the document's or the default.
+    double featureSize = 0.0;
+    /// Called on the coordinating thread after each publication.
+    std::function<void(std::shared_ptr<const VoxelSnapshot>)> onPublish;
+};
+
+struct VoxelizerStats {
+    std::uint64_t revision = 0;
+    std::size_t tilesInGrid = 0;
+    std::size_t dirtyTiles = 0;   // tiles this revision rebuilt
+    double coarseMs = 0.0;        // from the request to the coarse publication
+    double fineMs = 0.0;          // from the request to the complete publication
+    bool cancelled = false;
+};
+
+class Voxelizer {
+public:
+    explicit Voxelizer(VoxelizerOptions options = {});
+    ~Voxelizer();
+    Voxelizer(const Voxelizer&) = delete;
+    Voxelizer& operator=(const Voxelizer&) = delete;
+
+    /// Queues a version of the document; returns its revision number.
+    std::uint64_t setDocument(const Document& doc);
+    /// Tiles nearer this world point are rebuilt first.
+    void setFocus(const glm::dvec3& point);
+
+    /// The latest publication (null before the first).
+    std::shared_ptr<const VoxelSnapshot> snapshot() const;
+    /// Waits until `revision` is published (complete if asked). False on timeout.
+    bool waitFor(std::uint64_t revision, bool complete, std::chrono::milliseconds timeout) const;
+    /// Statistics of the last revision whose work finished or was cancelled.
+    VoxelizerStats lastStats() const;
+
+private:
+    struct Request {
+        Document doc;
+        std::uint64_t revision;
+        std::chrono::steady_clock::time_point submitted;
+    };
+    void run();
+    void process(Request request);
+    void publish(std::shared_ptr<VoxelSnapshot> snap);
+    bool stale(std::uint64_t revision) const { return latestRevision_.load() != revision || stopping_.load(); }
+
+    VoxelizerOptions options_;
+    mutable std::mutex mutex_;
+    mutable std::condition_variable changed_;
+    std::optional<Request> pending_;
+    std::shared_ptr<const VoxelSnapshot> published_;
+    VoxelizerStats stats_;
+    glm::dvec3 focus_{0.0};
+    std::atomic<std::uint64_t> latestRevision_{0};
+    std::atomic<bool> stopping_{false};
+    std::uint64_t nextVersion_ = 1; // coordinating thread only
+
+    // Owned by the coordinating thread.
+    std::optional<Document> builtDocument_;   // the document the last processed request described
+    std::vector<long> unfinishedTiles_;       // tiles not yet at full depth for builtDocument_
+    FeatureRegistry features_;
+
+    std::thread worker_;
+};
+
+} // namespace kerf

@@ -1,0 +1,52 @@
+#include "kerf/voxelizer/GridLayout.hpp"
+
+#include "kerf/voxelizer/VoxelFormat.hpp"
+
+#include <glm/glm.hpp>
+
+#include <cmath>
+#include <sstream>
+
+namespace kerf {
+
+double GridLayout::voxelSizeAt(int lv) const { return tileSize / std::pow(4.0, lv); }
+
+GridLayout GridLayout::choose(const Aabb& partBounds, double featureSize, const GridLimits& limits)
+{
+    GridLayout g;
+    if (partBounds.isEmpty() || !partBounds.isBounded() || !(featureSize > 0.0)) return g;
+    const int maxLevels = std::clamp(limits.maxLevels, 1, voxel::kMaxLevels);
+    // One voxel of margin on every side keeps the surface off the grid's
+    // boundary, so every surface voxel has all its neighbours in the grid.
+    auto dimsFor = [&](double tile, double voxel) {
+        const glm::dvec3 e = partBounds.size() + glm::dvec3(2.0 * voxel);
+        return glm::ivec3(glm::max(glm::dvec3(1.0), glm::ceil(e / tile)));
+    };
+    double voxel = featureSize;
+    int levels = std::clamp(limits.minLevels, 1, maxLevels);
+    for (;; ++levels) {
+        const glm::ivec3 d = dimsFor(voxel * std::pow(4.0, levels), voxel);
+        if (double(d.x) * d.y * d.z <= double(limits.maxTiles) || levels == maxLevels) break;
+    }
+    glm::ivec3 dims = dimsFor(voxel * std::pow(4.0, levels), voxel);
+    if (double(dims.x) * dims.y * dims.z > double(limits.maxTiles)) {
+        // Too fine for the addressing: coarsen the voxels until the grid fits.
+        const double requested = voxel;
+        while (double(dims.x) * dims.y * dims.z > double(limits.maxTiles)) {
+            voxel *= 1.25;
+            dims = dimsFor(voxel * std::pow(4.0, levels), voxel);
+        }
+        std::ostringstream s;
+        s << "feature size " << requested << " mm needs more than " << maxLevels
+          << " contree levels; voxels are " << voxel << " mm instead";
+        g.note = s.str();
+    }
+    g.levels = levels;
+    g.voxelSize = voxel;
+    g.tileSize = voxel * std::pow(4.0, levels);
+    g.dims = dims;
+    g.origin = partBounds.center() - 0.5 * glm::dvec3(dims) * g.tileSize;
+    return g;
+}
+
+} // namespace kerf

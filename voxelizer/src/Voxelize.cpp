@@ -1,0 +1,35 @@
+#include "kerf/voxelizer/Voxelize.hpp"
+
+#include "kerf/voxelizer/TileBuilder.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+namespace kerf {
+
+VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const VoxelizeOptions& options)
+{
+    VoxelSnapshot snap;
+    snap.layout = layout;
+    snap.features = tape.sharedFeatures();
+    snap.complete = true;
+    snap.tiles.resize(std::size_t(layout.tileCount()));
+    const int levels = options.levels > 0 ? options.levels : layout.levels;
+    tbb::enumerable_thread_specific<TileBuildScratch> scratch;
+    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<long>(0, layout.tileCount(), 1), [&](const tbb::blocked_range<long>& r) {
+            auto& s = scratch.local();
+            for (long i = r.begin(); i != r.end(); ++i) {
+                auto tile = buildTile(tape, layout, layout.tileCoord(i), levels, s);
+                if (tile && tile->state != TileState::Empty)
+                    snap.tiles[std::size_t(i)] = std::make_shared<const TileData>(std::move(*tile));
+            }
+        });
+    });
+    return snap;
+}
+
+} // namespace kerf
