@@ -5,10 +5,14 @@
 #include "kerf/app/Commands.hpp"
 #include "kerf/app/DocumentSummary.hpp"
 #include "kerf/document/DocumentError.hpp"
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/voxelizer/Voxelize.hpp"
 
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cstdio>
+#include <unistd.h>
 #include <filesystem>
 #include <ostream>
 
@@ -19,7 +23,8 @@ namespace {
 const char* kCheckHelp = R"(Usage: kerf check FILE.kerf [--json]
 
 Loads and validates a Kerf document. Prints the feature count, the bounding
-box and the feature size the viewport resolves.
+box, and the voxel memory the viewport needs at the document's feature size
+(measured: the part is voxelized).
 
 Options:
   --json     print the figures as one JSON object
@@ -56,6 +61,14 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
         const Document doc = Document::load(file);
         const DocumentSummary s = summarize(doc, file.parent_path().string());
 
+        // The viewport's voxel memory, measured rather than estimated.
+        if (::isatty(STDERR_FILENO)) err << "kerf check: voxelizing at " << mm(s.featureSize) << " mm...\n";
+        const Tape tape = compileTape(doc);
+        const GridLayout layout = GridLayout::choose(tape.bounds(), s.featureSize);
+        const auto t0 = std::chrono::steady_clock::now();
+        const VoxelSnapshot voxels = voxelize(tape, layout);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
         if (a.has("--json")) {
             nlohmann::ordered_json j;
             j["file"] = file.string();
@@ -74,6 +87,13 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
             }
             j["feature_size_mm"] = s.featureSize;
             j["feature_size_from_document"] = s.featureSizeFromDocument;
+            j["voxel_bytes"] = voxels.bytes();
+            j["populated_voxels"] = voxels.populatedVoxels();
+            j["voxel_size_mm"] = layout.voxelSize;
+            j["tiles"] = {layout.dims.x, layout.dims.y, layout.dims.z};
+            j["contree_levels"] = layout.levels;
+            j["voxelize_seconds"] = seconds;
+            if (!layout.note.empty()) j["note"] = layout.note;
             j["meshes"] = s.meshes;
             j["missing_meshes"] = s.missingMeshes;
             out << j.dump(2) << "\n";
@@ -93,6 +113,12 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
         out << "  feature size:  " << mm(s.featureSize) << " mm"
             << (s.featureSizeFromDocument ? " (document)" : " (default: the document sets none)") << "\n";
         out << "  tape:          " << s.tapeLength << " instructions\n";
+        char mib[32];
+        std::snprintf(mib, sizeof mib, "%.1f MiB", double(voxels.bytes()) / (1024.0 * 1024.0));
+        out << "  voxel memory:  " << mib << " (" << voxels.populatedVoxels() << " populated voxels of "
+            << mm(layout.voxelSize) << " mm; " << layout.dims.x << " x " << layout.dims.y << " x " << layout.dims.z
+            << " tiles, " << layout.levels << " levels; voxelized in " << mm(seconds) << " s)\n";
+        if (!layout.note.empty()) out << "  note:          " << layout.note << "\n";
         if (s.meshes) {
             out << "  meshes:        " << s.meshes << " reference mesh(es)";
             if (s.missingMeshes) out << ", " << s.missingMeshes << " missing on disk";

@@ -8,7 +8,10 @@ namespace {
 std::uint32_t toSnorm16(float v)
 {
     const float c = std::clamp(v, -1.0f, 1.0f);
-    return static_cast<std::uint32_t>(static_cast<std::int32_t>(std::lround(c * 32767.0f)) & 0xFFFF);
+    // Round half away from zero without a libm call (hot: every stored vertex).
+    const float scaled = c * 32767.0f;
+    const auto rounded = static_cast<std::int32_t>(scaled + (scaled < 0.0f ? -0.5f : 0.5f));
+    return static_cast<std::uint32_t>(rounded) & 0xFFFF;
 }
 float fromSnorm16(std::uint32_t bits)
 {

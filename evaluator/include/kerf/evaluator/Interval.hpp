@@ -7,6 +7,8 @@
 // need no widening.
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -28,8 +30,17 @@ struct Interval {
 };
 
 namespace interval_detail {
-inline double down(double v) { return std::nextafter(v, -std::numeric_limits<double>::infinity()); }
-inline double up(double v) { return std::nextafter(v, std::numeric_limits<double>::infinity()); }
+// The neighbouring doubles, by stepping the bit pattern (what nextafter does,
+// inlined: this is the interval evaluator's innermost operation). Infinities
+// and NaN are returned unchanged.
+inline double up(double v)
+{
+    if (!(v < std::numeric_limits<double>::infinity())) return v; // +inf, NaN
+    if (v == 0.0) return std::numeric_limits<double>::denorm_min();
+    const auto bits = std::bit_cast<std::uint64_t>(v);
+    return std::bit_cast<double>(v > 0.0 ? bits + 1 : bits - 1);
+}
+inline double down(double v) { return -up(-v); }
 inline Interval widened(double lo, double hi) { return {down(lo), up(hi)}; }
 } // namespace interval_detail
 
