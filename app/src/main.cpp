@@ -19,7 +19,10 @@ booleans, blends, offsets, shells, arrays and mirrors, in millimetres.
 
 Commands:
   check FILE.kerf      load and validate a document; print its feature count,
-                       bounding box and feature size
+                       bounding box, feature size and voxel memory
+  render FILE.kerf -o OUT.png [--size WxH] [--view iso|front|top|...]
+                       voxelize and trace the part with the Vulkan compute
+                       tracer, headless, and write the image
 
 Options:
   --help               show this help (also: kerf COMMAND --help)
@@ -50,6 +53,7 @@ int main(int argc, char** argv)
         return 0;
     }
     if (command == "check") return kerf::runCheck(rest, std::cout, std::cerr);
+    if (command == "render") return kerf::runRender(rest, std::cout, std::cerr);
     std::cerr << "kerf: unknown command '" << command << "' (see kerf --help)\n";
     return 2;
 }

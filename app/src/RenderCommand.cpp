@@ -1,0 +1,182 @@
+// kerf render FILE.kerf -o OUT.png: voxelizes the part and traces it with the
+// Vulkan compute tracer, headless (no window, no window system), then shades
+// and writes the image. Without a usable Vulkan device it says so once and
+// uses the CPU reference tracer, which runs the same algorithm.
+
+#include "kerf/app/Arguments.hpp"
+#include "kerf/app/Commands.hpp"
+#include "kerf/app/DocumentSummary.hpp"
+#include "kerf/document/DocumentError.hpp"
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/tracer/ReferenceTracer.hpp"
+#include "kerf/viewport/ComputeTracer.hpp"
+#include "kerf/viewport/VulkanError.hpp"
+#include "kerf/voxelizer/Voxelize.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <ostream>
+
+namespace kerf {
+
+namespace {
+
+const char* kRenderHelp = R"(Usage: kerf render FILE.kerf -o OUT.png [--size WxH] [--view NAME]
+                   [--feature-size MM] [--ortho] [--cpu] [--json]
+
+Voxelizes the part and traces it with the Vulkan compute tracer, without a
+window, then writes a shaded PNG.
+
+Options:
+  -o, --output OUT.png  the image to write (written whole or not at all)
+  --size WxH            image size in pixels (default 1280x960)
+  --view NAME           iso (default), front, back, left, right, top, bottom
+  --feature-size MM     voxel size (default: the document's)
+  --ortho               orthographic instead of perspective projection
+  --cpu                 use the CPU reference tracer instead of Vulkan
+  --json                print the figures as one JSON object
+  --help                show this help
+
+Exit status: 0 written, 1 the work failed, 2 bad usage or a bad input file.
+)";
+
+struct Size {
+    int width = 1280, height = 960;
+};
+
+Size parseSize(const std::string& text)
+{
+    const auto x = text.find('x');
+    Size s;
+    try {
+        if (x == std::string::npos) throw std::invalid_argument("no x");
+        std::size_t used = 0;
+        s.width = std::stoi(text.substr(0, x), &used);
+        if (used != x) throw std::invalid_argument("width");
+        s.height = std::stoi(text.substr(x + 1), &used);
+        if (used != text.size() - x - 1) throw std::invalid_argument("height");
+    } catch (const std::exception&) {
+        throw UsageError("--size must be WIDTHxHEIGHT in pixels, like 1920x1080, not '" + text + "'");
+    }
+    if (s.width < 1 || s.height < 1 || s.width > 16384 || s.height > 16384)
+        throw UsageError("--size must be between 1x1 and 16384x16384, not '" + text + "'");
+    return s;
+}
+
+double msSince(std::chrono::steady_clock::time_point t)
+{
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+} // namespace
+
+int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
+{
+    try {
+        const Arguments a(args, {"-o", "--output", "--size", "--view", "--feature-size"},
+                          {"--ortho", "--cpu", "--json", "--help", "-h"});
+        if (a.has("--help") || a.has("-h")) {
+            out << kRenderHelp;
+            return 0;
+        }
+        if (a.positional().size() != 1) throw UsageError("expects exactly one FILE.kerf");
+        const auto output = a.value("-o") ? a.value("-o") : a.value("--output");
+        if (!output) throw UsageError("needs -o OUT.png");
+        const Size size = a.value("--size") ? parseSize(*a.value("--size")) : Size{};
+        const std::string view = a.value("--view").value_or("iso");
+        const std::filesystem::path file = a.positional()[0];
+
+        const Document doc = Document::load(file);
+        const Tape tape = compileTape(doc);
+        const double featureSize = a.value("--feature-size")
+                                       ? Arguments::parsePositiveMillimetres("--feature-size", *a.value("--feature-size"))
+                                       : doc.settings.featureSize.value_or(defaultFeatureSize(tape.bounds()));
+        if (tape.empty() || tape.bounds().isEmpty()) {
+            err << "kerf render: " << file.string() << ": the part is empty (nothing visible); nothing to render\n";
+            return 1;
+        }
+        Camera camera;
+        try {
+            camera = Camera::standardView(tape.bounds(), view, size.width, size.height,
+                                          a.has("--ortho") ? Projection::Orthographic : Projection::Perspective);
+        } catch (const std::invalid_argument& e) {
+            throw UsageError(std::string("--view: ") + e.what());
+        }
+
+        auto t0 = std::chrono::steady_clock::now();
+        const GridLayout layout = GridLayout::choose(tape.bounds(), featureSize);
+        const VoxelSnapshot snap = voxelize(tape, layout);
+        const FlatVoxelBuffers buffers = FlatVoxelBuffers::flatten(snap);
+        const double voxelizeMs = msSince(t0);
+        if (!layout.note.empty()) err << "kerf render: " << layout.note << "\n";
+
+        TraceImage image;
+        std::string device;
+        double traceMs = 0.0, gpuMs = -1.0;
+        bool usedVulkan = false;
+        if (!a.has("--cpu")) {
+            try {
+                vk::Context ctx;
+                vk::ComputeTracer tracer(ctx);
+                tracer.setVoxels(buffers);
+                t0 = std::chrono::steady_clock::now();
+                vk::TraceTiming timing;
+                image = tracer.trace(camera, &timing);
+                traceMs = msSince(t0);
+                gpuMs = timing.gpuMilliseconds;
+                device = ctx.deviceDescription();
+                usedVulkan = true;
+            } catch (const vk::VulkanError& e) {
+                err << "kerf render: no usable Vulkan device (" << e.what()
+                    << "); using the CPU reference tracer\n";
+            }
+        }
+        if (!usedVulkan) {
+            t0 = std::chrono::steady_clock::now();
+            image = traceVoxels(buffers, camera);
+            traceMs = msSince(t0);
+            device = "CPU reference tracer";
+        }
+        writePng(*output, shade(image, tape.features(), ShadeOptions::forCamera(camera)));
+
+        std::size_t hits = 0;
+        for (std::size_t i = 0; i < image.depth.size(); ++i) hits += image.hit(i);
+        if (a.has("--json")) {
+            nlohmann::ordered_json j;
+            j["file"] = file.string();
+            j["output"] = *output;
+            j["width"] = size.width;
+            j["height"] = size.height;
+            j["view"] = view;
+            j["device"] = device;
+            j["vulkan"] = usedVulkan;
+            j["feature_size_mm"] = layout.voxelSize;
+            j["voxel_bytes"] = snap.bytes();
+            j["voxelize_ms"] = voxelizeMs;
+            j["trace_ms"] = traceMs;
+            if (gpuMs >= 0.0) j["trace_gpu_ms"] = gpuMs;
+            j["pixels_hit"] = hits;
+            out << j.dump(2) << "\n";
+        } else {
+            out << *output << ": " << size.width << "x" << size.height << " " << view << " view of " << file.string()
+                << "\n  device:       " << device << "\n  voxels:       " << snap.populatedVoxels() << " of "
+                << layout.voxelSize << " mm, " << snap.bytes() / 1024 << " KiB, built in " << long(voxelizeMs)
+                << " ms\n  trace:        " << traceMs << " ms";
+            if (gpuMs >= 0.0) out << " (GPU " << gpuMs << " ms)";
+            out << "\n  pixels hit:   " << hits << "\n";
+        }
+        return 0;
+    } catch (const UsageError& e) {
+        err << "kerf render: " << e.what() << " (see kerf render --help)\n";
+        return 2;
+    } catch (const DocumentError& e) {
+        err << "kerf render: " << e.what() << "\n";
+        return 2;
+    } catch (const std::exception& e) {
+        err << "kerf render: " << e.what() << "\n";
+        return 1;
+    }
+}
+
+} // namespace kerf

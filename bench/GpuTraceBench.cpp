@@ -1,0 +1,144 @@
+// Trace time per frame of the Vulkan compute tracer on whatever device Kerf
+// finds (the H100 of the `device` tool, lavapipe here): the default chair at
+// several feature sizes and a stand-in for the seed's showcase, at 1920x1080
+// and 2560x1440. Headless; needs only the Vulkan loader and what the core
+// links, so it can be carried to a machine without Qt or a package registry.
+//
+//   kerf_gpu_bench [--quick] [--frames N] [--json OUT.json] [--examples DIR]
+
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/tracer/Camera.hpp"
+#include "kerf/viewport/ComputeTracer.hpp"
+#include "kerf/voxelizer/Voxelize.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+using namespace kerf;
+
+namespace {
+
+// The seed's showcase stand-in: four spheres about 11 units across with 26
+// blended bumps each (the document format has no sine to distort them).
+Document showcase()
+{
+    std::string kids;
+    int id = 0;
+    for (int s = 0; s < 4; ++s) {
+        const glm::dvec3 c((s & 1) ? 7.0 : -7.0, (s & 2) ? 7.0 : -7.0, 0.0);
+        std::string bumps;
+        for (int x = -1; x <= 1; ++x)
+            for (int y = -1; y <= 1; ++y)
+                for (int z = -1; z <= 1; ++z) {
+                    if (!x && !y && !z) continue;
+                    const glm::dvec3 d = c + glm::normalize(glm::dvec3(x, y, z)) * 4.2;
+                    bumps += R"(,{"id":"b)" + std::to_string(id++) + R"(","type":"sphere","radius":1.1,"transform":{"translate":[)" +
+                             std::to_string(d.x) + "," + std::to_string(d.y) + "," + std::to_string(d.z) + "]}}";
+                }
+        kids += std::string(s ? "," : "") + R"({"id":"u)" + std::to_string(s) + R"(","type":"union","blend":0.8,"children":[)" +
+                R"({"id":"s)" + std::to_string(s) + R"(","type":"sphere","radius":4,"transform":{"translate":[)" +
+                std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z) + "]}}" + bumps + "]}";
+    }
+    return Document::parse(R"({"format":"kerf","version":1,"root":{"id":"all","type":"union","children":[)" + kids + "]}}",
+                           "showcase");
+}
+
+double median(std::vector<double> v)
+{
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    bool quick = false;
+    int frames = 20;
+    std::string jsonPath, examples = KERF_EXAMPLES_DIR;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--quick") quick = true;
+        else if (a == "--frames" && i + 1 < argc) frames = std::max(1, std::atoi(argv[++i]));
+        else if (a == "--json" && i + 1 < argc) jsonPath = argv[++i];
+        else if (a == "--examples" && i + 1 < argc) examples = argv[++i];
+        else {
+            std::cerr << "usage: kerf_gpu_bench [--quick] [--frames N] [--json OUT.json] [--examples DIR]\n";
+            return 2;
+        }
+    }
+    try {
+        vk::Context ctx;
+        std::cout << "device: " << ctx.deviceDescription() << "\n";
+        struct Scene {
+            std::string name;
+            Document doc;
+            std::vector<double> featureSizes;
+        };
+        std::vector<Scene> scenes;
+        const Document chair = Document::load(examples + "/side-chair.kerf");
+        scenes.push_back({"chair", chair, quick ? std::vector<double>{2.0, 1.0} : std::vector<double>{2.0, 1.0, 0.5, 0.25}});
+        scenes.push_back({"showcase", showcase(), quick ? std::vector<double>{0.1} : std::vector<double>{0.1, 0.01}});
+        const std::vector<std::pair<int, int>> sizes =
+            quick ? std::vector<std::pair<int, int>>{{640, 360}} : std::vector<std::pair<int, int>>{{1920, 1080}, {2560, 1440}};
+
+        nlohmann::ordered_json results = nlohmann::ordered_json::array();
+        std::printf("%-9s %8s %11s %10s %11s %10s %12s %12s\n", "scene", "fs", "voxels", "MB", "upload ms", "size",
+                    "trace ms", "Mrays/s");
+        for (auto& scene : scenes) {
+            const Tape tape = compileTape(scene.doc);
+            for (double fs : scene.featureSizes) {
+                const auto t0 = std::chrono::steady_clock::now();
+                const GridLayout layout = GridLayout::choose(tape.bounds(), fs);
+                const VoxelSnapshot snap = voxelize(tape, layout);
+                const FlatVoxelBuffers buffers = FlatVoxelBuffers::flatten(snap);
+                const double voxelizeMs =
+                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+                vk::ComputeTracer tracer(ctx);
+                const auto u0 = std::chrono::steady_clock::now();
+                tracer.setVoxels(buffers);
+                const double uploadMs =
+                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - u0).count();
+                for (auto [w, h] : sizes) {
+                    const Camera camera = Camera::standardView(tape.bounds(), "iso", w, h);
+                    std::vector<double> ms;
+                    for (int f = 0; f < frames + 2; ++f) {
+                        vk::TraceTiming timing;
+                        (void)tracer.trace(camera, &timing);
+                        if (f >= 2) ms.push_back(timing.gpuMilliseconds); // two warm-up frames
+                    }
+                    const double m = median(ms);
+                    const double mrays = double(w) * h / (m * 1e-3) / 1e6;
+                    std::printf("%-9s %8g %11zu %10.1f %11.1f %5dx%-5d %11.3f %12.1f\n", scene.name.c_str(), fs,
+                                snap.populatedVoxels(), double(snap.bytes()) / 1e6, uploadMs, w, h, m, mrays);
+                    std::fflush(stdout);
+                    results.push_back({{"scene", scene.name},          {"feature_size", fs},
+                                       {"populated_voxels", snap.populatedVoxels()},
+                                       {"bytes", snap.bytes()},        {"voxelize_ms", voxelizeMs},
+                                       {"upload_ms", uploadMs},        {"width", w},
+                                       {"height", h},                  {"trace_ms_median", m},
+                                       {"trace_ms_min", *std::min_element(ms.begin(), ms.end())},
+                                       {"mrays_per_s", mrays}});
+                }
+            }
+        }
+        if (!jsonPath.empty()) {
+            nlohmann::ordered_json j;
+            j["device"] = ctx.deviceDescription();
+            j["frames"] = frames;
+            j["results"] = results;
+            std::ofstream(jsonPath) << j.dump(2) << "\n";
+        }
+        return 0;
+    } catch (const std::exception& e) {
+        std::cerr << "kerf_gpu_bench: " << e.what() << "\n";
+        return 1;
+    }
+}

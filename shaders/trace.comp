@@ -1,0 +1,341 @@
+#version 460
+// The voxel tracer: one ray per pixel through the tile grid and its
+// contrees, writing depth, normal and feature. A line-by-line port of
+// tracer/src/ReferenceTracer.cpp (the CPU reference): keep the two in step.
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_GOOGLE_include_directive : require
+
+#include "TraceShared.h"
+
+layout(local_size_x = KERF_TRACE_LOCAL_SIZE, local_size_y = KERF_TRACE_LOCAL_SIZE) in;
+
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Words { uint w[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) writeonly buffer Floats { float f[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) writeonly buffer Vec4s { vec4 v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) writeonly buffer Uints { uint u[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer ParamsRef { TraceParams p; };
+
+layout(push_constant) uniform Push { uint64_t params; } pc;
+
+const uint kEmptyTile = 0xFFFFFFFFu;
+const uint kFullTile = 0xFFFFFFFEu;
+const uint kLeafFlag = 0x80000000u;
+const uint kNoFeature = 0xFFFFFFFFu;
+const float kInf = 1.0 / 0.0;
+const float kDistanceRange = 2.0;
+const int kBisectionSteps = 16;
+
+TraceParams P;
+
+struct Hit {
+    float depth;
+    vec3 normal;
+    uint feature;
+};
+
+uint word(uint64_t base, uint index) { return Words(base).w[index]; }
+
+float decodeDistance(uint packed, float voxelMm)
+{
+    const int s = int(packed << 16) >> 16;
+    return max(float(s) / 32767.0, -1.0) * kDistanceRange * voxelMm;
+}
+
+float signNotZero(float v) { return v < 0.0 ? -1.0 : 1.0; }
+
+vec3 decodeNormal(uint packed)
+{
+    const float u = max(float(int(packed << 16) >> 16) / 32767.0, -1.0);
+    const float v = max(float(int(packed) >> 16) / 32767.0, -1.0);
+    vec3 n = vec3(u, v, 1.0 - abs(u) - abs(v));
+    if (n.z < 0.0) {
+        const float pu = n.x, pv = n.y;
+        n.x = (1.0 - abs(pv)) * signNotZero(pu);
+        n.y = (1.0 - abs(pu)) * signNotZero(pv);
+    }
+    return normalize(n);
+}
+
+bool hasChild(uint maskLo, uint maskHi, int c)
+{
+    return c < 32 ? ((maskLo >> c) & 1u) != 0u : ((maskHi >> (c - 32)) & 1u) != 0u;
+}
+
+uint childRank(uint maskLo, uint maskHi, int c)
+{
+    if (c < 32) return uint(bitCount(maskLo & ((1u << c) - 1u)));
+    const uint below = c == 32 ? 0u : maskHi & ((1u << (c - 32)) - 1u);
+    return uint(bitCount(maskLo) + bitCount(below));
+}
+
+int childIndex(int x, int y, int z) { return x | (y << 2) | (z << 4); }
+
+// Trilinear field in the monomial basis and along a ray as a cubic.
+void trilinear(const float d[8], out float k[8])
+{
+    k[0] = d[0];
+    k[1] = d[1] - d[0];
+    k[2] = d[2] - d[0];
+    k[3] = d[4] - d[0];
+    k[4] = d[3] - d[2] - d[1] + d[0];
+    k[5] = d[6] - d[4] - d[2] + d[0];
+    k[6] = d[5] - d[4] - d[1] + d[0];
+    k[7] = d[7] - d[6] - d[5] - d[3] + d[4] + d[2] + d[1] - d[0];
+}
+
+vec3 trilinearGradient(const float k[8], vec3 u)
+{
+    return vec3(k[1] + k[4] * u.y + k[6] * u.z + k[7] * u.y * u.z,
+                k[2] + k[4] * u.x + k[5] * u.z + k[7] * u.x * u.z,
+                k[3] + k[5] * u.y + k[6] * u.x + k[7] * u.x * u.y);
+}
+
+vec4 alongRay(const float k[8], vec3 o, vec3 d)
+{
+    vec4 c;
+    c.x = k[0] + k[1] * o.x + k[2] * o.y + k[3] * o.z + k[4] * o.x * o.y + k[5] * o.y * o.z + k[6] * o.x * o.z +
+          k[7] * o.x * o.y * o.z;
+    c.y = k[1] * d.x + k[2] * d.y + k[3] * d.z + k[4] * (o.x * d.y + o.y * d.x) + k[5] * (o.y * d.z + o.z * d.y) +
+          k[6] * (o.x * d.z + o.z * d.x) + k[7] * (d.x * o.y * o.z + o.x * d.y * o.z + o.x * o.y * d.z);
+    c.z = k[4] * d.x * d.y + k[5] * d.y * d.z + k[6] * d.x * d.z +
+          k[7] * (d.x * d.y * o.z + d.x * o.y * d.z + o.x * d.y * d.z);
+    c.w = k[7] * d.x * d.y * d.z;
+    return c;
+}
+
+float evalCubic(vec4 c, float w) { return c.x + w * (c.y + w * (c.z + w * c.w)); }
+
+float firstCrossing(vec4 c, float wEnd)
+{
+    float r1 = kInf, r2 = kInf;
+    const float qa = 3.0 * c.w, qb = 2.0 * c.z, qc = c.y;
+    if (qa != 0.0) {
+        const float disc = qb * qb - 4.0 * qa * qc;
+        if (disc >= 0.0) {
+            const float q = -0.5 * (qb + (qb < 0.0 ? -sqrt(disc) : sqrt(disc)));
+            r1 = q / qa;
+            r2 = q != 0.0 ? qc / q : r1;
+        }
+    } else if (qb != 0.0) {
+        r1 = -qc / qb;
+    }
+    if (r2 < r1) {
+        const float tmp = r1;
+        r1 = r2;
+        r2 = tmp;
+    }
+    float breaks[4] = float[4](0.0, wEnd, wEnd, wEnd);
+    int count = 1;
+    if (r1 > 0.0 && r1 < wEnd) breaks[count++] = r1;
+    if (r2 > 0.0 && r2 < wEnd && r2 != r1) breaks[count++] = r2;
+    breaks[count++] = wEnd;
+
+    float a = breaks[0];
+    float fa = evalCubic(c, a);
+    if (fa <= 0.0) return a;
+    for (int i = 1; i < count; ++i) {
+        const float b = breaks[i];
+        const float fb = evalCubic(c, b);
+        if (fb <= 0.0) {
+            float lo = a, hi = b;
+            for (int k = 0; k < kBisectionSteps; ++k) {
+                const float mid = 0.5 * (lo + hi);
+                if (evalCubic(c, mid) <= 0.0) hi = mid;
+                else lo = mid;
+            }
+            return hi;
+        }
+        a = b;
+        fa = fb;
+    }
+    return -1.0;
+}
+
+float nonZero(float v) { return abs(v) < 1e-20 ? (v < 0.0 ? -1e-20 : 1e-20) : v; }
+
+bool traceTile(uint entry, ivec3 tile, vec3 origin, vec3 dir, vec3 invDir, float tileSize, float tEnter,
+               inout Hit hit)
+{
+    const uint eNode = word(P.entries, entry * 8u + 0u);
+    const uint eLeafInd = word(P.entries, entry * 8u + 1u);
+    const uint eLeafData = word(P.entries, entry * 8u + 2u);
+    const uint eVertex = word(P.entries, entry * 8u + 3u);
+    const int levels = int(word(P.entries, entry * 8u + 4u));
+    const int n = 1 << (2 * levels);
+    const float fn = float(n);
+    const float invN = 1.0 / fn;
+    const float invTile = 1.0 / tileSize;
+
+    const vec3 e = clamp((origin - vec3(tile) * tileSize + tEnter * dir) * invTile, 0.0, 1.0);
+    ivec3 cell = clamp(ivec3(floor(e * fn)), ivec3(0), ivec3(n - 1));
+    float s = 0.0;
+
+    const int maxIterations = 3 * n + 3;
+    for (int iteration = 0; iteration < maxIterations; ++iteration) {
+        uint node = eNode;
+        int cellShift = 0;
+        bool isVoxel = false;
+        uint leafIndirection = 0u, voxelRank = 0u;
+        int depth = 0;
+        for (; depth < levels; ++depth) {
+            const int shift = 2 * (levels - 1 - depth);
+            const int c = childIndex((cell.x >> shift) & 3, (cell.y >> shift) & 3, (cell.z >> shift) & 3);
+            const uint header = word(P.nodes, node * 3u);
+            const uint maskLo = word(P.nodes, node * 3u + 1u);
+            const uint maskHi = word(P.nodes, node * 3u + 2u);
+            cellShift = shift;
+            if (!hasChild(maskLo, maskHi, c)) break;
+            if ((header & kLeafFlag) != 0u) {
+                isVoxel = true;
+                leafIndirection = eLeafInd + (header & ~kLeafFlag);
+                voxelRank = childRank(maskLo, maskHi, c);
+                break;
+            }
+            node = eNode + (header & ~kLeafFlag) + childRank(maskLo, maskHi, c);
+        }
+
+        const ivec3 lo = (cell >> cellShift) << cellShift;
+        const ivec3 hi = lo + (1 << cellShift);
+        const vec3 bound = vec3(dir.x > 0.0 ? float(hi.x) : float(lo.x), dir.y > 0.0 ? float(hi.y) : float(lo.y),
+                                dir.z > 0.0 ? float(hi.z) : float(lo.z));
+        const vec3 sAxis = (bound * invN - e) * invDir;
+        const float sExit = min(sAxis.x, min(sAxis.y, sAxis.z));
+
+        if (isVoxel) {
+            const int voxelShift = 2 * (levels - 1 - depth);
+            const float cellsPerVoxel = float(1 << voxelShift);
+            const float voxelScale = fn / cellsPerVoxel;
+            const float voxelMm = tileSize / voxelScale;
+            const vec3 voxelLo = vec3(lo) * invN;
+            const uint liData = word(P.leafIndirections, leafIndirection * 2u);
+            const uint liVertex = word(P.leafIndirections, leafIndirection * 2u + 1u);
+            const uint ldIndex = eLeafData + liData + voxelRank;
+            const uint ld0 = word(P.leafData, ldIndex * 2u), ld1 = word(P.leafData, ldIndex * 2u + 1u);
+            uint vtx[8];
+            float d[8];
+            for (int q = 0; q < 8; ++q) {
+                const uint corner = ((q < 4 ? ld0 : ld1) >> (8 * (q & 3))) & 0xFFu;
+                vtx[q] = eVertex + liVertex + corner;
+                d[q] = decodeDistance(word(P.vertices, vtx[q] * 2u + 1u), voxelMm);
+            }
+            float k[8];
+            trilinear(d, k);
+            const vec3 o = clamp((e + s * dir - voxelLo) * voxelScale, 0.0, 1.0);
+            const float wEnd = max(0.0, (sExit - s) * voxelScale);
+            const float w = firstCrossing(alongRay(k, o, dir), wEnd);
+            if (w >= 0.0) {
+                const vec3 u = clamp(o + w * dir, 0.0, 1.0);
+                vec3 nrm = vec3(0.0);
+                float nearest = kInf;
+                uint feature = kNoFeature;
+                for (int q = 0; q < 8; ++q) {
+                    const uint nw = word(P.vertices, vtx[q] * 2u);
+                    const uint dw = word(P.vertices, vtx[q] * 2u + 1u);
+                    const vec3 corner = vec3(float(q & 1), float((q >> 1) & 1), float(q >> 2));
+                    const vec3 weight3 = mix(vec3(1.0) - u, u, corner);
+                    nrm += (weight3.x * weight3.y * weight3.z) * decodeNormal(nw);
+                    const vec3 toCorner = u - corner;
+                    const float dist2 = dot(toCorner, toCorner);
+                    if (dist2 < nearest) {
+                        nearest = dist2;
+                        feature = dw >> 16;
+                    }
+                }
+                float len = length(nrm);
+                if (!(len > 1e-6)) {
+                    nrm = trilinearGradient(k, u);
+                    len = length(nrm);
+                }
+                hit.normal = len > 0.0 ? nrm / len : -dir;
+                hit.feature = feature;
+                hit.depth = tEnter + (s + w / voxelScale) * tileSize;
+                return true;
+            }
+        }
+
+        s = max(s, sExit);
+        const vec3 p = (e + s * dir) * fn;
+        ivec3 next = clamp(ivec3(floor(p)), lo, hi - 1);
+        if (sAxis.x <= sExit) next.x = dir.x > 0.0 ? hi.x : lo.x - 1;
+        if (sAxis.y <= sExit) next.y = dir.y > 0.0 ? hi.y : lo.y - 1;
+        if (sAxis.z <= sExit) next.z = dir.z > 0.0 ? hi.z : lo.z - 1;
+        cell = next;
+        if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x >= n || cell.y >= n || cell.z >= n) return false;
+    }
+    return false;
+}
+
+Hit traceRay(vec3 origin, vec3 direction)
+{
+    Hit hit;
+    hit.depth = kInf;
+    hit.normal = vec3(0.0);
+    hit.feature = kNoFeature;
+
+    const vec3 dir = vec3(nonZero(direction.x), nonZero(direction.y), nonZero(direction.z));
+    const vec3 invDir = 1.0 / dir;
+    const float tileSize = P.eye.w;
+    const ivec3 dims = P.dims.xyz;
+
+    const vec3 t0 = (vec3(0.0) - origin) * invDir;
+    const vec3 t1 = (vec3(dims) * tileSize - origin) * invDir;
+    const vec3 tNear = min(t0, t1), tFar = max(t0, t1);
+    float tEnter = max(max(tNear.x, tNear.y), max(tNear.z, 0.0));
+    const float tLeave = min(tFar.x, min(tFar.y, tFar.z));
+    if (!(tEnter <= tLeave)) return hit;
+    int enterAxis = tNear.x >= tNear.y && tNear.x >= tNear.z ? 0 : (tNear.y >= tNear.z ? 1 : 2);
+
+    const vec3 p = (origin + tEnter * dir) / tileSize;
+    ivec3 tile = clamp(ivec3(floor(p)), ivec3(0), dims - 1);
+    const ivec3 stepDir = ivec3(dir.x > 0.0 ? 1 : -1, dir.y > 0.0 ? 1 : -1, dir.z > 0.0 ? 1 : -1);
+    const vec3 tDelta = abs(invDir) * tileSize;
+    vec3 tNext = ((vec3(tile) + vec3(greaterThan(dir, vec3(0.0)))) * tileSize - origin) * invDir;
+    const int maxTileSteps = dims.x + dims.y + dims.z + 3;
+    for (int i = 0; i < maxTileSteps; ++i) {
+        const int axis = tNext.x <= tNext.y && tNext.x <= tNext.z ? 0 : (tNext.y <= tNext.z ? 1 : 2);
+        const float tExitTile = tNext[axis];
+        const uint value = word(P.tiles, uint(tile.x + dims.x * (tile.y + dims.y * tile.z)));
+        if (value == kFullTile) {
+            hit.depth = tEnter;
+            hit.normal = vec3(0.0);
+            hit.normal[enterAxis] = -float(stepDir[enterAxis]);
+            hit.feature = kNoFeature;
+            return hit;
+        }
+        if (value != kEmptyTile && traceTile(value, tile, origin, dir, invDir, tileSize, tEnter, hit)) return hit;
+        if (tExitTile >= tLeave) break;
+        tEnter = max(tEnter, tExitTile);
+        tile[axis] += stepDir[axis];
+        tNext[axis] += tDelta[axis];
+        enterAxis = axis;
+        if (tile[axis] < 0 || tile[axis] >= dims[axis]) break;
+    }
+    return hit;
+}
+
+void main()
+{
+    P = ParamsRef(pc.params).p;
+    const uvec2 px = gl_GlobalInvocationID.xy;
+    if (px.x >= P.image.x || px.y >= P.image.y) return;
+    // The camera's ray through the pixel centre (tracer/src/Camera.cpp, Camera::ray).
+    const float width = float(P.image.x), height = float(P.image.y);
+    const float aspect = width / height;
+    const float u = (2.0 * (float(px.x) + 0.5) / width - 1.0) * aspect;
+    const float v = 1.0 - 2.0 * (float(px.y) + 0.5) / height;
+    const float halfHeight = P.right.w;
+    vec3 origin, direction;
+    if (P.forward.w > 0.5) {
+        origin = P.eye.xyz + (u * halfHeight) * P.right.xyz + (v * halfHeight) * P.up.xyz;
+        direction = P.forward.xyz;
+    } else {
+        origin = P.eye.xyz;
+        direction = normalize(P.forward.xyz + (u * halfHeight) * P.right.xyz + (v * halfHeight) * P.up.xyz);
+    }
+    Hit h = traceRay(origin, direction);
+    const uint i = px.x + P.image.x * px.y;
+    Floats(P.outDepth).f[i] = h.depth;
+    Vec4s(P.outNormal).v[i] = vec4(h.normal, 0.0);
+    Uints(P.outFeature).u[i] = h.feature;
+}

@@ -1,0 +1,329 @@
+// The tracer: cameras, the voxel reference tracer against the exact sphere
+// tracer (hit mask, depth, normals), single rays with known answers, tiles
+// of mixed depths, shading and PNG output.
+
+#include "kerf/document/Document.hpp"
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/tracer/Camera.hpp"
+#include "kerf/tracer/ExactTracer.hpp"
+#include "kerf/tracer/Image.hpp"
+#include "kerf/tracer/ReferenceTracer.hpp"
+#include "kerf/voxelizer/TileBuilder.hpp"
+#include "kerf/voxelizer/Voxelize.hpp"
+
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <numbers>
+#include <string>
+
+namespace kerf {
+namespace {
+
+namespace fs = std::filesystem;
+
+Document doc(const std::string& root)
+{
+    return Document::parse(R"({"format":"kerf","version":1,"root":)" + root + "}", "test.kerf");
+}
+
+Tape sphereTape(double radius)
+{
+    return compileTape(doc(R"({"id":"s","type":"sphere","radius":)" + std::to_string(radius) + "}"));
+}
+
+FlatVoxelBuffers voxels(const Tape& tape, double featureSize, GridLimits limits = {})
+{
+    const GridLayout layout = GridLayout::choose(tape.bounds(), featureSize, limits);
+    VoxelizeOptions options;
+    options.threads = 2;
+    return FlatVoxelBuffers::flatten(voxelize(tape, layout, options));
+}
+
+struct Agreement {
+    double maskAgree = 0.0;    // fraction of pixels where both hit or both miss
+    double depthWithin = 0.0;  // of pixels both hit: |depth difference| <= tolerance
+    double normalWithin = 0.0; // of pixels both hit: angle <= normalDegrees
+    double featureAgree = 0.0; // of pixels both hit: same feature
+    int hits = 0;
+};
+
+Agreement compare(const TraceImage& voxel, const TraceImage& exact, double depthTolerance, double normalDegrees)
+{
+    Agreement a;
+    int agree = 0, depthOk = 0, normalOk = 0, featureOk = 0, both = 0;
+    const double cosMax = std::cos(normalDegrees * std::numbers::pi / 180.0);
+    for (std::size_t i = 0; i < voxel.depth.size(); ++i) {
+        const bool hv = voxel.hit(i), he = exact.hit(i);
+        agree += hv == he;
+        if (!hv || !he) continue;
+        ++both;
+        depthOk += std::abs(double(voxel.depth[i]) - double(exact.depth[i])) <= depthTolerance;
+        normalOk += glm::dot(voxel.normal[i], exact.normal[i]) >= cosMax;
+        featureOk += voxel.feature[i] == exact.feature[i];
+    }
+    a.hits = both;
+    a.maskAgree = double(agree) / double(voxel.depth.size());
+    a.depthWithin = both ? double(depthOk) / both : 1.0;
+    a.normalWithin = both ? double(normalOk) / both : 1.0;
+    a.featureAgree = both ? double(featureOk) / both : 1.0;
+    std::printf("    %d hits; mask %.4f, depth %.4f, normal %.4f, feature %.4f\n", both, a.maskAgree, a.depthWithin,
+                a.normalWithin, a.featureAgree);
+    return a;
+}
+
+// Traces the same view both ways and checks the agreement the viewport needs.
+void expectAgreement(const Tape& tape, const FlatVoxelBuffers& buffers, double voxelSize, std::string_view view,
+                     int width = 160, int height = 120, double normalFraction = 0.95)
+{
+    SCOPED_TRACE(std::string(view));
+    const Camera camera = Camera::standardView(tape.bounds(), view, width, height);
+    const TraceImage v = traceVoxels(buffers, camera, 2);
+    const TraceImage e = traceExact(tape, camera, 1e-3, 2);
+    const Agreement a = compare(v, e, voxelSize, 5.0);
+    EXPECT_GT(a.hits, width * height / 20); // the part is in the picture
+    EXPECT_GE(a.maskAgree, 0.995);
+    EXPECT_GE(a.depthWithin, 0.995);
+    // Interpolated normals round off creases over a voxel or so: most, not all, pixels agree.
+    EXPECT_GE(a.normalWithin, normalFraction);
+}
+
+TEST(TracerCamera, StandardViewsLookWhereTheySay)
+{
+    const Aabb box{{-10, -20, -30}, {10, 20, 30}};
+    struct Expect {
+        const char* name;
+        glm::dvec3 forward;
+    };
+    for (const Expect& x : {Expect{"front", {0, 1, 0}}, Expect{"back", {0, -1, 0}}, Expect{"left", {1, 0, 0}},
+                            Expect{"right", {-1, 0, 0}}, Expect{"top", {0, 0, -1}}, Expect{"bottom", {0, 0, 1}},
+                            Expect{"iso", glm::normalize(glm::dvec3(-1, 1, -1))}}) {
+        SCOPED_TRACE(x.name);
+        const Camera c = Camera::standardView(box, x.name, 64, 48);
+        EXPECT_NEAR(glm::dot(c.forward(), x.forward), 1.0, 1e-12);
+        // The centre of the image looks at the box's centre, from outside its bounding sphere.
+        const Ray r = c.ray(32.0, 24.0);
+        EXPECT_NEAR(glm::length(glm::cross(r.direction, box.center() - r.origin)), 0.0, 1e-9);
+        EXPECT_GT(glm::length(r.origin - box.center()), 0.5 * glm::length(box.size()));
+    }
+    // Z is up in the side views; X is to the right in front, top and bottom.
+    EXPECT_NEAR(Camera::standardView(box, "front", 64, 48).up().z, 1.0, 1e-12);
+    EXPECT_NEAR(Camera::standardView(box, "top", 64, 48).right().x, 1.0, 1e-12);
+    EXPECT_NEAR(Camera::standardView(box, "bottom", 64, 48).right().x, 1.0, 1e-12);
+    EXPECT_THROW(Camera::standardView(box, "sideways", 64, 48), std::invalid_argument);
+}
+
+TEST(TracerCamera, RaysGoThroughPixelCentres)
+{
+    const Camera p = Camera::perspective({0, -100, 0}, {0, 0, 0}, {0, 0, 1}, 90.0, 4, 2);
+    // Pixel (3, 0) is the top-right one: right and up of the axis.
+    const Ray r = p.ray(3, 0);
+    EXPECT_GT(r.direction.x, 0.0);
+    EXPECT_GT(r.direction.z, 0.0);
+    EXPECT_NEAR(glm::length(r.direction), 1.0, 1e-12);
+    // 90 degrees vertically: the top edge of the image is at 45 degrees.
+    const Ray top = p.ray(2.0, 0.0);
+    EXPECT_NEAR(top.direction.z, top.direction.y, 1e-12);
+
+    const Camera o = Camera::orthographic({0, -100, 0}, {0, 0, 0}, {0, 0, 1}, 20.0, 4, 2);
+    const Ray a = o.ray(0, 0), b = o.ray(3, 1);
+    EXPECT_EQ(a.direction, glm::dvec3(0, 1, 0));
+    EXPECT_NEAR(a.origin.z, 5.0, 1e-12);  // a quarter of the 20 mm height above the axis
+    EXPECT_NEAR(b.origin.x, 15.0, 1e-12); // the image is 40 mm wide; pixel centres 10 mm apart
+    EXPECT_NEAR(a.origin.y, -100.0, 1e-12);
+}
+
+TEST(TracerRay, HitsASphereAtTheAnalyticDistance)
+{
+    const Tape tape = sphereTape(10.0);
+    const FlatVoxelBuffers buffers = voxels(tape, 0.5);
+    const RayHit h = traceRay(buffers, Ray{{-50, 0, 0}, {1, 0, 0}});
+    ASSERT_TRUE(h.hit());
+    EXPECT_NEAR(h.depth, 40.0, buffers.layout.voxelSize);
+    EXPECT_NEAR(h.normal.x, -1.0, 0.01);
+    EXPECT_EQ(h.feature, 0u);
+    // Off axis: the chord's near end, where the surface is slanted.
+    const RayHit off = traceRay(buffers, Ray{{-50, 6, 0}, {1, 0, 0}});
+    ASSERT_TRUE(off.hit());
+    EXPECT_NEAR(off.depth, 50.0 - 8.0, buffers.layout.voxelSize);
+    EXPECT_NEAR(glm::dot(off.normal, glm::vec3(-0.8f, 0.6f, 0.0f)), 1.0, 0.01);
+}
+
+TEST(TracerRay, MissesAreMisses)
+{
+    const Tape tape = sphereTape(10.0);
+    const FlatVoxelBuffers buffers = voxels(tape, 0.5);
+    // Never enters the grid.
+    EXPECT_FALSE(traceRay(buffers, Ray{{-50, 40, 0}, {1, 0, 0}}).hit());
+    EXPECT_FALSE(traceRay(buffers, Ray{{-50, 0, 0}, {-1, 0, 0}}).hit());
+    // Crosses the grid beside the sphere (the grid's corner region).
+    EXPECT_FALSE(traceRay(buffers, Ray{{-50, 9.5, 9.5}, {1, 0, 0}}).hit());
+    // Starts beyond it, looking away; and an empty grid.
+    EXPECT_FALSE(traceRay(buffers, Ray{{0, 0, 50}, {0, 0, 1}}).hit());
+    EXPECT_FALSE(traceRay(FlatVoxelBuffers{}, Ray{{-50, 0, 0}, {1, 0, 0}}).hit());
+    // Axis-aligned rays exactly on tile boundaries still work.
+    const glm::dvec3 lo = buffers.layout.origin;
+    const RayHit h = traceRay(buffers, Ray{{lo.x + buffers.layout.tileSize, lo.y - 5.0, 0.0}, {0, 1, 0}});
+    EXPECT_EQ(h.hit(), std::abs(lo.x + buffers.layout.tileSize) < 10.0);
+}
+
+TEST(TracerRay, FacesOnLatticePlanesAreHit)
+{
+    // The box's faces lie exactly on voxel corner planes, where the stored
+    // distance is exactly zero (the table top's faces do this at 1 mm).
+    const Tape tape = compileTape(doc(R"({"id":"b","type":"box","size":[10,10,10]})"));
+    GridLayout layout;
+    layout.origin = glm::dvec3(-16.0);
+    layout.dims = glm::ivec3(2);
+    layout.tileSize = 16.0;
+    layout.levels = 2;
+    layout.voxelSize = 1.0;
+    const FlatVoxelBuffers buffers = FlatVoxelBuffers::flatten(voxelize(tape, layout));
+    const RayHit h = traceRay(buffers, Ray{{-50, 0.3, 0.2}, {1, 0, 0}});
+    ASSERT_TRUE(h.hit());
+    EXPECT_NEAR(h.depth, 45.0, 1e-3);
+    EXPECT_NEAR(h.normal.x, -1.0, 1e-3);
+    // Along a tile boundary and a face at once (the plane x = 0 splits the grid).
+    const RayHit down = traceRay(buffers, Ray{{0, 0, 50}, {0, 0, -1}});
+    ASSERT_TRUE(down.hit());
+    EXPECT_NEAR(down.depth, 45.0, 1e-3);
+    // Grazing along a face plane: it meets the box's edge.
+    const RayHit graze = traceRay(buffers, Ray{{-50, -5, 0.2}, {1, 0, 0}});
+    ASSERT_TRUE(graze.hit());
+    EXPECT_NEAR(graze.depth, 45.0, layout.voxelSize);
+}
+
+TEST(TracerRay, AFullTileIsHitAtItsFace)
+{
+    // A full tile that no populated voxel shields (inconsistent data): the
+    // safety net reports its face rather than seeing through the solid.
+    FlatVoxelBuffers b;
+    b.layout.dims = {3, 1, 1};
+    b.layout.tileSize = 10.0;
+    b.layout.levels = 1;
+    b.layout.voxelSize = 2.5;
+    b.tiles = {voxel::kEmptyTile, voxel::kFullTile, voxel::kEmptyTile};
+    const RayHit h = traceRay(b, glm::vec3(-5.0f, 5.0f, 5.0f), glm::vec3(1.0f, 0.0f, 0.0f));
+    ASSERT_TRUE(h.hit());
+    EXPECT_NEAR(h.depth, 15.0f, 1e-4f);
+    EXPECT_EQ(h.normal, glm::vec3(-1.0f, 0.0f, 0.0f));
+    const RayHit back = traceRay(b, glm::vec3(35.0f, 5.0f, 5.0f), glm::vec3(-1.0f, 0.0f, 0.0f));
+    EXPECT_NEAR(back.depth, 15.0f, 1e-4f);
+    EXPECT_EQ(back.normal, glm::vec3(1.0f, 0.0f, 0.0f));
+}
+
+TEST(TracerRay, ImagesDoNotDependOnTheThreadCount)
+{
+    const Tape tape = sphereTape(10.0);
+    const FlatVoxelBuffers buffers = voxels(tape, 1.0);
+    const Camera camera = Camera::standardView(tape.bounds(), "iso", 64, 48);
+    const TraceImage one = traceVoxels(buffers, camera, 1), two = traceVoxels(buffers, camera, 2);
+    EXPECT_EQ(one.depth, two.depth);
+    EXPECT_EQ(one.feature, two.feature);
+    const TraceImage exactOne = traceExact(tape, camera, 1e-3, 1), exactTwo = traceExact(tape, camera, 1e-3, 2);
+    EXPECT_EQ(exactOne.depth, exactTwo.depth);
+}
+
+TEST(TracerAgreement, Sphere)
+{
+    const Tape tape = sphereTape(25.0);
+    const FlatVoxelBuffers buffers = voxels(tape, 1.0);
+    expectAgreement(tape, buffers, buffers.layout.voxelSize, "iso");
+    expectAgreement(tape, buffers, buffers.layout.voxelSize, "top");
+}
+
+TEST(TracerAgreement, RotatedBox)
+{
+    const Tape tape = compileTape(doc(R"({"id":"b","type":"box","size":[60,40,25],"round":2,)"
+                                      R"("transform":{"rotate":[0,0,30]}})"));
+    const FlatVoxelBuffers buffers = voxels(tape, 1.0);
+    expectAgreement(tape, buffers, buffers.layout.voxelSize, "iso");
+    expectAgreement(tape, buffers, buffers.layout.voxelSize, "front");
+}
+
+TEST(TracerAgreement, SideChair)
+{
+    const Tape tape = compileTape(Document::load(fs::path(KERF_EXAMPLES_DIR) / "side-chair.kerf"));
+    const FlatVoxelBuffers buffers = voxels(tape, 2.0);
+    expectAgreement(tape, buffers, buffers.layout.voxelSize, "iso", 320, 240);
+    expectAgreement(tape, buffers, buffers.layout.voxelSize, "right", 200, 150);
+}
+
+TEST(TracerAgreement, TilesOfMixedDepths)
+{
+    // A grid deep enough to drop a level: then every other tile is built one
+    // level shallower (4x coarser voxels), as the coarse pass of the
+    // background voxelizer leaves them.
+    const Tape tape = compileTape(doc(R"({"id":"u","type":"union","children":[)"
+                                      R"({"id":"s","type":"sphere","radius":14},)"
+                                      R"({"id":"b","type":"box","size":[40,8,8],"transform":{"rotate":[20,0,10]}}]})"));
+    GridLimits limits;
+    limits.maxTiles = 64;
+    const GridLayout layout = GridLayout::choose(tape.bounds(), 0.25, limits);
+    ASSERT_GE(layout.levels, 2);
+    VoxelSnapshot snap;
+    snap.layout = layout;
+    snap.features = tape.sharedFeatures();
+    snap.tiles.resize(std::size_t(layout.tileCount()));
+    TileBuildScratch scratch;
+    int shallow = 0, deep = 0;
+    for (long i = 0; i < layout.tileCount(); ++i) {
+        const glm::ivec3 t = layout.tileCoord(i);
+        const int levels = (t.x + t.y + t.z) % 2 ? layout.levels - 1 : layout.levels;
+        auto tile = buildTile(tape, layout, t, levels, scratch);
+        ASSERT_TRUE(tile);
+        if (tile->state == TileState::Surface) ++(levels == layout.levels ? deep : shallow);
+        if (tile->state != TileState::Empty) snap.tiles[std::size_t(i)] = std::make_shared<const TileData>(*tile);
+    }
+    ASSERT_GT(shallow, 0);
+    ASSERT_GT(deep, 0);
+    const FlatVoxelBuffers buffers = FlatVoxelBuffers::flatten(snap);
+    const double coarse = layout.voxelSizeAt(layout.levels - 1);
+    expectAgreement(tape, buffers, coarse, "iso", 160, 120, 0.9);
+    expectAgreement(tape, buffers, coarse, "front", 160, 120, 0.9);
+}
+
+TEST(TracerImage, ShadesHitsAndBackground)
+{
+    TraceImage img(2, 1);
+    img.depth[1] = 10.0f;
+    img.normal[1] = {0, 0, 1};
+    img.feature[1] = 0;
+    Feature red;
+    red.hasColor = true;
+    red.color = {255, 0, 0};
+    const RgbaImage out = shade(img, {red});
+    ASSERT_EQ(out.pixels.size(), 8u);
+    EXPECT_EQ(out.pixels[3], 255);
+    EXPECT_GT(out.pixels[4], 100); // the red feature, lit from above
+    EXPECT_EQ(out.pixels[5], 0);
+    EXPECT_EQ(out.pixels[6], 0);
+    EXPECT_NE(out.pixels[0], out.pixels[4]); // background is not the part
+}
+
+TEST(TracerImage, WritesPngAtomically)
+{
+    const fs::path dir = fs::temp_directory_path() / ("kerf-tracer-test-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const fs::path file = dir / "out.png";
+    std::vector<std::uint8_t> rgba(3 * 2 * 4, 200);
+    writePng(file, rgba.data(), 3, 2);
+    std::ifstream in(file, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GE(bytes.size(), 8u);
+    EXPECT_EQ(bytes.substr(1, 3), "PNG");
+    // Nothing but the target in the folder: the temporary is gone.
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+    // A target that cannot be written throws and leaves nothing behind.
+    EXPECT_THROW(writePng(dir / "missing-folder" / "x.png", rgba.data(), 3, 2), std::runtime_error);
+    fs::remove_all(dir);
+}
+
+} // namespace
+} // namespace kerf

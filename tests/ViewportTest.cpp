@@ -1,0 +1,134 @@
+// The Vulkan compute tracer (on lavapipe in CI) against the CPU reference
+// tracer: same algorithm, so depth agrees within a small tolerance on nearly
+// every pixel, there is no hole where the reference has surface, and the
+// validation layers report no error.
+
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/tracer/ReferenceTracer.hpp"
+#include "kerf/viewport/ComputeTracer.hpp"
+#include "kerf/viewport/VulkanError.hpp"
+#include "kerf/voxelizer/Voxelize.hpp"
+
+#include <gtest/gtest.h>
+
+#include <glm/glm.hpp>
+
+#include <filesystem>
+
+namespace kerf {
+namespace {
+
+struct Comparison {
+    std::size_t pixels = 0, bothHit = 0, depthClose = 0, holes = 0, extra = 0, normalClose = 0, featureSame = 0;
+};
+
+Comparison compare(const TraceImage& gpu, const TraceImage& cpu, double depthTolerance)
+{
+    Comparison c;
+    c.pixels = gpu.depth.size();
+    for (std::size_t i = 0; i < c.pixels; ++i) {
+        const bool g = gpu.hit(i), r = cpu.hit(i);
+        if (r && !g) ++c.holes;
+        if (g && !r) ++c.extra;
+        if (!(g && r)) continue;
+        ++c.bothHit;
+        if (std::fabs(gpu.depth[i] - cpu.depth[i]) <= depthTolerance) ++c.depthClose;
+        if (glm::dot(gpu.normal[i], cpu.normal[i]) > std::cos(glm::radians(2.0f))) ++c.normalClose;
+        if (gpu.feature[i] == cpu.feature[i]) ++c.featureSame;
+    }
+    return c;
+}
+
+class VulkanTracer : public ::testing::Test {
+protected:
+    static void SetUpTestSuite()
+    {
+        try {
+            context = std::make_unique<vk::Context>(vk::ContextOptions{.validation = true, .preferCpu = false});
+        } catch (const vk::VulkanError& e) {
+            skipReason = e.what();
+        }
+    }
+    static void TearDownTestSuite() { context.reset(); }
+    void SetUp() override
+    {
+        if (!context) GTEST_SKIP() << "no Vulkan device: " << skipReason;
+    }
+    static inline std::unique_ptr<vk::Context> context;
+    static inline std::string skipReason;
+};
+
+class EveryExample : public VulkanTracer, public ::testing::WithParamInterface<std::string> {};
+
+TEST_P(EveryExample, MatchesTheCpuReferenceTracer)
+{
+    const Document doc = Document::load(std::filesystem::path(KERF_EXAMPLES_DIR) / (GetParam() + ".kerf"));
+    const Tape tape = compileTape(doc);
+    // Coarse enough to keep the test quick on lavapipe; the algorithm is the same at any size.
+    const double extent = std::max({tape.bounds().size().x, tape.bounds().size().y, tape.bounds().size().z});
+    const GridLayout layout = GridLayout::choose(tape.bounds(), extent / 400.0);
+    const FlatVoxelBuffers buffers = FlatVoxelBuffers::flatten(voxelize(tape, layout));
+    vk::ComputeTracer tracer(*context);
+    tracer.setVoxels(buffers);
+    for (const char* view : {"iso", "front", "top"}) {
+        const Camera camera = Camera::standardView(tape.bounds(), view, 320, 240);
+        const TraceImage gpu = tracer.trace(camera);
+        const TraceImage cpu = traceVoxels(buffers, camera);
+        // Float arithmetic may differ in the last bits between the compilers
+        // (fused multiply-adds): allow a hundredth of a voxel in depth.
+        const Comparison c = compare(gpu, cpu, 0.01 * layout.voxelSize + 1e-4 * extent);
+        SCOPED_TRACE(std::string(view) + " view");
+        EXPECT_GT(c.bothHit, 400u) << "the part should show (thin parts seen edge-on fill little of the image)";
+        EXPECT_LE(c.holes, c.pixels / 1000) << "pixels where the reference has surface and the GPU none";
+        EXPECT_LE(c.extra, c.pixels / 1000);
+        EXPECT_GE(double(c.depthClose), 0.995 * double(c.bothHit));
+        EXPECT_GE(double(c.normalClose), 0.99 * double(c.bothHit));
+        EXPECT_GE(double(c.featureSame), 0.99 * double(c.bothHit));
+    }
+    EXPECT_EQ(context->validationErrors(), 0) << (context->validationMessages().empty()
+                                                      ? std::string()
+                                                      : context->validationMessages().front());
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, EveryExample,
+                         ::testing::Values("side-chair", "bookshelf-side", "table-top", "stool", "door-frame"));
+
+TEST_F(VulkanTracer, OrthographicViewsAndPartsFarFromTheOrigin)
+{
+    // A sphere 100 m from the origin: the eye is made grid-relative in double,
+    // so the GPU sees small numbers and hits where the reference does.
+    const Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"s","type":"sphere",
+        "radius":20,"transform":{"translate":[100000,-50000,2000]}}})",
+                                         "far.kerf");
+    const Tape tape = compileTape(doc);
+    const GridLayout layout = GridLayout::choose(tape.bounds(), 0.25);
+    const FlatVoxelBuffers buffers = FlatVoxelBuffers::flatten(voxelize(tape, layout));
+    vk::ComputeTracer tracer(*context);
+    tracer.setVoxels(buffers);
+    const Camera camera = Camera::standardView(tape.bounds(), "front", 200, 200, Projection::Orthographic);
+    const TraceImage gpu = tracer.trace(camera);
+    const TraceImage cpu = traceVoxels(buffers, camera);
+    const Comparison c = compare(gpu, cpu, 0.01);
+    EXPECT_GT(c.bothHit, 10000u);
+    EXPECT_EQ(c.holes, 0u);
+    EXPECT_GE(double(c.depthClose), 0.995 * double(c.bothHit));
+    // The centre pixel's ray hits the sphere's front at the analytic depth.
+    const std::size_t centre = gpu.index(100, 100);
+    const double eyeToCentre = glm::length(camera.eye() - glm::dvec3(100000, -50000, 2000));
+    EXPECT_NEAR(gpu.depth[centre], eyeToCentre - 20.0, 0.3);
+    EXPECT_EQ(context->validationErrors(), 0);
+}
+
+TEST_F(VulkanTracer, ReportsWhichDeviceItUses)
+{
+    // The validation layers are installed by tools/install-deps.sh: when
+    // their manifest is there, they must be on, or "no error" means nothing.
+    if (std::filesystem::exists("/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json")) {
+        EXPECT_TRUE(context->validationEnabled());
+    }
+    EXPECT_FALSE(context->deviceDescription().empty());
+    EXPECT_GT(context->properties().limits.timestampPeriod, 0.0f);
+}
+
+} // namespace
+} // namespace kerf

@@ -1,0 +1,71 @@
+#pragma once
+// The CPU reference of the viewport's voxel ray tracer: the same algorithm,
+// written so that the GLSL compute shader can follow it line by line (float
+// arithmetic, tile-local coordinates, plain loops with fixed bounds, no
+// recursion, no containers in the per-ray code).
+//
+// Per ray:
+//  1. Slab test against the grid's box; rays that miss it are done.
+//  2. Amanatides & Woo 3D DDA over the tiles, front to back.
+//  3. In a surface tile, the entry point is taken into tile-local
+//     coordinates ([0, 1]^3 across the tile). A loop then descends the
+//     contree from the root to the deepest existing node containing the
+//     current cell (integer coordinates at the tile's finest level); an empty
+//     cell, at whatever level, is skipped whole by moving to its face
+//     neighbour across the face the ray leaves it by. The integer cell
+//     coordinates step by at least one every iteration, so the loop always
+//     ends, whatever rounding does to the float ray parameter.
+//  4. In a populated voxel, the trilinear interpolation of its 8 corner
+//     distances is a cubic along the ray; the roots of its derivative split
+//     the segment into monotone pieces, and the first piece that reaches
+//     f <= 0 is bisected. Inside is f < 0, as for the voxelizer, so a voxel
+//     entered with f <= 0 counts as hit at its entry: a face lying exactly on
+//     a plane of voxel corners (stored distance exactly 0, common for
+//     axis-aligned boxes) is hit where it is, and a crossing lost to
+//     rounding, or a ray starting inside the solid, still stops there.
+//  5. The normal is the normalised trilinear interpolation of the corner
+//     normals at the hit; the feature is the nearest corner's.
+//  A kFullTile tile (entirely inside) is reported hit at its entry face,
+//  with that face's normal; with consistent voxel data a ray always meets a
+//  populated voxel before, so this is only a safety net.
+//
+// Precision: tile-local float coordinates resolve 2^-24 of a tile, so the
+// hit is exact to about 4^levels * 6e-8 voxel edges inside a tile (far below
+// a voxel for the depths GridLayout::choose makes), plus the ray origin's
+// float error relative to the grid origin (distance * 6e-8).
+
+#include "kerf/tracer/Camera.hpp"
+#include "kerf/tracer/Image.hpp"
+#include "kerf/voxelizer/VoxelSnapshot.hpp"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <limits>
+
+namespace kerf {
+
+/// What one ray found.
+struct RayHit {
+    float depth = std::numeric_limits<float>::infinity(); // mm along the ray from its origin; +inf: nothing hit
+    glm::vec3 normal{0.0f};                               // unit, grid (= world) frame
+    std::uint32_t feature = kNoFeature;
+    std::uint32_t steps = 0; // tiles and contree cells visited (a cost measure)
+
+    bool hit() const { return depth < std::numeric_limits<float>::infinity(); }
+};
+
+/// Traces one ray through `buffers`. `origin` is relative to the grid's
+/// origin (buffers.layout.origin), in mm; `direction` is of unit length.
+/// Pure function of its arguments; safe from any thread.
+RayHit traceRay(const FlatVoxelBuffers& buffers, const glm::vec3& origin, const glm::vec3& direction);
+
+/// As above for a world-space ray (the subtraction of the grid origin is
+/// done in double, as the GPU path does on the CPU before uploading).
+RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray);
+
+/// Traces every pixel of `camera`'s image, rows in parallel with oneTBB on
+/// `threads` threads (0: every core). The buffers must not change meanwhile.
+TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, int threads = 0);
+
+} // namespace kerf

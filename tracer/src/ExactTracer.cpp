@@ -1,0 +1,163 @@
+#include "kerf/tracer/ExactTracer.hpp"
+
+#include "kerf/evaluator/PointEvaluator.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+namespace kerf {
+
+namespace {
+
+constexpr int kPacket = 64;      // rays marched together: one evaluator block
+constexpr int kMaxSteps = 4000;  // a ray still marching after this many steps skims a surface: a miss
+constexpr double kFarMm = 1.0e7; // where rays end when the part is unbounded (a halfspace)
+
+struct RayState {
+    glm::dvec3 origin{0.0}; // relative to the tape's origin
+    glm::dvec3 direction{0.0};
+    double t = 0.0, tEnd = 0.0;
+    int steps = 0;
+    bool active = false, hit = false;
+};
+
+// Clips a ray to a box: the parameter range inside it, or false.
+bool clip(const glm::dvec3& o, const glm::dvec3& d, const Aabb& box, double& tNear, double& tFar)
+{
+    tNear = 0.0;
+    tFar = kFarMm;
+    for (int a = 0; a < 3; ++a) {
+        if (d[a] == 0.0) {
+            if (o[a] < box.min[a] || o[a] > box.max[a]) return false;
+            continue;
+        }
+        double t0 = (box.min[a] - o[a]) / d[a], t1 = (box.max[a] - o[a]) / d[a];
+        if (t0 > t1) std::swap(t0, t1);
+        tNear = std::max(tNear, t0);
+        tFar = std::min(tFar, t1);
+    }
+    return tNear <= tFar;
+}
+
+class PacketTracer {
+public:
+    PacketTracer(const Tape& tape, const Camera& camera, double epsilon, TraceImage& image)
+        : tape_(tape), camera_(camera), epsilon_(epsilon), image_(image), box_(tape.bounds().grown(2.0 * epsilon))
+    {
+    }
+
+    // Traces pixels [x0, x0 + count) of row y, count <= kPacket.
+    void trace(int y, int x0, int count)
+    {
+        std::array<RayState, kPacket> rays;
+        int active = 0;
+        for (int i = 0; i < count; ++i) {
+            const Ray r = camera_.ray(x0 + i, y);
+            RayState& s = rays[std::size_t(i)];
+            s.origin = r.origin - tape_.origin();
+            s.direction = r.direction;
+            double tNear = 0.0, tFar = 0.0;
+            if (!tape_.empty() && clip(r.origin, r.direction, box_, tNear, tFar)) {
+                s.t = tNear;
+                s.tEnd = tFar;
+                s.active = true;
+                ++active;
+            }
+        }
+        // March every active ray by its field value, one batched evaluation per round.
+        std::array<int, kPacket> which;
+        while (active > 0) {
+            int n = 0;
+            for (int i = 0; i < count; ++i) {
+                const RayState& s = rays[std::size_t(i)];
+                if (!s.active) continue;
+                const glm::dvec3 p = s.origin + s.t * s.direction;
+                x_[std::size_t(n)] = p.x;
+                y_[std::size_t(n)] = p.y;
+                z_[std::size_t(n)] = p.z;
+                which[std::size_t(n++)] = i;
+            }
+            points_.evaluate(tape_, x_.data(), y_.data(), z_.data(), std::size_t(n), d_.data());
+            for (int k = 0; k < n; ++k) {
+                RayState& s = rays[std::size_t(which[std::size_t(k)])];
+                const double f = d_[std::size_t(k)];
+                if (f < epsilon_) {
+                    s.hit = true;
+                    s.active = false;
+                    --active;
+                    continue;
+                }
+                s.t += f;
+                if (s.t > s.tEnd || ++s.steps > kMaxSteps || !std::isfinite(f)) {
+                    s.active = false;
+                    --active;
+                }
+            }
+        }
+        // Normals and features of the hits, batched too.
+        int n = 0;
+        std::array<int, kPacket> hits;
+        for (int i = 0; i < count; ++i) {
+            const RayState& s = rays[std::size_t(i)];
+            if (!s.hit) continue;
+            const glm::dvec3 p = s.origin + s.t * s.direction;
+            x_[std::size_t(n)] = p.x;
+            y_[std::size_t(n)] = p.y;
+            z_[std::size_t(n)] = p.z;
+            hits[std::size_t(n++)] = i;
+        }
+        if (n == 0) return;
+        gradients_.evaluate(tape_, x_.data(), y_.data(), z_.data(), std::size_t(n), d_.data(), gx_.data(), gy_.data(),
+                            gz_.data(), features_.data());
+        for (int k = 0; k < n; ++k) {
+            const std::size_t kk = std::size_t(k);
+            const RayState& s = rays[std::size_t(hits[kk])];
+            const std::size_t i = image_.index(x0 + hits[kk], y);
+            glm::dvec3 g(gx_[kk], gy_[kk], gz_[kk]);
+            const double len = glm::length(g);
+            image_.depth[i] = float(s.t);
+            image_.normal[i] = len > 0.0 && std::isfinite(len) ? glm::vec3(g / len) : glm::vec3(-s.direction);
+            image_.feature[i] = features_[kk];
+        }
+    }
+
+private:
+    const Tape& tape_;
+    const Camera& camera_;
+    double epsilon_;
+    TraceImage& image_;
+    Aabb box_;
+    PointEvaluator<double> points_;
+    GradientEvaluator<double> gradients_;
+    std::array<double, kPacket> x_{}, y_{}, z_{}, d_{}, gx_{}, gy_{}, gz_{};
+    std::array<std::uint32_t, kPacket> features_{};
+};
+
+} // namespace
+
+TraceImage traceExact(const Tape& tape, const Camera& camera, double epsilon, int threads)
+{
+    if (!(epsilon > 0.0)) throw std::invalid_argument("traceExact: epsilon must be positive");
+    TraceImage image(camera.width(), camera.height());
+    if (tape.empty()) return image;
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<int>(0, image.height), [&](const tbb::blocked_range<int>& rows) {
+            PacketTracer tracer(tape, camera, epsilon, image); // scratch memory for this task
+            for (int y = rows.begin(); y != rows.end(); ++y)
+                for (int x = 0; x < image.width; x += kPacket)
+                    tracer.trace(y, x, std::min(kPacket, image.width - x));
+        });
+    });
+    return image;
+}
+
+} // namespace kerf

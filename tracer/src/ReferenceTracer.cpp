@@ -1,0 +1,335 @@
+#include "kerf/tracer/ReferenceTracer.hpp"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <bit>
+#include <cmath>
+
+// Written to be ported to GLSL: glm types stand for GLSL's, std::popcount for
+// bitCount, and every helper takes and returns plain values.
+
+namespace kerf {
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+// Bisection steps of a monotone piece of a voxel's segment (at most sqrt(3)
+// voxel edges long): 2^-16 of that is far below the float error of the entry.
+constexpr int kBisectionSteps = 16;
+
+bool hasChild(const voxel::Node& n, int c)
+{
+    return c < 32 ? ((n.maskLo >> c) & 1u) != 0u : ((n.maskHi >> (c - 32)) & 1u) != 0u;
+}
+
+// Position of child c among the node's populated children.
+std::uint32_t childRank(const voxel::Node& n, int c)
+{
+    if (c < 32) return std::uint32_t(std::popcount(n.maskLo & ((1u << c) - 1u)));
+    const std::uint32_t below = c == 32 ? 0u : n.maskHi & ((1u << (c - 32)) - 1u);
+    return std::uint32_t(std::popcount(n.maskLo) + std::popcount(below));
+}
+
+// Trilinear interpolation in the monomial basis:
+// f = k0 + k1 x + k2 y + k3 z + k4 xy + k5 yz + k6 xz + k7 xyz, (x, y, z) in [0, 1]^3.
+struct Trilinear {
+    float k[8];
+};
+
+Trilinear trilinear(const float d[8])
+{
+    Trilinear t;
+    t.k[0] = d[0];
+    t.k[1] = d[1] - d[0];
+    t.k[2] = d[2] - d[0];
+    t.k[3] = d[4] - d[0];
+    t.k[4] = d[3] - d[2] - d[1] + d[0];
+    t.k[5] = d[6] - d[4] - d[2] + d[0];
+    t.k[6] = d[5] - d[4] - d[1] + d[0];
+    t.k[7] = d[7] - d[6] - d[5] - d[3] + d[4] + d[2] + d[1] - d[0];
+    return t;
+}
+
+glm::vec3 trilinearGradient(const Trilinear& t, const glm::vec3& u)
+{
+    return {t.k[1] + t.k[4] * u.y + t.k[6] * u.z + t.k[7] * u.y * u.z,
+            t.k[2] + t.k[4] * u.x + t.k[5] * u.z + t.k[7] * u.x * u.z,
+            t.k[3] + t.k[5] * u.y + t.k[6] * u.x + t.k[7] * u.x * u.y};
+}
+
+// The trilinear field along o + w d as a cubic a0 + a1 w + a2 w^2 + a3 w^3.
+struct Cubic {
+    float a0, a1, a2, a3;
+};
+
+Cubic alongRay(const Trilinear& t, const glm::vec3& o, const glm::vec3& d)
+{
+    const float* k = t.k;
+    Cubic c;
+    c.a0 = k[0] + k[1] * o.x + k[2] * o.y + k[3] * o.z + k[4] * o.x * o.y + k[5] * o.y * o.z + k[6] * o.x * o.z +
+           k[7] * o.x * o.y * o.z;
+    c.a1 = k[1] * d.x + k[2] * d.y + k[3] * d.z + k[4] * (o.x * d.y + o.y * d.x) + k[5] * (o.y * d.z + o.z * d.y) +
+           k[6] * (o.x * d.z + o.z * d.x) + k[7] * (d.x * o.y * o.z + o.x * d.y * o.z + o.x * o.y * d.z);
+    c.a2 = k[4] * d.x * d.y + k[5] * d.y * d.z + k[6] * d.x * d.z +
+           k[7] * (d.x * d.y * o.z + d.x * o.y * d.z + o.x * d.y * d.z);
+    c.a3 = k[7] * d.x * d.y * d.z;
+    return c;
+}
+
+float evalCubic(const Cubic& c, float w) { return c.a0 + w * (c.a1 + w * (c.a2 + w * c.a3)); }
+
+// First w in [0, wEnd] with f(w) <= 0, or -1 when the segment stays outside.
+float firstCrossing(const Cubic& c, float wEnd)
+{
+    // The extrema of the cubic (roots of its derivative) split the segment
+    // into at most three monotone pieces, each holding at most one root.
+    float r1 = kInf, r2 = kInf;
+    const float qa = 3.0f * c.a3, qb = 2.0f * c.a2, qc = c.a1;
+    if (qa != 0.0f) {
+        const float disc = qb * qb - 4.0f * qa * qc;
+        if (disc >= 0.0f) {
+            // The numerically stable pair of quadratic roots.
+            const float q = -0.5f * (qb + std::copysign(std::sqrt(disc), qb));
+            r1 = q / qa;
+            r2 = q != 0.0f ? qc / q : r1;
+        }
+    } else if (qb != 0.0f) {
+        r1 = -qc / qb;
+    }
+    if (r2 < r1) {
+        const float tmp = r1;
+        r1 = r2;
+        r2 = tmp;
+    }
+    float breaks[4] = {0.0f, wEnd, wEnd, wEnd};
+    int count = 1;
+    if (r1 > 0.0f && r1 < wEnd) breaks[count++] = r1;
+    if (r2 > 0.0f && r2 < wEnd && r2 != r1) breaks[count++] = r2;
+    breaks[count++] = wEnd;
+
+    float a = breaks[0];
+    float fa = evalCubic(c, a);
+    if (fa <= 0.0f) return a;
+    for (int i = 1; i < count; ++i) {
+        const float b = breaks[i];
+        const float fb = evalCubic(c, b);
+        if (fb <= 0.0f) {
+            // Monotone on [a, b] with f(a) > 0 >= f(b): bisect.
+            float lo = a, hi = b;
+            for (int k = 0; k < kBisectionSteps; ++k) {
+                const float mid = 0.5f * (lo + hi);
+                if (evalCubic(c, mid) <= 0.0f)
+                    hi = mid;
+                else
+                    lo = mid;
+            }
+            return hi;
+        }
+        a = b;
+        fa = fb;
+    }
+    return -1.0f;
+}
+
+// A component of a direction is never exactly zero, so that 1/d is finite
+// and the slab and cell exits need no special case (1e-20 bends nothing).
+float nonZero(float v) { return std::fabs(v) < 1e-20f ? (v < 0.0f ? -1e-20f : 1e-20f) : v; }
+
+// Traces inside one surface tile, from ray parameter tEnter (where the ray is
+// in the tile) until it leaves the tile. Returns true with `hit` filled when
+// it finds the surface.
+bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const glm::ivec3& tile, const glm::vec3& origin,
+               const glm::vec3& dir, const glm::vec3& invDir, float tileSize, float tEnter, RayHit& hit)
+{
+    const int levels = int(entry.levels);
+    const int n = 1 << (2 * levels); // finest cells per tile edge
+    const float fn = float(n);
+    const float invN = 1.0f / fn;
+    const float invTile = 1.0f / tileSize;
+
+    // Entry point in tile units, [0, 1]^3 across the tile; the ray is
+    // e + s * dir there, with s in tile edges.
+    const glm::vec3 e = glm::clamp((origin - glm::vec3(tile) * tileSize + tEnter * dir) * invTile, 0.0f, 1.0f);
+    glm::ivec3 cell = glm::clamp(glm::ivec3(glm::floor(e * fn)), glm::ivec3(0), glm::ivec3(n - 1));
+    float s = 0.0f;
+
+    // Each iteration moves at least one cell coordinate one step along the
+    // ray, so 3n iterations cross the whole tile.
+    const int maxIterations = 3 * n + 3;
+    for (int iteration = 0; iteration < maxIterations; ++iteration) {
+        // Descend to the deepest existing node containing `cell`.
+        std::uint32_t node = entry.node;
+        int cellShift = 0;  // log2 of the cell's edge in finest cells
+        bool voxel = false; // a populated voxel (else an empty cell)
+        std::uint32_t leafIndirection = 0, voxelRank = 0;
+        for (int depth = 0; depth < levels; ++depth) {
+            const int shift = 2 * (levels - 1 - depth);
+            const int c = voxel::childIndex((cell.x >> shift) & 3, (cell.y >> shift) & 3, (cell.z >> shift) & 3);
+            const voxel::Node nd = b.nodes[node];
+            cellShift = shift;
+            ++hit.steps;
+            if (!hasChild(nd, c)) break;
+            if (nd.isLeaf()) {
+                voxel = true;
+                leafIndirection = entry.leafIndirection + nd.pointer();
+                voxelRank = childRank(nd, c);
+                break;
+            }
+            node = entry.node + nd.pointer() + childRank(nd, c);
+        }
+
+        // The cell's extent in finest cells, and where the ray leaves it.
+        const glm::ivec3 lo = (cell >> cellShift) << cellShift;
+        const glm::ivec3 hi = lo + (1 << cellShift);
+        const glm::vec3 bound(dir.x > 0.0f ? float(hi.x) : float(lo.x), dir.y > 0.0f ? float(hi.y) : float(lo.y),
+                              dir.z > 0.0f ? float(hi.z) : float(lo.z));
+        const glm::vec3 sAxis = (bound * invN - e) * invDir;
+        const float sExit = glm::min(sAxis.x, glm::min(sAxis.y, sAxis.z));
+
+        if (voxel) {
+            // The voxel is the cell [lo, hi): one finest cell when the leaf
+            // sits at the tile's last level, as the voxelizer builds them.
+            const float voxelScale = fn / float(1 << cellShift); // voxel edges per tile edge
+            const float voxelMm = tileSize / voxelScale;
+            const glm::vec3 voxelLo = glm::vec3(lo) * invN; // tile units
+            const voxel::LeafIndirection li = b.leafIndirections[leafIndirection];
+            const voxel::LeafData ld = b.leafData[entry.leafData + li.leafData + voxelRank];
+            float d[8];
+            for (int q = 0; q < 8; ++q)
+                d[q] =
+                    voxel::decodeDistance(b.vertices[entry.vertex + li.vertex + ld.corner[q]].distanceFeature, voxelMm);
+            const Trilinear tri = trilinear(d);
+            // Voxel-local coordinates ([0, 1]^3 across the voxel), w in voxel edges from the entry.
+            const glm::vec3 o = glm::clamp((e + s * dir - voxelLo) * voxelScale, 0.0f, 1.0f);
+            const float wEnd = glm::max(0.0f, (sExit - s) * voxelScale);
+            const float w = firstCrossing(alongRay(tri, o, dir), wEnd);
+            if (w >= 0.0f) {
+                const glm::vec3 u = glm::clamp(o + w * dir, 0.0f, 1.0f);
+                glm::vec3 nrm(0.0f);
+                float nearest = kInf;
+                std::uint32_t feature = kNoFeature;
+                for (int q = 0; q < 8; ++q) {
+                    const voxel::Vertex vx = b.vertices[entry.vertex + li.vertex + ld.corner[q]];
+                    const glm::vec3 corner(float(q & 1), float((q >> 1) & 1), float(q >> 2));
+                    const glm::vec3 weight3 = glm::mix(glm::vec3(1.0f) - u, u, corner);
+                    nrm += (weight3.x * weight3.y * weight3.z) * voxel::decodeNormal(vx.normal);
+                    const glm::vec3 toCorner = u - corner;
+                    const float dist2 = glm::dot(toCorner, toCorner);
+                    if (dist2 < nearest) {
+                        nearest = dist2;
+                        feature = voxel::decodeFeature(vx.distanceFeature);
+                    }
+                }
+                float len = glm::length(nrm);
+                if (!(len > 1e-6f)) {
+                    // Corner normals that cancel out (a thin wall, a crease):
+                    // the interpolated field's own gradient.
+                    nrm = trilinearGradient(tri, u);
+                    len = glm::length(nrm);
+                }
+                hit.normal = len > 0.0f ? nrm / len : -dir;
+                hit.feature = feature;
+                hit.depth = tEnter + (s + w / voxelScale) * tileSize;
+                return true;
+            }
+        }
+
+        // Step into the face neighbour across the face the ray leaves by.
+        s = glm::max(s, sExit);
+        const glm::vec3 p = (e + s * dir) * fn;
+        glm::ivec3 next = glm::clamp(glm::ivec3(glm::floor(p)), lo, hi - 1);
+        if (sAxis.x <= sExit) next.x = dir.x > 0.0f ? hi.x : lo.x - 1;
+        if (sAxis.y <= sExit) next.y = dir.y > 0.0f ? hi.y : lo.y - 1;
+        if (sAxis.z <= sExit) next.z = dir.z > 0.0f ? hi.z : lo.z - 1;
+        cell = next;
+        if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x >= n || cell.y >= n || cell.z >= n) return false;
+    }
+    return false;
+}
+
+} // namespace
+
+RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction)
+{
+    RayHit hit;
+    const GridLayout& layout = b.layout;
+    if (layout.empty() || b.tiles.size() != std::size_t(layout.tileCount())) return hit;
+
+    const glm::vec3 dir(nonZero(direction.x), nonZero(direction.y), nonZero(direction.z));
+    const glm::vec3 invDir = 1.0f / dir;
+    const float tileSize = float(layout.tileSize);
+    const glm::ivec3 dims = layout.dims;
+
+    // 1. Slab test against the grid's box.
+    const glm::vec3 t0 = (glm::vec3(0.0f) - origin) * invDir;
+    const glm::vec3 t1 = (glm::vec3(dims) * tileSize - origin) * invDir;
+    const glm::vec3 tNear = glm::min(t0, t1), tFar = glm::max(t0, t1);
+    float tEnter = glm::max(glm::max(tNear.x, tNear.y), glm::max(tNear.z, 0.0f));
+    const float tLeave = glm::min(tFar.x, glm::min(tFar.y, tFar.z));
+    if (!(tEnter <= tLeave)) return hit;
+    // The axis whose face the ray enters by (for a full tile's normal).
+    int enterAxis = tNear.x >= tNear.y && tNear.x >= tNear.z ? 0 : (tNear.y >= tNear.z ? 1 : 2);
+
+    // 2. DDA over the tiles (Amanatides & Woo).
+    const glm::vec3 p = (origin + tEnter * dir) / tileSize;
+    glm::ivec3 tile = glm::clamp(glm::ivec3(glm::floor(p)), glm::ivec3(0), dims - 1);
+    const glm::ivec3 step(dir.x > 0.0f ? 1 : -1, dir.y > 0.0f ? 1 : -1, dir.z > 0.0f ? 1 : -1);
+    const glm::vec3 tDelta = glm::abs(invDir) * tileSize;
+    glm::vec3 tNext =
+        ((glm::vec3(tile) + glm::vec3(glm::greaterThan(dir, glm::vec3(0.0f)))) * tileSize - origin) * invDir;
+    const int maxTileSteps = dims.x + dims.y + dims.z + 3;
+    for (int i = 0; i < maxTileSteps; ++i) {
+        const int axis = tNext.x <= tNext.y && tNext.x <= tNext.z ? 0 : (tNext.y <= tNext.z ? 1 : 2);
+        const float tExitTile = tNext[axis];
+        const std::uint32_t value = b.tiles[std::size_t(tile.x + dims.x * (tile.y + dims.y * tile.z))];
+        ++hit.steps;
+        if (value == voxel::kFullTile) {
+            hit.depth = tEnter;
+            hit.normal = glm::vec3(0.0f);
+            hit.normal[enterAxis] = -float(step[enterAxis]);
+            hit.feature = kNoFeature;
+            return hit;
+        }
+        if (value != voxel::kEmptyTile &&
+            traceTile(b, b.entries[value], tile, origin, dir, invDir, tileSize, tEnter, hit))
+            return hit;
+        if (tExitTile >= tLeave) break;
+        tEnter = glm::max(tEnter, tExitTile);
+        tile[axis] += step[axis];
+        tNext[axis] += tDelta[axis];
+        enterAxis = axis;
+        if (tile[axis] < 0 || tile[axis] >= dims[axis]) break;
+    }
+    return hit;
+}
+
+RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray)
+{
+    return traceRay(buffers, glm::vec3(ray.origin - buffers.layout.origin), glm::vec3(ray.direction));
+}
+
+TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, int threads)
+{
+    TraceImage image(camera.width(), camera.height());
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<int>(0, image.height), [&](const tbb::blocked_range<int>& rows) {
+            for (int y = rows.begin(); y != rows.end(); ++y)
+                for (int x = 0; x < image.width; ++x) {
+                    const RayHit h = traceRay(buffers, camera.ray(x, y));
+                    const std::size_t i = image.index(x, y);
+                    image.depth[i] = h.depth;
+                    image.normal[i] = h.normal;
+                    image.feature[i] = h.feature;
+                }
+        });
+    });
+    return image;
+}
+
+} // namespace kerf

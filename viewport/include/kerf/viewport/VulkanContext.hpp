@@ -1,0 +1,72 @@
+#pragma once
+// The Vulkan instance and device Kerf renders with: a discrete GPU when
+// there is one, else an integrated or virtual one, else a CPU implementation
+// (lavapipe). Headless: needs no window system. Validation layers are on when
+// asked for (tests) and their error messages are counted.
+//
+// Threading: one thread uses a context at a time.
+
+#include "kerf/viewport/VulkanHandle.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace kerf::vk {
+
+struct ContextOptions {
+    bool validation = false;   // enable VK_LAYER_KHRONOS_validation when installed
+    bool preferCpu = false;    // pick lavapipe even when a GPU exists (tests)
+};
+
+class Context {
+public:
+    /// Throws VulkanError when there is no Vulkan implementation at all.
+    explicit Context(const ContextOptions& options = {});
+    ~Context();
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    VkInstance instance() const { return instance_; }
+    VkPhysicalDevice physicalDevice() const { return physical_; }
+    VkDevice device() const { return device_; }
+    VkQueue queue() const { return queue_; }
+    std::uint32_t queueFamily() const { return queueFamily_; }
+    const VkPhysicalDeviceProperties& properties() const { return properties_; }
+    /// "NVIDIA H100 80GB HBM3 (discrete GPU, driver ...)".
+    std::string deviceDescription() const;
+    bool isCpuDevice() const { return properties_.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
+    /// Validation messages of error severity seen so far (0 without validation).
+    int validationErrors() const;
+    std::vector<std::string> validationMessages() const;
+    bool validationEnabled() const { return validation_; }
+
+    /// Memory type index with the given properties, or throws.
+    std::uint32_t memoryType(std::uint32_t typeBits, VkMemoryPropertyFlags flags) const;
+
+    /// Records commands into a one-time command buffer, submits it and waits.
+    void submitAndWait(const std::function<void(VkCommandBuffer)>& record) const;
+
+private:
+    struct Messages;
+    static VKAPI_ATTR VkBool32 VKAPI_CALL onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                         VkDebugUtilsMessageTypeFlagsEXT type,
+                                                         const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
+
+    VkInstance instance_ = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+    VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkQueue queue_ = VK_NULL_HANDLE;
+    std::uint32_t queueFamily_ = 0;
+    VkPhysicalDeviceProperties properties_{};
+    VkPhysicalDeviceMemoryProperties memory_{};
+    bool validation_ = false;
+    std::unique_ptr<Messages> messages_;
+    CommandPool pool_;
+};
+
+} // namespace kerf::vk

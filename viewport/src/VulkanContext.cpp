@@ -1,0 +1,247 @@
+#include "kerf/viewport/VulkanContext.hpp"
+
+#include "kerf/viewport/VulkanError.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <mutex>
+
+namespace kerf::vk {
+
+struct Context::Messages {
+    std::mutex mutex;
+    int errors = 0;
+    std::vector<std::string> texts;
+};
+
+namespace {
+
+bool hasLayer(const char* name)
+{
+    std::uint32_t n = 0;
+    vkEnumerateInstanceLayerProperties(&n, nullptr);
+    std::vector<VkLayerProperties> layers(n);
+    vkEnumerateInstanceLayerProperties(&n, layers.data());
+    return std::any_of(layers.begin(), layers.end(), [&](const auto& l) { return std::strcmp(l.layerName, name) == 0; });
+}
+
+bool hasInstanceExtension(const char* name)
+{
+    std::uint32_t n = 0;
+    vkEnumerateInstanceExtensionProperties(nullptr, &n, nullptr);
+    std::vector<VkExtensionProperties> ext(n);
+    vkEnumerateInstanceExtensionProperties(nullptr, &n, ext.data());
+    return std::any_of(ext.begin(), ext.end(), [&](const auto& e) { return std::strcmp(e.extensionName, name) == 0; });
+}
+
+int deviceRank(VkPhysicalDeviceType t, bool preferCpu)
+{
+    if (preferCpu) return t == VK_PHYSICAL_DEVICE_TYPE_CPU ? 0 : 1;
+    switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
+    default: return 4;
+    }
+}
+
+const char* typeName(VkPhysicalDeviceType t)
+{
+    switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU implementation";
+    default: return "other device";
+    }
+}
+
+} // namespace
+
+VKAPI_ATTR VkBool32 VKAPI_CALL Context::onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                       VkDebugUtilsMessageTypeFlagsEXT,
+                                                       const VkDebugUtilsMessengerCallbackDataEXT* data, void* user)
+{
+    auto* m = static_cast<Messages*>(user);
+    std::lock_guard lock(m->mutex);
+    if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) ++m->errors;
+    m->texts.emplace_back(data && data->pMessage ? data->pMessage : "(no message)");
+    return VK_FALSE; // never abort the call that triggered it
+}
+
+Context::Context(const ContextOptions& options) : messages_(std::make_unique<Messages>())
+{
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.pApplicationName = "Kerf";
+    app.pEngineName = "Kerf";
+    app.apiVersion = VK_API_VERSION_1_2;
+
+    std::vector<const char*> layers, extensions;
+    validation_ = options.validation && hasLayer("VK_LAYER_KHRONOS_validation");
+    if (validation_) layers.push_back("VK_LAYER_KHRONOS_validation");
+    const bool debugUtils = validation_ && hasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    if (debugUtils) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+
+    VkDebugUtilsMessengerCreateInfoEXT dbg{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+    dbg.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    dbg.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                      VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+    dbg.pfnUserCallback = onDebugMessage;
+    dbg.pUserData = messages_.get();
+
+    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    ici.pApplicationInfo = &app;
+    ici.enabledLayerCount = std::uint32_t(layers.size());
+    ici.ppEnabledLayerNames = layers.data();
+    ici.enabledExtensionCount = std::uint32_t(extensions.size());
+    ici.ppEnabledExtensionNames = extensions.data();
+    if (debugUtils) ici.pNext = &dbg;
+    check(vkCreateInstance(&ici, nullptr, &instance_), "vkCreateInstance");
+
+    if (debugUtils) {
+        auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+            vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
+        if (create) create(instance_, &dbg, nullptr, &messenger_);
+    }
+
+    std::uint32_t count = 0;
+    vkEnumeratePhysicalDevices(instance_, &count, nullptr);
+    std::vector<VkPhysicalDevice> devices(count);
+    vkEnumeratePhysicalDevices(instance_, &count, devices.data());
+    int best = 99;
+    for (VkPhysicalDevice d : devices) {
+        VkPhysicalDeviceProperties p;
+        vkGetPhysicalDeviceProperties(d, &p);
+        if (p.apiVersion < VK_API_VERSION_1_2) continue;
+        VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+        VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+        f2.pNext = &f12;
+        vkGetPhysicalDeviceFeatures2(d, &f2);
+        if (!f12.bufferDeviceAddress || !f2.features.shaderInt64) continue;
+        const int rank = deviceRank(p.deviceType, options.preferCpu);
+        if (rank < best) {
+            best = rank;
+            physical_ = d;
+            properties_ = p;
+        }
+    }
+    if (!physical_) {
+        vkDestroyInstance(instance_, nullptr);
+        instance_ = VK_NULL_HANDLE;
+        throw VulkanError("finding a Vulkan 1.2 device with buffer device addresses and 64-bit integers",
+                          VK_ERROR_INCOMPATIBLE_DRIVER);
+    }
+    vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+
+    std::uint32_t nf = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &nf, nullptr);
+    std::vector<VkQueueFamilyProperties> families(nf);
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &nf, families.data());
+    queueFamily_ = UINT32_MAX;
+    for (std::uint32_t i = 0; i < nf; ++i) // prefer a family with graphics too (the viewport draws meshes)
+        if ((families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) && (families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT)) {
+            queueFamily_ = i;
+            break;
+        }
+    for (std::uint32_t i = 0; i < nf && queueFamily_ == UINT32_MAX; ++i)
+        if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) queueFamily_ = i;
+    if (queueFamily_ == UINT32_MAX) throw VulkanError("finding a compute queue", VK_ERROR_FEATURE_NOT_PRESENT);
+
+    const float priority = 1.0f;
+    VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    qci.queueFamilyIndex = queueFamily_;
+    qci.queueCount = 1;
+    qci.pQueuePriorities = &priority;
+    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    f12.bufferDeviceAddress = VK_TRUE;
+    f12.scalarBlockLayout = VK_FALSE;
+    VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    f2.pNext = &f12;
+    f2.features.shaderInt64 = VK_TRUE;
+    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    dci.pNext = &f2;
+    dci.queueCreateInfoCount = 1;
+    dci.pQueueCreateInfos = &qci;
+    check(vkCreateDevice(physical_, &dci, nullptr, &device_), "vkCreateDevice");
+    vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
+
+    VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pci.queueFamilyIndex = queueFamily_;
+    VkCommandPool pool;
+    check(vkCreateCommandPool(device_, &pci, nullptr, &pool), "vkCreateCommandPool");
+    pool_ = CommandPool(device_, pool);
+}
+
+Context::~Context()
+{
+    if (device_) vkDeviceWaitIdle(device_);
+    pool_.reset();
+    if (device_) vkDestroyDevice(device_, nullptr);
+    if (messenger_) {
+        auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+            vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
+        if (destroy) destroy(instance_, messenger_, nullptr);
+    }
+    if (instance_) vkDestroyInstance(instance_, nullptr);
+}
+
+std::string Context::deviceDescription() const
+{
+    const std::uint32_t v = properties_.apiVersion;
+    return std::string(properties_.deviceName) + " (" + typeName(properties_.deviceType) + ", Vulkan " +
+           std::to_string(VK_API_VERSION_MAJOR(v)) + "." + std::to_string(VK_API_VERSION_MINOR(v)) + "." +
+           std::to_string(VK_API_VERSION_PATCH(v)) + ")";
+}
+
+int Context::validationErrors() const
+{
+    std::lock_guard lock(messages_->mutex);
+    return messages_->errors;
+}
+
+std::vector<std::string> Context::validationMessages() const
+{
+    std::lock_guard lock(messages_->mutex);
+    return messages_->texts;
+}
+
+std::uint32_t Context::memoryType(std::uint32_t typeBits, VkMemoryPropertyFlags flags) const
+{
+    for (std::uint32_t i = 0; i < memory_.memoryTypeCount; ++i)
+        if ((typeBits & (1u << i)) && (memory_.memoryTypes[i].propertyFlags & flags) == flags) return i;
+    throw VulkanError("finding a memory type", VK_ERROR_FEATURE_NOT_PRESENT);
+}
+
+void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) const
+{
+    VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    ai.commandPool = pool_;
+    ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    ai.commandBufferCount = 1;
+    VkCommandBuffer cb;
+    check(vkAllocateCommandBuffers(device_, &ai, &cb), "vkAllocateCommandBuffers");
+    struct Free {
+        VkDevice d;
+        VkCommandPool p;
+        VkCommandBuffer c;
+        ~Free() { vkFreeCommandBuffers(d, p, 1, &c); }
+    } freeLater{device_, pool_, cb};
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    check(vkBeginCommandBuffer(cb, &bi), "vkBeginCommandBuffer");
+    record(cb);
+    check(vkEndCommandBuffer(cb), "vkEndCommandBuffer");
+    VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VkFence fence;
+    check(vkCreateFence(device_, &fi, nullptr, &fence), "vkCreateFence");
+    Fence owned(device_, fence);
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cb;
+    check(vkQueueSubmit(queue_, 1, &si, fence), "vkQueueSubmit");
+    check(vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+}
+
+} // namespace kerf::vk
