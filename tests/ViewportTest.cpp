@@ -6,7 +6,10 @@
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
+#include "kerf/viewport/HeapAllocator.hpp"
+#include "kerf/viewport/VoxelStreamer.hpp"
 #include "kerf/viewport/VulkanError.hpp"
+#include "kerf/voxelizer/Voxelizer.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
 
 #include <gtest/gtest.h>
@@ -128,6 +131,93 @@ TEST_F(VulkanTracer, ReportsWhichDeviceItUses)
     }
     EXPECT_FALSE(context->deviceDescription().empty());
     EXPECT_GT(context->properties().limits.timestampPeriod, 0.0f);
+}
+
+bool sameImage(const TraceImage& a, const TraceImage& b)
+{
+    return a.depth == b.depth && a.feature == b.feature;
+}
+
+TEST_F(VulkanTracer, StreamsUnderTheBudgetAndSwitchesOnlyWhenEveryTileIsResident)
+{
+    Document doc = Document::load(std::filesystem::path(KERF_EXAMPLES_DIR) / "side-chair.kerf");
+    Voxelizer vox({.limits = {}, .coarseLevelDrop = 0, .threads = 2, .featureSize = 2.0, .onPublish = {}});
+    ASSERT_TRUE(vox.waitFor(vox.setDocument(doc), true, std::chrono::seconds(60)));
+    const auto a = vox.snapshot();
+    doc.root.find("dowel-hole-r")->transform.translate.x += 6.0;
+    ASSERT_TRUE(vox.waitFor(vox.setDocument(doc), true, std::chrono::seconds(60)));
+    const auto b = vox.snapshot();
+
+    const Camera camera = Camera::standardView(a->layout.bounds(), "iso", 240, 180);
+    vk::ComputeTracer tracer(*context);
+    tracer.setVoxels(FlatVoxelBuffers::flatten(*a));
+    const TraceImage imageA = tracer.trace(camera);
+    tracer.setVoxels(FlatVoxelBuffers::flatten(*b));
+    const TraceImage imageB = tracer.trace(camera);
+    ASSERT_FALSE(sameImage(imageA, imageB)) << "the edit should show";
+
+    const std::size_t budget = 256 * 1024;
+    vk::VoxelStreamer streamer(*context, {.budgetBytesPerFrame = budget, .framesInFlight = 2, .initialHeapBytes = 4u << 20});
+    auto frame = [&] {
+        vk::FrameUpload up;
+        context->submitAndWait([&](VkCommandBuffer cb) { up = streamer.recordFrame(cb); });
+        EXPECT_LE(up.bytes, budget) << "a frame uploaded more than its budget";
+        return up;
+    };
+
+    // First snapshot: nothing visible until every tile is resident.
+    streamer.setTarget(a);
+    int frames = 0;
+    std::size_t bytesA = 0;
+    for (;;) {
+        const vk::FrameUpload up = frame();
+        bytesA += up.bytes;
+        ++frames;
+        if (up.switched) break;
+        ASSERT_FALSE(streamer.resident().valid());
+        ASSERT_LT(frames, 10000);
+    }
+    EXPECT_GT(frames, 10) << "the budget should spread the upload over many frames";
+    EXPECT_TRUE(sameImage(tracer.trace(camera, streamer.resident()), imageA));
+
+    // The edit: only the changed tiles travel, and the old picture stays
+    // until they are all there.
+    streamer.setTarget(b);
+    std::size_t bytesB = 0;
+    for (int f = 0;; ++f) {
+        const vk::FrameUpload up = frame();
+        bytesB += up.bytes;
+        if (up.switched) break;
+        EXPECT_TRUE(sameImage(tracer.trace(camera, streamer.resident()), imageA)) << "frame " << f;
+        ASSERT_LT(f, 10000);
+    }
+    EXPECT_TRUE(sameImage(tracer.trace(camera, streamer.resident()), imageB));
+    EXPECT_LT(bytesB * 5, bytesA) << "an edit re-uploads only the tiles it changed";
+    EXPECT_TRUE(streamer.upToDate());
+    EXPECT_EQ(context->validationErrors(), 0);
+}
+
+TEST(HeapAllocator, FirstFitMergesFreedNeighbours)
+{
+    vk::HeapAllocator h(240, 24);
+    const auto a = h.allocate(30), b = h.allocate(24), c = h.allocate(100);
+    ASSERT_TRUE(a && b && c);
+    EXPECT_EQ(*a, 0u);
+    EXPECT_EQ(*b, 48u);
+    EXPECT_EQ(*c, 72u);
+    EXPECT_FALSE(h.allocate(100).has_value());
+    h.release(*b, 24);
+    h.release(*a, 30);
+    EXPECT_EQ(h.largestFree(), 72u); // a and b merged
+    h.release(*c, 100);
+    EXPECT_EQ(h.largestFree(), 240u);
+    EXPECT_EQ(h.used(), 0u);
+    EXPECT_THROW(h.release(0, 24), std::logic_error);  // already free
+    EXPECT_THROW(h.release(48, 24), std::logic_error); // inside a free range
+    const auto d = h.allocate(24);
+    ASSERT_TRUE(d);
+    h.release(*d, 24);
+    EXPECT_THROW(h.release(*d, 24), std::logic_error); // twice
 }
 
 } // namespace

@@ -19,6 +19,14 @@ struct ComputeTracer::Impl {
     GpuBuffer tiles, entries, nodes, leafIndirections, leafData, vertices;
     std::size_t resident = 0;
 
+    // Where a dispatch finds the voxels: separate arrays (setVoxels) or one
+    // heap for all four record kinds (a streamed ResidentSet).
+    struct Addresses {
+        GridLayout grid;
+        VkDeviceAddress tiles = 0, entries = 0, nodes = 0, leafIndirections = 0, leafData = 0, vertices = 0;
+    };
+    TraceImage dispatch(const Camera& camera, const Addresses& a, TraceTiming* timing);
+
     explicit Impl(const Context& c) : ctx(c) {}
 };
 
@@ -80,7 +88,30 @@ void ComputeTracer::setVoxels(const FlatVoxelBuffers& b)
 
 TraceImage ComputeTracer::trace(const Camera& camera, TraceTiming* timing)
 {
-    const Context& ctx = impl_->ctx;
+    Impl::Addresses a;
+    a.grid = impl_->grid;
+    a.tiles = impl_->tiles.address();
+    a.entries = impl_->entries.address();
+    a.nodes = impl_->nodes.address();
+    a.leafIndirections = impl_->leafIndirections.address();
+    a.leafData = impl_->leafData.address();
+    a.vertices = impl_->vertices.address();
+    return impl_->dispatch(camera, a, timing);
+}
+
+TraceImage ComputeTracer::trace(const Camera& camera, const ResidentSet& voxels, TraceTiming* timing)
+{
+    Impl::Addresses a;
+    a.grid = voxels.layout;
+    a.tiles = voxels.tiles;
+    a.entries = voxels.entries;
+    a.nodes = a.leafIndirections = a.leafData = a.vertices = voxels.heap;
+    return impl_->dispatch(camera, a, timing);
+}
+
+TraceImage ComputeTracer::Impl::dispatch(const Camera& camera, const Addresses& addr, TraceTiming* timing)
+{
+    if (addr.tiles == 0 || addr.grid.empty()) return TraceImage(camera.width(), camera.height()); // nothing resident
     const int w = camera.width(), h = camera.height();
     const std::size_t pixels = std::size_t(w) * std::size_t(h);
     GpuBuffer depth(ctx, pixels * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GpuBuffer::Kind::Readback, "depth");
@@ -91,38 +122,38 @@ TraceImage ComputeTracer::trace(const Camera& camera, TraceTiming* timing)
                      "trace params");
 
     gpu::TraceParams p{};
-    p.tiles = impl_->tiles.address();
-    p.entries = impl_->entries.address();
-    p.nodes = impl_->nodes.address();
-    p.leafIndirections = impl_->leafIndirections.address();
-    p.leafData = impl_->leafData.address();
-    p.vertices = impl_->vertices.address();
+    p.tiles = addr.tiles;
+    p.entries = addr.entries;
+    p.nodes = addr.nodes;
+    p.leafIndirections = addr.leafIndirections;
+    p.leafData = addr.leafData;
+    p.vertices = addr.vertices;
     p.outDepth = depth.address();
     p.outNormal = normal.address();
     p.outFeature = feature.address();
     // The eye relative to the grid origin, subtracted in double: float only
     // ever sees small, grid-local numbers.
-    const glm::dvec3 eye = camera.eye() - impl_->grid.origin;
+    const glm::dvec3 eye = camera.eye() - addr.grid.origin;
     const bool ortho = camera.projection() == Projection::Orthographic;
     const double halfHeight = ortho ? 0.5 * camera.orthoHeight()
                                     : std::tan(0.5 * camera.fovYDegrees() * 3.14159265358979323846 / 180.0);
-    p.eye = {float(eye.x), float(eye.y), float(eye.z), float(impl_->grid.tileSize)};
+    p.eye = {float(eye.x), float(eye.y), float(eye.z), float(addr.grid.tileSize)};
     p.forward = {float(camera.forward().x), float(camera.forward().y), float(camera.forward().z), ortho ? 1.0f : 0.0f};
     p.right = {float(camera.right().x), float(camera.right().y), float(camera.right().z), float(halfHeight)};
     p.up = {float(camera.up().x), float(camera.up().y), float(camera.up().z), 0.0f};
-    p.dims = {impl_->grid.dims.x, impl_->grid.dims.y, impl_->grid.dims.z, 0};
+    p.dims = {addr.grid.dims.x, addr.grid.dims.y, addr.grid.dims.z, 0};
     p.image = {std::uint32_t(w), std::uint32_t(h), 0, 0};
     std::memcpy(params.mapped(), &p, sizeof p);
 
     const std::uint64_t address = params.address();
     ctx.submitAndWait([&](VkCommandBuffer cb) {
-        vkCmdResetQueryPool(cb, impl_->timestamps, 0, 2);
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, impl_->pipeline);
-        vkCmdPushConstants(cb, impl_->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof address, &address);
-        vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, impl_->timestamps, 0);
+        vkCmdResetQueryPool(cb, timestamps, 0, 2);
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+        vkCmdPushConstants(cb, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof address, &address);
+        vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, timestamps, 0);
         const std::uint32_t groups = KERF_TRACE_LOCAL_SIZE;
         vkCmdDispatch(cb, (std::uint32_t(w) + groups - 1) / groups, (std::uint32_t(h) + groups - 1) / groups, 1);
-        vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, impl_->timestamps, 1);
+        vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps, 1);
         VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
         mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
         mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
@@ -131,7 +162,7 @@ TraceImage ComputeTracer::trace(const Camera& camera, TraceTiming* timing)
     });
     if (timing) {
         std::uint64_t stamps[2] = {0, 0};
-        check(vkGetQueryPoolResults(ctx.device(), impl_->timestamps, 0, 2, sizeof stamps, stamps, sizeof(std::uint64_t),
+        check(vkGetQueryPoolResults(ctx.device(), timestamps, 0, 2, sizeof stamps, stamps, sizeof(std::uint64_t),
                                     VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
               "vkGetQueryPoolResults");
         timing->gpuMilliseconds = double(stamps[1] - stamps[0]) * double(ctx.properties().limits.timestampPeriod) * 1e-6;

@@ -133,6 +133,11 @@ Context::Context(const ContextOptions& options) : messages_(std::make_unique<Mes
                           VK_ERROR_INCOMPATIBLE_DRIVER);
     }
     vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+    VkPhysicalDeviceMaintenance3Properties m3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    p2.pNext = &m3;
+    vkGetPhysicalDeviceProperties2(physical_, &p2);
+    maxAllocation_ = std::size_t(m3.maxMemoryAllocationSize);
 
     std::uint32_t nf = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(physical_, &nf, nullptr);

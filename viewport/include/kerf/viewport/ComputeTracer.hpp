@@ -9,6 +9,7 @@
 #include "kerf/tracer/Image.hpp"
 #include "kerf/viewport/GpuBuffer.hpp"
 #include "kerf/viewport/VulkanContext.hpp"
+#include "kerf/viewport/VoxelStreamer.hpp"
 #include "kerf/voxelizer/VoxelSnapshot.hpp"
 
 #include <memory>
@@ -30,8 +31,11 @@ public:
     /// Bytes of voxel data resident on the device.
     std::size_t residentBytes() const;
 
-    /// Traces `camera`'s image and reads it back.
+    /// Traces `camera`'s image through the voxels given to setVoxels() and
+    /// reads it back.
     TraceImage trace(const Camera& camera, TraceTiming* timing = nullptr);
+    /// Traces through a streamed resident set instead (VoxelStreamer).
+    TraceImage trace(const Camera& camera, const ResidentSet& voxels, TraceTiming* timing = nullptr);
 
 private:
     struct Impl;

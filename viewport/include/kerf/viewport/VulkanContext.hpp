@@ -38,6 +38,8 @@ public:
     const VkPhysicalDeviceProperties& properties() const { return properties_; }
     /// "NVIDIA H100 80GB HBM3 (discrete GPU, driver ...)".
     std::string deviceDescription() const;
+    /// Largest single memory allocation the device allows (bytes).
+    std::size_t maxAllocationBytes() const { return maxAllocation_; }
     bool isCpuDevice() const { return properties_.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
     /// Validation messages of error severity seen so far (0 without validation).
     int validationErrors() const;
@@ -64,6 +66,7 @@ private:
     std::uint32_t queueFamily_ = 0;
     VkPhysicalDeviceProperties properties_{};
     VkPhysicalDeviceMemoryProperties memory_{};
+    std::size_t maxAllocation_ = std::size_t(1) << 30;
     bool validation_ = false;
     std::unique_ptr<Messages> messages_;
     CommandPool pool_;
