@@ -7,6 +7,7 @@
 #include "kerf/tracer/ReferenceTracer.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
 #include "kerf/viewport/HeapAllocator.hpp"
+#include "kerf/viewport/SceneRenderer.hpp"
 #include "kerf/viewport/VoxelStreamer.hpp"
 #include "kerf/viewport/VulkanError.hpp"
 #include "kerf/voxelizer/Voxelizer.hpp"
@@ -17,6 +18,8 @@
 #include <glm/glm.hpp>
 
 #include <filesystem>
+#include <fstream>
+#include <unistd.h>
 
 namespace kerf {
 namespace {
@@ -40,6 +43,13 @@ Comparison compare(const TraceImage& gpu, const TraceImage& cpu, double depthTol
         if (gpu.feature[i] == cpu.feature[i]) ++c.featureSame;
     }
     return c;
+}
+
+std::string allMessages(const vk::Context& c)
+{
+    std::string s;
+    for (const auto& m : c.validationMessages()) s += m + "\n";
+    return s;
 }
 
 class VulkanTracer : public ::testing::Test {
@@ -119,7 +129,7 @@ TEST_F(VulkanTracer, OrthographicViewsAndPartsFarFromTheOrigin)
     const std::size_t centre = gpu.index(100, 100);
     const double eyeToCentre = glm::length(camera.eye() - glm::dvec3(100000, -50000, 2000));
     EXPECT_NEAR(gpu.depth[centre], eyeToCentre - 20.0, 0.3);
-    EXPECT_EQ(context->validationErrors(), 0);
+    EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
 }
 
 TEST_F(VulkanTracer, ReportsWhichDeviceItUses)
@@ -194,7 +204,94 @@ TEST_F(VulkanTracer, StreamsUnderTheBudgetAndSwitchesOnlyWhenEveryTileIsResident
     EXPECT_TRUE(sameImage(tracer.trace(camera, streamer.resident()), imageB));
     EXPECT_LT(bytesB * 5, bytesA) << "an edit re-uploads only the tiles it changed";
     EXPECT_TRUE(streamer.upToDate());
-    EXPECT_EQ(context->validationErrors(), 0);
+    EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
+}
+
+// A rod (a long box as an OFF mesh) through a red cube, seen from the front.
+std::filesystem::path writeRod(const std::filesystem::path& dir, double y)
+{
+    std::filesystem::create_directories(dir);
+    const auto file = dir / "rod.off";
+    std::ofstream out(file);
+    out << "OFF\n8 12 0\n";
+    for (int c = 0; c < 8; ++c)
+        out << (c & 1 ? 60 : -60) << " " << y + (c & 2 ? 3 : -3) << " " << (c & 4 ? 3 : -3) << "\n";
+    const int faces[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                              {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+    for (const auto& f : faces) out << "3 " << f[0] << " " << f[1] << " " << f[2] << "\n";
+    return file;
+}
+
+TEST_F(VulkanTracer, MeshesAndThePartHideEachOtherByDepth)
+{
+    const auto dir = std::filesystem::temp_directory_path() / ("kerf-mesh-" + std::to_string(::getpid()));
+    const Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"cube","type":"box",
+        "size":[40,40,40],"color":"#ff0000"}})", "cube.kerf");
+    const Tape tape = compileTape(doc);
+    const GridLayout layout = GridLayout::choose(tape.bounds(), 0.5);
+    vk::ComputeTracer tracer(*context);
+    tracer.setVoxels(FlatVoxelBuffers::flatten(voxelize(tape, layout)));
+    vk::SceneRenderer renderer(*context);
+    // Front view, orthographic, framing x in [-80, 80].
+    const Camera camera = Camera::orthographic({0, -200, 0}, {0, 0, 0}, {0, 0, 1}, 120.0, 320, 240);
+    auto pixelOf = [&](double x, double z) {
+        return std::pair<int, int>(int((x / 60.0 * 0.5 * (240.0 / 320.0) + 0.5) * 320.0 + 0.5 * 0),
+                                   int((0.5 - z / 120.0) * 240.0));
+    };
+    auto colourAt = [&](const RgbaImage& img, double x, double z) {
+        const auto [px, py] = pixelOf(x, z);
+        const std::uint8_t* p = &img.pixels[(std::size_t(py) * std::size_t(img.width) + std::size_t(px)) * 4];
+        return glm::ivec3(p[0], p[1], p[2]);
+    };
+    auto isBlue = [](glm::ivec3 c) { return c.b > c.r + 30; };
+    auto isRed = [](glm::ivec3 c) { return c.r > c.b + 30; };
+
+    PlacedMesh rod;
+    rod.id = "rod";
+    rod.color = {0.0f, 0.05f, 1.0f};
+    // Through the cube's middle: hidden inside it, visible on both sides.
+    rod.mesh = loadTriangleMesh(writeRod(dir, 0.0));
+    renderer.setMeshes({rod});
+    const RgbaImage through = renderer.render(tracer, tracer.voxels(), camera, tape.features());
+    EXPECT_TRUE(isRed(colourAt(through, 0, 0))) << "the cube hides the rod inside it";
+    EXPECT_TRUE(isBlue(colourAt(through, 45, 0))) << "the rod shows beside the cube";
+    EXPECT_TRUE(isBlue(colourAt(through, -45, 0)));
+    EXPECT_TRUE(isRed(colourAt(through, 10, 12)));
+    // In front of the cube (y = -30, the cube's front face is y = -20): the rod hides the cube.
+    rod.mesh = loadTriangleMesh(writeRod(dir, -30.0));
+    renderer.setMeshes({rod});
+    const RgbaImage front = renderer.render(tracer, tracer.voxels(), camera, tape.features());
+    EXPECT_TRUE(isBlue(colourAt(front, 0, 0))) << "the rod in front hides the cube";
+    EXPECT_TRUE(isRed(colourAt(front, 10, 12)));
+    // Behind it: hidden where the cube is.
+    rod.mesh = loadTriangleMesh(writeRod(dir, 30.0));
+    renderer.setMeshes({rod});
+    const RgbaImage behind = renderer.render(tracer, tracer.voxels(), camera, tape.features());
+    EXPECT_TRUE(isRed(colourAt(behind, 0, 0)));
+    EXPECT_TRUE(isBlue(colourAt(behind, 45, 0)));
+    std::filesystem::remove_all(dir);
+    EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
+}
+
+TEST(ReferenceMesh, MissingAndBrokenFilesAreNamedAndLeftOut)
+{
+    const auto dir = std::filesystem::temp_directory_path() / ("kerf-meshref-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "broken.stl") << "this is not a mesh";
+    writeRod(dir, 0.0);
+    const Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"s","type":"sphere","radius":5},
+        "meshes":[{"id":"gone","path":"missing.stl"},{"id":"bad","path":"broken.stl"},{"id":"ok","path":"rod.off"}]})",
+                                         "with-meshes.kerf");
+    std::vector<std::string> problems;
+    const auto meshes = loadReferenceMeshes(doc, dir, problems);
+    ASSERT_EQ(meshes.size(), 1u);
+    EXPECT_EQ(meshes[0].id, "ok");
+    EXPECT_EQ(meshes[0].mesh.triangles(), 12u);
+    ASSERT_EQ(problems.size(), 2u);
+    EXPECT_NE(problems[0].find("mesh 'gone'"), std::string::npos);
+    EXPECT_NE(problems[0].find("no such file"), std::string::npos);
+    EXPECT_NE(problems[1].find("mesh 'bad'"), std::string::npos);
+    std::filesystem::remove_all(dir);
 }
 
 TEST(HeapAllocator, FirstFitMergesFreedNeighbours)

@@ -10,6 +10,8 @@
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
+#include "kerf/viewport/ReferenceMesh.hpp"
+#include "kerf/viewport/SceneRenderer.hpp"
 #include "kerf/viewport/VulkanError.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
 
@@ -111,7 +113,13 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const double voxelizeMs = msSince(t0);
         if (!layout.note.empty()) err << "kerf render: " << layout.note << "\n";
 
+        // Reference meshes: a missing or broken one is named and left out.
+        std::vector<std::string> problems;
+        const std::vector<PlacedMesh> meshes = loadReferenceMeshes(doc, file.parent_path(), problems);
+        for (const auto& p : problems) err << "kerf render: " << file.string() << ": " << p << " (left out)\n";
+
         TraceImage image;
+        RgbaImage picture;
         std::string device;
         double traceMs = 0.0, gpuMs = -1.0;
         bool usedVulkan = false;
@@ -120,11 +128,15 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
                 vk::Context ctx;
                 vk::ComputeTracer tracer(ctx);
                 tracer.setVoxels(buffers);
+                vk::SceneRenderer renderer(ctx);
+                renderer.setMeshes(meshes);
                 t0 = std::chrono::steady_clock::now();
-                vk::TraceTiming timing;
-                image = tracer.trace(camera, &timing);
+                vk::SceneOptions options;
+                options.lights = ShadeOptions::forCamera(camera);
+                picture = renderer.render(tracer, tracer.voxels(), camera, tape.features(), options);
                 traceMs = msSince(t0);
-                gpuMs = timing.gpuMilliseconds;
+                gpuMs = tracer.lastTiming().gpuMilliseconds;
+                image = tracer.trace(camera); // for the figures below
                 device = ctx.deviceDescription();
                 usedVulkan = true;
             } catch (const vk::VulkanError& e) {
@@ -137,8 +149,10 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
             image = traceVoxels(buffers, camera);
             traceMs = msSince(t0);
             device = "CPU reference tracer";
+            picture = shade(image, tape.features(), ShadeOptions::forCamera(camera));
+            if (!meshes.empty()) err << "kerf render: the CPU fallback does not draw reference meshes\n";
         }
-        writePng(*output, shade(image, tape.features(), ShadeOptions::forCamera(camera)));
+        writePng(*output, picture);
 
         std::size_t hits = 0;
         for (std::size_t i = 0; i < image.depth.size(); ++i) hits += image.hit(i);

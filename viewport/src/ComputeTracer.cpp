@@ -9,6 +9,16 @@
 
 namespace kerf::vk {
 
+VoxelAddresses VoxelAddresses::of(const ResidentSet& r)
+{
+    VoxelAddresses a;
+    a.grid = r.layout;
+    a.tiles = r.tiles;
+    a.entries = r.entries;
+    a.nodes = a.leafIndirections = a.leafData = a.vertices = r.heap;
+    return a;
+}
+
 struct ComputeTracer::Impl {
     const Context& ctx;
     ShaderModule module;
@@ -18,17 +28,24 @@ struct ComputeTracer::Impl {
     GridLayout grid;
     GpuBuffer tiles, entries, nodes, leafIndirections, leafData, vertices;
     std::size_t resident = 0;
-
-    // Where a dispatch finds the voxels: separate arrays (setVoxels) or one
-    // heap for all four record kinds (a streamed ResidentSet).
-    struct Addresses {
-        GridLayout grid;
-        VkDeviceAddress tiles = 0, entries = 0, nodes = 0, leafIndirections = 0, leafData = 0, vertices = 0;
-    };
-    TraceImage dispatch(const Camera& camera, const Addresses& a, TraceTiming* timing);
+    TraceTargets targets;
+    GpuBuffer params;
 
     explicit Impl(const Context& c) : ctx(c) {}
+    void ensureTargets(int w, int h);
 };
+
+void ComputeTracer::Impl::ensureTargets(int w, int h)
+{
+    if (targets.width == w && targets.height == h) return;
+    const std::size_t pixels = std::size_t(w) * std::size_t(h);
+    const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    targets.depth = GpuBuffer(ctx, pixels * sizeof(float), usage, GpuBuffer::Kind::DeviceLocal, "trace depth");
+    targets.normal = GpuBuffer(ctx, pixels * 16, usage, GpuBuffer::Kind::DeviceLocal, "trace normal");
+    targets.feature = GpuBuffer(ctx, pixels * sizeof(std::uint32_t), usage, GpuBuffer::Kind::DeviceLocal, "trace feature");
+    targets.width = w;
+    targets.height = h;
+}
 
 ComputeTracer::ComputeTracer(const Context& ctx) : impl_(std::make_unique<Impl>(ctx))
 {
@@ -64,11 +81,17 @@ ComputeTracer::ComputeTracer(const Context& ctx) : impl_(std::make_unique<Impl>(
     VkQueryPool qp;
     check(vkCreateQueryPool(dev, &qpci, nullptr, &qp), "vkCreateQueryPool");
     impl_->timestamps = QueryPool(dev, qp);
+    // Written by vkCmdUpdateBuffer inside the frame's commands, so that a
+    // frame in flight never sees the next frame's parameters.
+    impl_->params = GpuBuffer(ctx, sizeof(gpu::TraceParams),
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                              GpuBuffer::Kind::DeviceLocal, "trace params");
 }
 
 ComputeTracer::~ComputeTracer() = default;
 
 std::size_t ComputeTracer::residentBytes() const { return impl_->resident; }
+const TraceTargets& ComputeTracer::targets() const { return impl_->targets; }
 
 void ComputeTracer::setVoxels(const FlatVoxelBuffers& b)
 {
@@ -86,9 +109,10 @@ void ComputeTracer::setVoxels(const FlatVoxelBuffers& b)
     impl_->resident = b.bytes();
 }
 
-TraceImage ComputeTracer::trace(const Camera& camera, TraceTiming* timing)
+VoxelAddresses ComputeTracer::voxels() const
 {
-    Impl::Addresses a;
+    VoxelAddresses a;
+    if (!impl_->tiles.buffer()) return a;
     a.grid = impl_->grid;
     a.tiles = impl_->tiles.address();
     a.entries = impl_->entries.address();
@@ -96,31 +120,14 @@ TraceImage ComputeTracer::trace(const Camera& camera, TraceTiming* timing)
     a.leafIndirections = impl_->leafIndirections.address();
     a.leafData = impl_->leafData.address();
     a.vertices = impl_->vertices.address();
-    return impl_->dispatch(camera, a, timing);
+    return a;
 }
 
-TraceImage ComputeTracer::trace(const Camera& camera, const ResidentSet& voxels, TraceTiming* timing)
+void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const VoxelAddresses& addr)
 {
-    Impl::Addresses a;
-    a.grid = voxels.layout;
-    a.tiles = voxels.tiles;
-    a.entries = voxels.entries;
-    a.nodes = a.leafIndirections = a.leafData = a.vertices = voxels.heap;
-    return impl_->dispatch(camera, a, timing);
-}
-
-TraceImage ComputeTracer::Impl::dispatch(const Camera& camera, const Addresses& addr, TraceTiming* timing)
-{
-    if (addr.tiles == 0 || addr.grid.empty()) return TraceImage(camera.width(), camera.height()); // nothing resident
     const int w = camera.width(), h = camera.height();
-    const std::size_t pixels = std::size_t(w) * std::size_t(h);
-    GpuBuffer depth(ctx, pixels * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GpuBuffer::Kind::Readback, "depth");
-    GpuBuffer normal(ctx, pixels * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GpuBuffer::Kind::Readback, "normal");
-    GpuBuffer feature(ctx, pixels * sizeof(std::uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                      GpuBuffer::Kind::Readback, "feature");
-    GpuBuffer params(ctx, sizeof(gpu::TraceParams), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GpuBuffer::Kind::HostVisible,
-                     "trace params");
-
+    impl_->ensureTargets(w, h);
+    const TraceTargets& t = impl_->targets;
     gpu::TraceParams p{};
     p.tiles = addr.tiles;
     p.entries = addr.entries;
@@ -128,9 +135,9 @@ TraceImage ComputeTracer::Impl::dispatch(const Camera& camera, const Addresses& 
     p.leafIndirections = addr.leafIndirections;
     p.leafData = addr.leafData;
     p.vertices = addr.vertices;
-    p.outDepth = depth.address();
-    p.outNormal = normal.address();
-    p.outFeature = feature.address();
+    p.outDepth = t.depth.address();
+    p.outNormal = t.normal.address();
+    p.outFeature = t.feature.address();
     // The eye relative to the grid origin, subtracted in double: float only
     // ever sees small, grid-local numbers.
     const glm::dvec3 eye = camera.eye() - addr.grid.origin;
@@ -141,38 +148,73 @@ TraceImage ComputeTracer::Impl::dispatch(const Camera& camera, const Addresses& 
     p.forward = {float(camera.forward().x), float(camera.forward().y), float(camera.forward().z), ortho ? 1.0f : 0.0f};
     p.right = {float(camera.right().x), float(camera.right().y), float(camera.right().z), float(halfHeight)};
     p.up = {float(camera.up().x), float(camera.up().y), float(camera.up().z), 0.0f};
-    p.dims = {addr.grid.dims.x, addr.grid.dims.y, addr.grid.dims.z, 0};
+    // With nothing resident the grid is empty: every ray misses.
+    p.dims = {addr.tiles ? addr.grid.dims.x : 0, addr.tiles ? addr.grid.dims.y : 0, addr.tiles ? addr.grid.dims.z : 0, 0};
     p.image = {std::uint32_t(w), std::uint32_t(h), 0, 0};
-    std::memcpy(params.mapped(), &p, sizeof p);
+    vkCmdUpdateBuffer(cb, impl_->params.buffer(), 0, sizeof p, &p);
+    VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    before.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+    before.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &before, 0, nullptr, 0, nullptr);
 
-    const std::uint64_t address = params.address();
+    const std::uint64_t address = impl_->params.address();
+    vkCmdResetQueryPool(cb, impl_->timestamps, 0, 2);
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, impl_->pipeline);
+    vkCmdPushConstants(cb, impl_->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof address, &address);
+    vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, impl_->timestamps, 0);
+    const std::uint32_t g = KERF_TRACE_LOCAL_SIZE;
+    vkCmdDispatch(cb, (std::uint32_t(w) + g - 1) / g, (std::uint32_t(h) + g - 1) / g, 1);
+    vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, impl_->timestamps, 1);
+    VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    after.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    after.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &after, 0, nullptr,
+                         0, nullptr);
+}
+
+TraceTiming ComputeTracer::lastTiming() const
+{
+    std::uint64_t stamps[2] = {0, 0};
+    check(vkGetQueryPoolResults(impl_->ctx.device(), impl_->timestamps, 0, 2, sizeof stamps, stamps,
+                                sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+          "vkGetQueryPoolResults");
+    TraceTiming t;
+    t.gpuMilliseconds = double(stamps[1] - stamps[0]) * double(impl_->ctx.properties().limits.timestampPeriod) * 1e-6;
+    return t;
+}
+
+TraceImage ComputeTracer::trace(const Camera& camera, TraceTiming* timing) { return trace(camera, ResidentSet{}, timing); }
+
+TraceImage ComputeTracer::trace(const Camera& camera, const ResidentSet& voxels, TraceTiming* timing)
+{
+    const Context& ctx = impl_->ctx;
+    const VoxelAddresses addr = voxels.valid() ? VoxelAddresses::of(voxels) : this->voxels();
+    const int w = camera.width(), h = camera.height();
+    const std::size_t pixels = std::size_t(w) * std::size_t(h);
+    GpuBuffer depth(ctx, pixels * sizeof(float), VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback, "depth");
+    GpuBuffer normal(ctx, pixels * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback, "normal");
+    GpuBuffer feature(ctx, pixels * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback, "feature");
     ctx.submitAndWait([&](VkCommandBuffer cb) {
-        vkCmdResetQueryPool(cb, timestamps, 0, 2);
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-        vkCmdPushConstants(cb, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof address, &address);
-        vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, timestamps, 0);
-        const std::uint32_t groups = KERF_TRACE_LOCAL_SIZE;
-        vkCmdDispatch(cb, (std::uint32_t(w) + groups - 1) / groups, (std::uint32_t(h) + groups - 1) / groups, 1);
-        vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps, 1);
+        record(cb, camera, addr);
+        const TraceTargets& t = impl_->targets;
+        VkBufferCopy d{0, 0, pixels * sizeof(float)}, n{0, 0, pixels * 16}, f{0, 0, pixels * 4};
+        vkCmdCopyBuffer(cb, t.depth.buffer(), depth.buffer(), 1, &d);
+        vkCmdCopyBuffer(cb, t.normal.buffer(), normal.buffer(), 1, &n);
+        vkCmdCopyBuffer(cb, t.feature.buffer(), feature.buffer(), 1, &f);
         VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+        mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
         mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr,
-                             0, nullptr);
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
+                             nullptr);
     });
-    if (timing) {
-        std::uint64_t stamps[2] = {0, 0};
-        check(vkGetQueryPoolResults(ctx.device(), timestamps, 0, 2, sizeof stamps, stamps, sizeof(std::uint64_t),
-                                    VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
-              "vkGetQueryPoolResults");
-        timing->gpuMilliseconds = double(stamps[1] - stamps[0]) * double(ctx.properties().limits.timestampPeriod) * 1e-6;
-    }
-
+    if (timing) *timing = lastTiming();
     TraceImage image(w, h);
     std::memcpy(image.depth.data(), depth.mapped(), pixels * sizeof(float));
-    std::memcpy(image.feature.data(), feature.mapped(), pixels * sizeof(std::uint32_t));
-    const float* n = static_cast<const float*>(normal.mapped());
-    for (std::size_t i = 0; i < pixels; ++i) image.normal[i] = {n[4 * i], n[4 * i + 1], n[4 * i + 2]};
+    std::memcpy(image.feature.data(), feature.mapped(), pixels * 4);
+    const float* nrm = static_cast<const float*>(normal.mapped());
+    for (std::size_t i = 0; i < pixels; ++i) image.normal[i] = {nrm[4 * i], nrm[4 * i + 1], nrm[4 * i + 2]};
     return image;
 }
 

@@ -1,15 +1,17 @@
 #pragma once
 // The Vulkan compute tracer: the voxel buffers live on the device (reached by
-// buffer device address), and trace() casts one ray per pixel through them
-// with shaders/trace.comp, the port of the CPU reference tracer.
+// buffer device address), and a dispatch of shaders/trace.comp, the port of
+// the CPU reference tracer, casts one ray per pixel through them into
+// device-local depth, normal and feature buffers (TraceTargets), which the
+// shading pass reads in place or trace() reads back.
 //
 // Threading: one thread at a time. The context must outlive the tracer.
 
 #include "kerf/tracer/Camera.hpp"
 #include "kerf/tracer/Image.hpp"
 #include "kerf/viewport/GpuBuffer.hpp"
-#include "kerf/viewport/VulkanContext.hpp"
 #include "kerf/viewport/VoxelStreamer.hpp"
+#include "kerf/viewport/VulkanContext.hpp"
 #include "kerf/voxelizer/VoxelSnapshot.hpp"
 
 #include <memory>
@@ -20,21 +22,41 @@ struct TraceTiming {
     double gpuMilliseconds = 0.0; // the dispatch alone, from timestamps
 };
 
+/// Where a dispatch finds the voxels: separate arrays (setVoxels) or one heap
+/// for all four record kinds (a streamed ResidentSet).
+struct VoxelAddresses {
+    GridLayout grid;
+    VkDeviceAddress tiles = 0, entries = 0, nodes = 0, leafIndirections = 0, leafData = 0, vertices = 0;
+    static VoxelAddresses of(const ResidentSet& r);
+};
+
+/// The tracer's per-pixel outputs, device-local.
+struct TraceTargets {
+    int width = 0, height = 0;
+    GpuBuffer depth, normal, feature;
+};
+
 class ComputeTracer {
 public:
     explicit ComputeTracer(const Context& ctx);
     ~ComputeTracer();
 
-    /// Makes `buffers` the resident voxel data (uploads all of it, waiting
-    /// for the copy). The viewport's streamed path uploads tile by tile.
+    /// Makes `buffers` the tracer's own voxel data (uploads all of it,
+    /// waiting for the copy); voxels() then points at it.
     void setVoxels(const FlatVoxelBuffers& buffers);
-    /// Bytes of voxel data resident on the device.
+    VoxelAddresses voxels() const;
+    /// Bytes of voxel data uploaded by setVoxels().
     std::size_t residentBytes() const;
 
-    /// Traces `camera`'s image through the voxels given to setVoxels() and
-    /// reads it back.
+    /// Records the trace of `camera`'s image into the targets (resized as
+    /// needed), followed by a barrier making them readable by fragment
+    /// shaders and transfers. Writes the timestamps read by lastTiming().
+    void record(VkCommandBuffer cb, const Camera& camera, const VoxelAddresses& voxels);
+    const TraceTargets& targets() const;
+    TraceTiming lastTiming() const;
+
+    /// Traces and reads the image back (waits for the device).
     TraceImage trace(const Camera& camera, TraceTiming* timing = nullptr);
-    /// Traces through a streamed resident set instead (VoxelStreamer).
     TraceImage trace(const Camera& camera, const ResidentSet& voxels, TraceTiming* timing = nullptr);
 
 private:

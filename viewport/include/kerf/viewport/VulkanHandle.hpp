@@ -53,5 +53,9 @@ using DescriptorPool = Owned<VkDescriptorPool, VkDevice, vkDestroyDescriptorPool
 using CommandPool = Owned<VkCommandPool, VkDevice, vkDestroyCommandPool>;
 using Fence = Owned<VkFence, VkDevice, vkDestroyFence>;
 using QueryPool = Owned<VkQueryPool, VkDevice, vkDestroyQueryPool>;
+using Image = Owned<VkImage, VkDevice, vkDestroyImage>;
+using ImageView = Owned<VkImageView, VkDevice, vkDestroyImageView>;
+using RenderPass = Owned<VkRenderPass, VkDevice, vkDestroyRenderPass>;
+using Framebuffer = Owned<VkFramebuffer, VkDevice, vkDestroyFramebuffer>;
 
 } // namespace kerf::vk

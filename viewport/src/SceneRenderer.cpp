@@ -1,0 +1,449 @@
+#include "kerf/viewport/SceneRenderer.hpp"
+
+#include "kerf/viewport/VulkanError.hpp"
+
+#include "RenderShared.h"
+#include "fullscreen.vert.h"
+#include "mesh.frag.h"
+#include "mesh.vert.h"
+#include "part.frag.h"
+
+#include <glm/glm.hpp>
+
+#include <cstring>
+#include <limits>
+
+namespace kerf::vk {
+
+namespace {
+
+constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
+constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+
+ShaderModule makeModule(VkDevice dev, const std::uint32_t* code, std::size_t bytes, const char* what)
+{
+    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    ci.codeSize = bytes;
+    ci.pCode = code;
+    VkShaderModule m;
+    check(vkCreateShaderModule(dev, &ci, nullptr, &m), what);
+    return ShaderModule(dev, m);
+}
+
+struct Target {
+    Image image;
+    Memory memory;
+    ImageView view;
+};
+
+Target makeTarget(const Context& ctx, int w, int h, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect)
+{
+    Target t;
+    VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    ici.imageType = VK_IMAGE_TYPE_2D;
+    ici.format = format;
+    ici.extent = {std::uint32_t(w), std::uint32_t(h), 1};
+    ici.mipLevels = 1;
+    ici.arrayLayers = 1;
+    ici.samples = VK_SAMPLE_COUNT_1_BIT;
+    ici.tiling = VK_IMAGE_TILING_OPTIMAL;
+    ici.usage = usage;
+    ici.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    VkImage img;
+    check(vkCreateImage(ctx.device(), &ici, nullptr, &img), "vkCreateImage");
+    t.image = Image(ctx.device(), img);
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(ctx.device(), img, &req);
+    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    ai.allocationSize = req.size;
+    ai.memoryTypeIndex = ctx.memoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    VkDeviceMemory mem;
+    check(vkAllocateMemory(ctx.device(), &ai, nullptr, &mem), "vkAllocateMemory (image)");
+    t.memory = Memory(ctx.device(), mem);
+    check(vkBindImageMemory(ctx.device(), img, mem, 0), "vkBindImageMemory");
+    VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vci.image = img;
+    vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vci.format = format;
+    vci.subresourceRange = {aspect, 0, 1, 0, 1};
+    VkImageView view;
+    check(vkCreateImageView(ctx.device(), &vci, nullptr, &view), "vkCreateImageView");
+    t.view = ImageView(ctx.device(), view);
+    return t;
+}
+
+gpu::RVec4 vec4(const glm::vec3& v, float w) { return {v.x, v.y, v.z, w}; }
+
+float toLinear(std::uint8_t c)
+{
+    const float s = float(c) / 255.0f;
+    return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
+}
+
+} // namespace
+
+struct SceneRenderer::Impl {
+    const Context& ctx;
+    RenderPass renderPass;
+    PipelineLayout partLayout, meshLayout;
+    Pipeline partPipeline, meshPipeline;
+    GpuBuffer shade;
+    int width = 0, height = 0;
+    Target color, depth;
+    Framebuffer framebuffer;
+
+    struct MeshBuffer {
+        GpuBuffer vertices; // float x, y, z, nx, ny, nz per vertex, relative to meshOrigin
+        std::uint32_t count = 0;
+        glm::vec3 color;
+    };
+    std::vector<MeshBuffer> meshes;
+    glm::dvec3 meshOrigin{0.0};
+    Aabb meshBounds;
+
+    explicit Impl(const Context& c) : ctx(c) {}
+    void ensureTargets(int w, int h);
+    Pipeline makePipeline(VkPipelineLayout layout, const ShaderModule& vs, const ShaderModule& fs, bool meshInput);
+};
+
+void SceneRenderer::Impl::ensureTargets(int w, int h)
+{
+    if (w == width && h == height) return;
+    color = makeTarget(ctx, w, h, kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                       VK_IMAGE_ASPECT_COLOR_BIT);
+    depth = makeTarget(ctx, w, h, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
+    VkImageView views[2] = {color.view, depth.view};
+    VkFramebufferCreateInfo fci{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+    fci.renderPass = renderPass;
+    fci.attachmentCount = 2;
+    fci.pAttachments = views;
+    fci.width = std::uint32_t(w);
+    fci.height = std::uint32_t(h);
+    fci.layers = 1;
+    VkFramebuffer fb;
+    check(vkCreateFramebuffer(ctx.device(), &fci, nullptr, &fb), "vkCreateFramebuffer");
+    framebuffer = Framebuffer(ctx.device(), fb);
+    width = w;
+    height = h;
+}
+
+Pipeline SceneRenderer::Impl::makePipeline(VkPipelineLayout layout, const ShaderModule& vs, const ShaderModule& fs,
+                                           bool meshInput)
+{
+    VkPipelineShaderStageCreateInfo stages[2]{};
+    stages[0].sType = stages[1].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stages[0].module = vs;
+    stages[0].pName = "main";
+    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages[1].module = fs;
+    stages[1].pName = "main";
+
+    VkVertexInputBindingDescription binding{0, 6 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
+    VkVertexInputAttributeDescription attributes[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+                                                       {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 3 * sizeof(float)}};
+    VkPipelineVertexInputStateCreateInfo vin{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    if (meshInput) {
+        vin.vertexBindingDescriptionCount = 1;
+        vin.pVertexBindingDescriptions = &binding;
+        vin.vertexAttributeDescriptionCount = 2;
+        vin.pVertexAttributeDescriptions = attributes;
+    }
+    VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    vp.viewportCount = 1;
+    vp.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    rs.polygonMode = VK_POLYGON_MODE_FILL;
+    rs.cullMode = VK_CULL_MODE_NONE;
+    rs.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    rs.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    ds.depthTestEnable = VK_TRUE;
+    ds.depthWriteEnable = VK_TRUE;
+    // The part pass writes the traced depth everywhere; meshes test against it.
+    ds.depthCompareOp = meshInput ? VK_COMPARE_OP_LESS_OR_EQUAL : VK_COMPARE_OP_ALWAYS;
+    VkPipelineColorBlendAttachmentState blend{};
+    blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                           VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    cb.attachmentCount = 1;
+    cb.pAttachments = &blend;
+    VkDynamicState dyn[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dy{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dy.dynamicStateCount = 2;
+    dy.pDynamicStates = dyn;
+
+    VkGraphicsPipelineCreateInfo gci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    gci.stageCount = 2;
+    gci.pStages = stages;
+    gci.pVertexInputState = &vin;
+    gci.pInputAssemblyState = &ia;
+    gci.pViewportState = &vp;
+    gci.pRasterizationState = &rs;
+    gci.pMultisampleState = &ms;
+    gci.pDepthStencilState = &ds;
+    gci.pColorBlendState = &cb;
+    gci.pDynamicState = &dy;
+    gci.layout = layout;
+    gci.renderPass = renderPass;
+    VkPipeline p;
+    check(vkCreateGraphicsPipelines(ctx.device(), VK_NULL_HANDLE, 1, &gci, nullptr, &p), "vkCreateGraphicsPipelines");
+    return Pipeline(ctx.device(), p);
+}
+
+SceneRenderer::SceneRenderer(const Context& ctx) : impl_(std::make_unique<Impl>(ctx))
+{
+    VkDevice dev = ctx.device();
+    VkAttachmentDescription att[2]{};
+    att[0].format = kColorFormat;
+    att[0].samples = VK_SAMPLE_COUNT_1_BIT;
+    att[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    att[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    att[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    att[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    att[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    att[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    att[1] = att[0];
+    att[1].format = kDepthFormat;
+    att[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    att[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+    VkAttachmentReference colorRef{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    VkAttachmentReference depthRef{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription sub{};
+    sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    sub.colorAttachmentCount = 1;
+    sub.pColorAttachments = &colorRef;
+    sub.pDepthStencilAttachment = &depthRef;
+    VkSubpassDependency deps[2]{};
+    deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+    deps[0].dstSubpass = 0;
+    deps[0].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT |
+                           VK_PIPELINE_STAGE_TRANSFER_BIT;
+    deps[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
+    deps[0].srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    deps[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    deps[1].srcSubpass = 0;
+    deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+    deps[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    deps[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    deps[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    VkRenderPassCreateInfo rpci{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+    rpci.attachmentCount = 2;
+    rpci.pAttachments = att;
+    rpci.subpassCount = 1;
+    rpci.pSubpasses = &sub;
+    rpci.dependencyCount = 2;
+    rpci.pDependencies = deps;
+    VkRenderPass rp;
+    check(vkCreateRenderPass(dev, &rpci, nullptr, &rp), "vkCreateRenderPass");
+    impl_->renderPass = RenderPass(dev, rp);
+
+    VkPushConstantRange partRange{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(std::uint64_t)};
+    VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    plci.pushConstantRangeCount = 1;
+    plci.pPushConstantRanges = &partRange;
+    VkPipelineLayout pl;
+    check(vkCreatePipelineLayout(dev, &plci, nullptr, &pl), "vkCreatePipelineLayout (part)");
+    impl_->partLayout = PipelineLayout(dev, pl);
+    VkPushConstantRange meshRange{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(gpu::MeshPush)};
+    plci.pPushConstantRanges = &meshRange;
+    check(vkCreatePipelineLayout(dev, &plci, nullptr, &pl), "vkCreatePipelineLayout (mesh)");
+    impl_->meshLayout = PipelineLayout(dev, pl);
+
+    const ShaderModule fullscreen = makeModule(dev, kFullscreenVert, sizeof kFullscreenVert, "shader fullscreen.vert");
+    const ShaderModule part = makeModule(dev, kPartFrag, sizeof kPartFrag, "shader part.frag");
+    const ShaderModule meshVert = makeModule(dev, kMeshVert, sizeof kMeshVert, "shader mesh.vert");
+    const ShaderModule meshFrag = makeModule(dev, kMeshFrag, sizeof kMeshFrag, "shader mesh.frag");
+    impl_->partPipeline = impl_->makePipeline(impl_->partLayout, fullscreen, part, false);
+    impl_->meshPipeline = impl_->makePipeline(impl_->meshLayout, meshVert, meshFrag, true);
+    impl_->shade = GpuBuffer(ctx, sizeof(gpu::ShadeParams),
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                             GpuBuffer::Kind::DeviceLocal, "shade params");
+}
+
+SceneRenderer::~SceneRenderer() = default;
+
+void SceneRenderer::setMeshes(const std::vector<PlacedMesh>& meshes)
+{
+    impl_->meshes.clear();
+    impl_->meshBounds = Aabb::empty();
+    for (const auto& m : meshes) impl_->meshBounds = impl_->meshBounds.merged(m.worldBounds());
+    // Vertices relative to the meshes' centre: float keeps its precision.
+    impl_->meshOrigin = impl_->meshBounds.isEmpty() ? glm::dvec3(0.0) : impl_->meshBounds.center();
+    for (const auto& m : meshes) {
+        std::vector<float> v;
+        v.reserve(m.mesh.positions.size() * 6);
+        for (std::size_t i = 0; i < m.mesh.positions.size(); ++i) {
+            const glm::dvec3 p = m.worldFromLocal.apply(m.mesh.positions[i]) - impl_->meshOrigin;
+            const glm::vec3 n = glm::normalize(glm::vec3(m.worldFromLocal.applyLinear(glm::dvec3(m.mesh.normals[i]))));
+            v.insert(v.end(), {float(p.x), float(p.y), float(p.z), n.x, n.y, n.z});
+        }
+        Impl::MeshBuffer b;
+        b.vertices = uploadBuffer(impl_->ctx, v.data(), v.size() * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+                                  "mesh vertices");
+        b.count = std::uint32_t(m.mesh.positions.size());
+        b.color = m.color;
+        impl_->meshes.push_back(std::move(b));
+    }
+}
+
+RgbaImage SceneRenderer::render(ComputeTracer& tracer, const VoxelAddresses& voxels, const Camera& camera,
+                                const std::vector<Feature>& features, const SceneOptions& options)
+{
+    const Context& ctx = impl_->ctx;
+    const int w = camera.width(), h = camera.height();
+    impl_->ensureTargets(w, h);
+    const bool ortho = camera.projection() == Projection::Orthographic;
+    const double halfHeight = ortho ? 0.5 * camera.orthoHeight()
+                                    : std::tan(0.5 * camera.fovYDegrees() * 3.14159265358979323846 / 180.0);
+
+    // Near and far planes around everything drawn.
+    Aabb scene = impl_->meshBounds;
+    if (voxels.tiles) scene = scene.merged(voxels.grid.bounds());
+    double zMin = std::numeric_limits<double>::max(), zMax = 0.0;
+    for (int c = 0; c < 8 && !scene.isEmpty(); ++c) {
+        const glm::dvec3 p(c & 1 ? scene.max.x : scene.min.x, c & 2 ? scene.max.y : scene.min.y,
+                           c & 4 ? scene.max.z : scene.min.z);
+        const double z = glm::dot(p - camera.eye(), camera.forward());
+        zMin = std::min(zMin, z);
+        zMax = std::max(zMax, z);
+    }
+    if (scene.isEmpty()) zMin = 1.0, zMax = 10.0;
+    const double far = std::max(zMax, 1.0) * 1.01 + 1.0;
+    const double near = ortho ? std::min(zMin, 0.0) - 1.0 : std::max(std::max(zMin, 0.0) * 0.99, far * 1e-5);
+
+    gpu::ShadeParams s{};
+    const TraceTargets& t = tracer.targets();
+    (void)t;
+    std::vector<float> colors;
+    for (const auto& f : features) {
+        if (f.hasColor)
+            colors.insert(colors.end(), {toLinear(f.color.r), toLinear(f.color.g), toLinear(f.color.b), 1.0f});
+        else
+            colors.insert(colors.end(), {0, 0, 0, 0});
+    }
+    if (colors.empty()) colors.assign(4, 0.0f);
+    GpuBuffer colorBuffer(ctx, colors.size() * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                          GpuBuffer::Kind::HostVisible, "feature colours");
+    std::memcpy(colorBuffer.mapped(), colors.data(), colors.size() * sizeof(float));
+    GpuBuffer readback(ctx, std::size_t(w) * std::size_t(h) * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                       GpuBuffer::Kind::Readback, "colour readback");
+
+    ctx.submitAndWait([&](VkCommandBuffer cb) {
+        tracer.record(cb, camera, voxels);
+        const TraceTargets& targets = tracer.targets();
+        s.depth = targets.depth.address();
+        s.normal = targets.normal.address();
+        s.feature = targets.feature.address();
+        s.featureColors = colorBuffer.address();
+        s.featureCount = std::uint32_t(features.size());
+        s.width = std::uint32_t(w);
+        s.height = std::uint32_t(h);
+        s.flags = (ortho ? KERF_SHADE_ORTHO : 0u) | (options.edges ? KERF_SHADE_EDGES : 0u);
+        s.forward = vec4(glm::vec3(camera.forward()), float(near));
+        s.right = vec4(glm::vec3(camera.right()), float(far));
+        s.up = vec4(glm::vec3(camera.up()), float(halfHeight));
+        s.light = vec4(glm::normalize(options.lights.lightDirection), options.lights.keyStrength);
+        s.view = vec4(glm::normalize(options.lights.viewDirection), options.lights.headlightStrength);
+        s.sky = vec4(options.lights.sky, 0.25f);
+        s.ground = vec4(options.lights.ground, 48.0f);
+        s.backgroundTop = {0.52f, 0.56f, 0.62f, 1.0f};
+        s.backgroundBottom = {0.20f, 0.21f, 0.23f, 1.0f};
+        s.defaultColor = vec4(options.defaultColor, options.edgeDarkening);
+        vkCmdUpdateBuffer(cb, impl_->shade.buffer(), 0, sizeof s, &s);
+        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT, 0, 1, &mb, 0,
+                             nullptr, 0, nullptr);
+
+        VkClearValue clears[2];
+        clears[0].color = {{0.0f, 0.0f, 0.0f, 1.0f}};
+        clears[1].depthStencil = {1.0f, 0};
+        VkRenderPassBeginInfo rbi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+        rbi.renderPass = impl_->renderPass;
+        rbi.framebuffer = impl_->framebuffer;
+        rbi.renderArea = {{0, 0}, {std::uint32_t(w), std::uint32_t(h)}};
+        rbi.clearValueCount = 2;
+        rbi.pClearValues = clears;
+        vkCmdBeginRenderPass(cb, &rbi, VK_SUBPASS_CONTENTS_INLINE);
+        VkViewport viewport{0.0f, 0.0f, float(w), float(h), 0.0f, 1.0f};
+        VkRect2D scissor{{0, 0}, {std::uint32_t(w), std::uint32_t(h)}};
+        vkCmdSetViewport(cb, 0, 1, &viewport);
+        vkCmdSetScissor(cb, 0, 1, &scissor);
+
+        const std::uint64_t shadeAddress = impl_->shade.address();
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->partPipeline);
+        vkCmdPushConstants(cb, impl_->partLayout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof shadeAddress, &shadeAddress);
+        vkCmdDraw(cb, 3, 1, 0, 0);
+
+        if (!impl_->meshes.empty()) {
+            // clip = P * V, with the view's translation taken in double from
+            // the meshes' origin to the eye.
+            const double aspect = double(w) / double(h);
+            const glm::dvec3 r = camera.right(), u = camera.up(), f = camera.forward();
+            const glm::dvec3 d = impl_->meshOrigin - camera.eye();
+            glm::dmat4 view(1.0);
+            for (int c = 0; c < 3; ++c) {
+                view[c][0] = r[c];
+                view[c][1] = u[c];
+                view[c][2] = f[c];
+            }
+            view[3] = glm::dvec4(glm::dot(d, r), glm::dot(d, u), glm::dot(d, f), 1.0);
+            glm::dmat4 proj(0.0);
+            if (ortho) {
+                proj[0][0] = 1.0 / (halfHeight * aspect);
+                proj[1][1] = -1.0 / halfHeight;
+                proj[2][2] = 1.0 / (far - near);
+                proj[3][2] = -near / (far - near);
+                proj[3][3] = 1.0;
+            } else {
+                proj[0][0] = 1.0 / (halfHeight * aspect);
+                proj[1][1] = -1.0 / halfHeight;
+                proj[2][2] = far / (far - near);
+                proj[3][2] = -far * near / (far - near);
+                proj[2][3] = 1.0;
+            }
+            const glm::mat4 clip(proj * view);
+            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->meshPipeline);
+            for (const auto& m : impl_->meshes) {
+                gpu::MeshPush push{};
+                std::memcpy(push.clipFromWorld.m, &clip[0][0], sizeof push.clipFromWorld.m);
+                push.color = vec4(m.color, 1.0f);
+                push.shade = shadeAddress;
+                vkCmdPushConstants(cb, impl_->meshLayout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                                   sizeof push, &push);
+                const VkDeviceSize offset = 0;
+                const VkBuffer vb = m.vertices.buffer();
+                vkCmdBindVertexBuffers(cb, 0, 1, &vb, &offset);
+                vkCmdDraw(cb, m.count, 1, 0, 0);
+            }
+        }
+        vkCmdEndRenderPass(cb);
+
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {std::uint32_t(w), std::uint32_t(h), 1};
+        vkCmdCopyImageToBuffer(cb, impl_->color.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer(), 1,
+                               &region);
+        VkMemoryBarrier host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &host, 0, nullptr, 0,
+                             nullptr);
+    });
+    RgbaImage out;
+    out.width = w;
+    out.height = h;
+    out.pixels.resize(std::size_t(w) * std::size_t(h) * 4);
+    std::memcpy(out.pixels.data(), readback.mapped(), out.pixels.size());
+    return out;
+}
+
+} // namespace kerf::vk
