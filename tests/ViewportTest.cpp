@@ -207,6 +207,33 @@ TEST_F(VulkanTracer, StreamsUnderTheBudgetAndSwitchesOnlyWhenEveryTileIsResident
     EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
 }
 
+TEST_F(VulkanTracer, ScenesLargerThanABindingStillTrace)
+{
+    // lavapipe caps a storage-buffer binding at 128 MiB; the tracer reaches
+    // the heap by device address, so a larger scene works there too.
+    const Document doc = Document::load(std::filesystem::path(KERF_EXAMPLES_DIR) / "side-chair.kerf");
+    const Tape tape = compileTape(doc);
+    auto snap = std::make_shared<VoxelSnapshot>(voxelize(tape, GridLayout::choose(tape.bounds(), 0.5)));
+    snap->version = 1;
+    ASSERT_GT(snap->bytes(), std::size_t(128) << 20);
+    vk::VoxelStreamer streamer(*context, {.budgetBytesPerFrame = std::size_t(64) << 20, .framesInFlight = 2,
+                                          .initialHeapBytes = std::size_t(16) << 20});
+    streamer.setTarget(snap);
+    for (int f = 0; f < 100 && !streamer.upToDate(); ++f)
+        context->submitAndWait([&](VkCommandBuffer cb) { streamer.recordFrame(cb); });
+    ASSERT_TRUE(streamer.upToDate());
+    EXPECT_GT(streamer.heapCapacity(), std::size_t(128) << 20);
+    const Camera camera = Camera::standardView(tape.bounds(), "iso", 160, 120);
+    vk::ComputeTracer tracer(*context);
+    const TraceImage gpu = tracer.trace(camera, streamer.resident());
+    const TraceImage cpu = traceVoxels(FlatVoxelBuffers::flatten(*snap), camera);
+    const Comparison c = compare(gpu, cpu, 0.01);
+    EXPECT_GT(c.bothHit, 1000u);
+    EXPECT_LE(c.holes, c.pixels / 1000);
+    EXPECT_GE(double(c.depthClose), 0.995 * double(c.bothHit));
+    EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
+}
+
 // A rod (a long box as an OFF mesh) through a red cube, seen from the front.
 std::filesystem::path writeRod(const std::filesystem::path& dir, double y)
 {
