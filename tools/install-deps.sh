@@ -16,7 +16,7 @@ packages=(
   vulkan-tools vulkan-validationlayers
   # desktop application and its tests
   qt6-base-dev qt6-base-dev-tools libqt6opengl6-dev libqt6openglwidgets6
-  libqt6charts6-dev libxkbcommon-dev xvfb xauth
+  qt6-charts-dev libxkbcommon-dev xvfb xauth
   # packaging
   dpkg-dev fakeroot lintian
 )
