@@ -21,18 +21,6 @@ void countNodes(const Node& n, bool visible, DocumentSummary& s)
 }
 } // namespace
 
-double defaultFeatureSize(const Aabb& bounds)
-{
-    if (bounds.isEmpty() || !bounds.isBounded()) return 1.0;
-    const glm::dvec3 e = bounds.size();
-    const double target = std::max({e.x, e.y, e.z}) / 1000.0;
-    if (!(target > 0.0)) return 1.0;
-    const double decade = std::pow(10.0, std::floor(std::log10(target)));
-    for (double m : {5.0, 2.0, 1.0})
-        if (m * decade <= target) return m * decade;
-    return decade;
-}
-
 DocumentSummary summarize(const Document& doc, const std::string& documentFolder)
 {
     DocumentSummary s;

@@ -138,15 +138,6 @@ Options parse(int argc, char** argv)
 // The voxelizer's default when a document names no feature size: about a
 // thousandth of the part's largest extent, rounded down to 1, 2 or 5 times a
 // power of ten.
-double defaultFeatureSize(const kerf::Aabb& b)
-{
-    if (b.isEmpty() || !b.isBounded()) return 1.0;
-    const double target = std::max({b.size().x, b.size().y, b.size().z}) / 1000.0;
-    const double decade = std::pow(10.0, std::floor(std::log10(target)));
-    for (double m : {5.0, 2.0, 1.0})
-        if (m * decade <= target) return m * decade;
-    return decade;
-}
 
 // Compares the voxel image with the exact one; prints the agreement and
 // writes the map of differences.

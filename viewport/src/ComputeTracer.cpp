@@ -142,8 +142,7 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
     // ever sees small, grid-local numbers.
     const glm::dvec3 eye = camera.eye() - addr.grid.origin;
     const bool ortho = camera.projection() == Projection::Orthographic;
-    const double halfHeight = ortho ? 0.5 * camera.orthoHeight()
-                                    : std::tan(0.5 * camera.fovYDegrees() * 3.14159265358979323846 / 180.0);
+    const double halfHeight = camera.halfHeight();
     p.eye = {float(eye.x), float(eye.y), float(eye.z), float(addr.grid.tileSize)};
     p.forward = {float(camera.forward().x), float(camera.forward().y), float(camera.forward().z), ortho ? 1.0f : 0.0f};
     p.right = {float(camera.right().x), float(camera.right().y), float(camera.right().z), float(halfHeight)};

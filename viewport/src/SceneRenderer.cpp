@@ -299,8 +299,7 @@ RgbaImage SceneRenderer::render(ComputeTracer& tracer, const VoxelAddresses& vox
     const int w = camera.width(), h = camera.height();
     impl_->ensureTargets(w, h);
     const bool ortho = camera.projection() == Projection::Orthographic;
-    const double halfHeight = ortho ? 0.5 * camera.orthoHeight()
-                                    : std::tan(0.5 * camera.fovYDegrees() * 3.14159265358979323846 / 180.0);
+    const double halfHeight = camera.halfHeight();
 
     // Near and far planes around everything drawn.
     Aabb scene = impl_->meshBounds;

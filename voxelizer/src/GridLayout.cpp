@@ -9,6 +9,18 @@
 
 namespace kerf {
 
+double defaultFeatureSize(const Aabb& bounds)
+{
+    if (bounds.isEmpty() || !bounds.isBounded()) return 1.0;
+    const glm::dvec3 e = bounds.size();
+    const double target = std::max({e.x, e.y, e.z}) / 1000.0;
+    if (!(target > 0.0)) return 1.0;
+    const double decade = std::pow(10.0, std::floor(std::log10(target)));
+    for (double m : {5.0, 2.0, 1.0})
+        if (m * decade <= target) return m * decade;
+    return decade;
+}
+
 double GridLayout::voxelSizeAt(int lv) const { return tileSize / std::pow(4.0, lv); }
 
 GridLayout GridLayout::choose(const Aabb& partBounds, double featureSize, const GridLimits& limits)

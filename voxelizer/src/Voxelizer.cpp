@@ -16,16 +16,6 @@
 namespace kerf {
 
 namespace {
-double defaultFeatureSizeFor(const Aabb& b)
-{
-    if (b.isEmpty() || !b.isBounded()) return 1.0;
-    const double target = std::max({b.size().x, b.size().y, b.size().z}) / 1000.0;
-    const double decade = std::pow(10.0, std::floor(std::log10(target)));
-    for (double m : {5.0, 2.0, 1.0})
-        if (m * decade <= target) return m * decade;
-    return decade;
-}
-
 double millisecondsSince(std::chrono::steady_clock::time_point t)
 {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
@@ -121,7 +111,7 @@ void Voxelizer::process(Request request)
     const Tape tape = compileTape(request.doc, &features_);
     const double featureSize = options_.featureSize > 0.0 ? options_.featureSize
                                                           : request.doc.settings.featureSize.value_or(
-                                                                defaultFeatureSizeFor(tape.bounds()));
+                                                                defaultFeatureSize(tape.bounds()));
     const GridLayout layout = GridLayout::choose(tape.bounds(), featureSize, options_.limits);
     const auto base = snapshot();
 

@@ -3,6 +3,7 @@
 
 #include "kerf/document/Aabb.hpp"
 #include "kerf/document/Document.hpp"
+#include "kerf/voxelizer/GridLayout.hpp" // defaultFeatureSize
 
 #include <cstdint>
 #include <string>
@@ -22,10 +23,6 @@ struct DocumentSummary {
     std::size_t missingMeshes = 0;      // reference meshes whose file is absent
 };
 
-/// The feature size the program uses when the document sets none: about a
-/// thousandth of the part's largest extent, rounded down to 1, 2 or 5 times a
-/// power of ten (0.5 mm for a chair).
-double defaultFeatureSize(const Aabb& bounds);
 
 DocumentSummary summarize(const Document& doc, const std::string& documentFolder);
 

@@ -78,6 +78,9 @@ public:
     double fovYDegrees() const { return fovY_; }
     /// Image height in mm of an orthographic camera.
     double orthoHeight() const { return orthoHeight_; }
+    /// Half the image height on the plane one unit ahead (perspective:
+    /// tan(fovY / 2)) or in mm (orthographic: orthoHeight / 2).
+    double halfHeight() const { return halfHeight_; }
 
 private:
     void setFrame(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up, int width, int height);

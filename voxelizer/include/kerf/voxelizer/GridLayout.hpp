@@ -23,6 +23,11 @@ struct GridLimits {
     int minLevels = 2;
 };
 
+/// The feature size the program uses when a document sets none: about a
+/// thousandth of the part's largest extent, rounded down to 1, 2 or 5 times a
+/// power of ten (0.5 mm for a chair). 1 mm for an empty or unbounded box.
+double defaultFeatureSize(const Aabb& partBounds);
+
 struct GridLayout {
     glm::dvec3 origin{0.0};  // world position of the grid's minimum corner
     glm::ivec3 dims{0};      // tiles along x, y, z
