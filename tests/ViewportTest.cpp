@@ -21,6 +21,12 @@
 #include <fstream>
 #include <unistd.h>
 
+// Under AddressSanitizer, LeakSanitizer reports allocations made by
+// llvmpipe's JIT-compiled pipelines (frames in an "unknown module", not
+// Kerf's code), so leak detection is off in this binary only. Kerf's own
+// Vulkan objects are RAII-owned, and the validation layer checks them.
+extern "C" const char* __asan_default_options() { return "detect_leaks=0"; }
+
 namespace kerf {
 namespace {
 

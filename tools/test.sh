@@ -25,7 +25,9 @@ else
 fi
 cmake --build "$build_dir" -j "$(nproc)"
 
-export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+# Vulkan (Mesa) wants a private runtime folder and a writable shader cache.
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"
+chmod 700 "$XDG_RUNTIME_DIR" 2>/dev/null || true
 cd "$build_dir"
 ctest -j "$(nproc)" --output-on-failure --timeout 900
