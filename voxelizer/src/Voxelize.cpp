@@ -1,5 +1,6 @@
 #include "kerf/voxelizer/Voxelize.hpp"
 
+#include "kerf/voxelizer/BlockTapes.hpp"
 #include "kerf/voxelizer/TileBuilder.hpp"
 
 #include <tbb/blocked_range.h>
@@ -19,11 +20,13 @@ VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const Voxeliz
     const int levels = options.levels > 0 ? options.levels : layout.levels;
     tbb::enumerable_thread_specific<TileBuildScratch> scratch;
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    const BlockTapes blocks(tape, layout);
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<long>(0, layout.tileCount(), 1), [&](const tbb::blocked_range<long>& r) {
             auto& s = scratch.local();
             for (long i = r.begin(); i != r.end(); ++i) {
-                auto tile = buildTile(tape, layout, layout.tileCoord(i), levels, s);
+                const glm::ivec3 t = layout.tileCoord(i);
+                auto tile = buildTile(blocks.forTile(t), layout, t, levels, s);
                 if (tile && tile->state != TileState::Empty)
                     snap.tiles[std::size_t(i)] = std::make_shared<const TileData>(std::move(*tile));
             }

@@ -1,6 +1,7 @@
 #include "kerf/voxelizer/Voxelizer.hpp"
 
 #include "kerf/document/NodeBounds.hpp"
+#include "kerf/voxelizer/BlockTapes.hpp"
 #include "kerf/voxelizer/DirtyRegion.hpp"
 #include "kerf/voxelizer/TileBuilder.hpp"
 
@@ -175,6 +176,7 @@ void Voxelizer::process(Request request)
     stats.dirtyTiles = order.size();
     tbb::task_arena arena(options_.threads > 0 ? options_.threads : tbb::task_arena::automatic);
     tbb::enumerable_thread_specific<TileBuildScratch> scratch;
+    const BlockTapes blocks(tape, layout);
     const CancelCheck cancelled = [&] { return stale(revision); };
 
     // Builds `tiles` at `levels` into `snap`; false when cancelled.
@@ -184,7 +186,8 @@ void Voxelizer::process(Request request)
         arena.execute([&] {
             tbb::parallel_for(std::size_t(0), tiles.size(), [&](std::size_t k) {
                 if (aborted.load()) return;
-                auto t = buildTile(tape, layout, layout.tileCoord(tiles[k]), levels, scratch.local(), cancelled);
+                const glm::ivec3 tc = layout.tileCoord(tiles[k]);
+                auto t = buildTile(blocks.forTile(tc), layout, tc, levels, scratch.local(), cancelled);
                 if (!t) {
                     aborted = true;
                     return;
