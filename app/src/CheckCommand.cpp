@@ -66,7 +66,13 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
         const Tape tape = compileTape(doc);
         const GridLayout layout = GridLayout::choose(tape.bounds(), s.featureSize);
         const auto t0 = std::chrono::steady_clock::now();
-        const VoxelSnapshot voxels = voxelize(tape, layout);
+        // A feature size far too fine for the part (2 um on a 2 m panel) would
+        // take hours and terabytes: estimate first, build only what is sane.
+        constexpr double kMaxBuiltVoxels = 1.5e8; // about 5 GB
+        VoxelEstimate estimate = estimateVoxels(tape, layout);
+        const bool built = estimate.exact || estimate.populatedVoxels <= kMaxBuiltVoxels;
+        const VoxelSnapshot voxels = estimate.snapshot ? std::move(*estimate.snapshot)
+                                                      : (built ? voxelize(tape, layout) : VoxelSnapshot{});
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
         if (a.has("--json")) {
@@ -87,8 +93,9 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
             }
             j["feature_size_mm"] = s.featureSize;
             j["feature_size_from_document"] = s.featureSizeFromDocument;
-            j["voxel_bytes"] = voxels.bytes();
-            j["populated_voxels"] = voxels.populatedVoxels();
+            j["voxel_bytes"] = built ? double(voxels.bytes()) : estimate.bytes;
+            j["populated_voxels"] = built ? double(voxels.populatedVoxels()) : estimate.populatedVoxels;
+            j["voxel_memory_estimated"] = !built;
             j["voxel_size_mm"] = layout.voxelSize;
             j["tiles"] = {layout.dims.x, layout.dims.y, layout.dims.z};
             j["contree_levels"] = layout.levels;
@@ -113,11 +120,18 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
         out << "  feature size:  " << mm(s.featureSize) << " mm"
             << (s.featureSizeFromDocument ? " (document)" : " (default: the document sets none)") << "\n";
         out << "  tape:          " << s.tapeLength << " instructions\n";
-        char mib[32];
-        std::snprintf(mib, sizeof mib, "%.1f MiB", double(voxels.bytes()) / (1024.0 * 1024.0));
-        out << "  voxel memory:  " << mib << " (" << voxels.populatedVoxels() << " populated voxels of "
-            << mm(layout.voxelSize) << " mm; " << layout.dims.x << " x " << layout.dims.y << " x " << layout.dims.z
-            << " tiles, " << layout.levels << " levels; voxelized in " << mm(seconds) << " s)\n";
+        char mib[64];
+        if (built) {
+            std::snprintf(mib, sizeof mib, "%.1f MiB", double(voxels.bytes()) / (1024.0 * 1024.0));
+            out << "  voxel memory:  " << mib << " (" << voxels.populatedVoxels() << " populated voxels of "
+                << mm(layout.voxelSize) << " mm; " << layout.dims.x << " x " << layout.dims.y << " x "
+                << layout.dims.z << " tiles, " << layout.levels << " levels; voxelized in " << mm(seconds) << " s)\n";
+        } else {
+            std::snprintf(mib, sizeof mib, "about %.1f GiB", estimate.bytes / (1024.0 * 1024.0 * 1024.0));
+            out << "  voxel memory:  " << mib << " (about " << estimate.populatedVoxels << " populated voxels of "
+                << mm(layout.voxelSize) << " mm, estimated from " << estimate.measuredLevels << " of "
+                << layout.levels << " levels; too large to build: choose a larger feature size)\n";
+        }
         if (!layout.note.empty()) out << "  note:          " << layout.note << "\n";
         if (s.meshes) {
             out << "  meshes:        " << s.meshes << " reference mesh(es)";

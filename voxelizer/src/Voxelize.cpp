@@ -3,6 +3,8 @@
 #include "kerf/voxelizer/BlockTapes.hpp"
 #include "kerf/voxelizer/TileBuilder.hpp"
 
+#include <cmath>
+
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -33,6 +35,27 @@ VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const Voxeliz
         });
     });
     return snap;
+}
+
+VoxelEstimate estimateVoxels(const Tape& tape, const GridLayout& layout, double probeVoxels)
+{
+    VoxelEstimate e;
+    if (layout.empty()) {
+        e.exact = true;
+        return e;
+    }
+    for (int levels = 1; levels <= layout.levels; ++levels) {
+        VoxelSnapshot s = voxelize(tape, layout, {.levels = levels, .threads = 0});
+        const double voxels = double(s.populatedVoxels());
+        const double scale = std::pow(16.0, layout.levels - levels);
+        e.populatedVoxels = voxels * scale;
+        e.bytes = double(s.bytes()) * scale;
+        e.measuredLevels = levels;
+        e.exact = levels == layout.levels;
+        if (e.exact) e.snapshot = std::move(s);
+        if (voxels * 16.0 > probeVoxels) break; // the next level would cost too much to probe
+    }
+    return e;
 }
 
 } // namespace kerf

@@ -5,6 +5,8 @@
 
 #include "kerf/voxelizer/VoxelSnapshot.hpp"
 
+#include <optional>
+
 namespace kerf {
 
 struct VoxelizeOptions {
@@ -14,5 +16,19 @@ struct VoxelizeOptions {
 
 /// Builds every tile of `layout` from `tape` (world coordinates).
 VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const VoxelizeOptions& options = {});
+
+struct VoxelEstimate {
+    double populatedVoxels = 0.0; // at the layout's full depth
+    double bytes = 0.0;
+    int measuredLevels = 0;       // the depth actually voxelized to estimate
+    bool exact = false;           // measuredLevels == layout.levels
+    std::optional<VoxelSnapshot> snapshot; // the full voxelization, when exact
+};
+
+/// Estimates the cost of voxelize() without risking it: voxelizes at 1, 2,
+/// ... levels while fewer than `probeVoxels` voxels are populated, then
+/// extrapolates (each level down has about 16 times the surface voxels, and
+/// bytes per voxel stay put).
+VoxelEstimate estimateVoxels(const Tape& tape, const GridLayout& layout, double probeVoxels = 2e6);
 
 } // namespace kerf
