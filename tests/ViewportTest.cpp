@@ -306,6 +306,32 @@ TEST_F(VulkanTracer, MeshesAndThePartHideEachOtherByDepth)
     EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
 }
 
+TEST_F(VulkanTracer, TracesOnlyWhenTheViewOrTheVoxelsChange)
+{
+    const Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"s","type":"sphere","radius":10}})",
+                                         "s.kerf");
+    const Tape tape = compileTape(doc);
+    vk::ComputeTracer tracer(*context);
+    tracer.setVoxels(FlatVoxelBuffers::flatten(voxelize(tape, GridLayout::choose(tape.bounds(), 0.5))));
+    vk::SceneRenderer renderer(*context);
+    const Camera a = Camera::standardView(tape.bounds(), "iso", 160, 120);
+    const RgbaImage first = renderer.render(tracer, tracer.voxels(), a, tape.features());
+    EXPECT_TRUE(renderer.lastFrameTraced());
+    // Same view and voxels: shading only, and the same picture.
+    const RgbaImage again = renderer.render(tracer, tracer.voxels(), a, tape.features());
+    EXPECT_FALSE(renderer.lastFrameTraced());
+    EXPECT_EQ(first.pixels, again.pixels);
+    // Another view, another size, new voxels: traced again.
+    renderer.render(tracer, tracer.voxels(), Camera::standardView(tape.bounds(), "top", 160, 120), tape.features());
+    EXPECT_TRUE(renderer.lastFrameTraced());
+    renderer.render(tracer, tracer.voxels(), Camera::standardView(tape.bounds(), "top", 200, 120), tape.features());
+    EXPECT_TRUE(renderer.lastFrameTraced());
+    tracer.setVoxels(FlatVoxelBuffers::flatten(voxelize(tape, GridLayout::choose(tape.bounds(), 1.0))));
+    renderer.render(tracer, tracer.voxels(), Camera::standardView(tape.bounds(), "top", 200, 120), tape.features());
+    EXPECT_TRUE(renderer.lastFrameTraced());
+    EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
+}
+
 TEST(ReferenceMesh, MissingAndBrokenFilesAreNamedAndLeftOut)
 {
     const auto dir = std::filesystem::temp_directory_path() / ("kerf-meshref-" + std::to_string(::getpid()));

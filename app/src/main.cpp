@@ -20,6 +20,10 @@ booleans, blends, offsets, shells, arrays and mirrors, in millimetres.
 Commands:
   check FILE.kerf      load and validate a document; print its feature count,
                        bounding box, feature size and voxel memory
+  export FILE.kerf -o OUT.stl [--feature-size MM] [--ascii]
+                       mesh the part (marching cubes on the exact field) and
+                       write it as STL, binary by default; print triangles,
+                       time and the mesh's closedness
   render FILE.kerf -o OUT.png [--size WxH] [--view iso|front|top|...]
                        voxelize and trace the part with the Vulkan compute
                        tracer, headless, and write the image
@@ -53,6 +57,7 @@ int main(int argc, char** argv)
         return 0;
     }
     if (command == "check") return kerf::runCheck(rest, std::cout, std::cerr);
+    if (command == "export") return kerf::runExport(rest, std::cout, std::cerr);
     if (command == "render") return kerf::runRender(rest, std::cout, std::cerr);
     std::cerr << "kerf: unknown command '" << command << "' (see kerf --help)\n";
     return 2;

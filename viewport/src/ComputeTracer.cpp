@@ -16,6 +16,7 @@ VoxelAddresses VoxelAddresses::of(const ResidentSet& r)
     a.tiles = r.tiles;
     a.entries = r.entries;
     a.nodes = a.leafIndirections = a.leafData = a.vertices = r.heap;
+    a.version = r.snapshotVersion;
     return a;
 }
 
@@ -28,6 +29,7 @@ struct ComputeTracer::Impl {
     GridLayout grid;
     GpuBuffer tiles, entries, nodes, leafIndirections, leafData, vertices;
     std::size_t resident = 0;
+    std::uint64_t uploads = 0; // setVoxels() calls: the version of its voxels
     TraceTargets targets;
     GpuBuffer params;
 
@@ -107,6 +109,7 @@ void ComputeTracer::setVoxels(const FlatVoxelBuffers& b)
     impl_->vertices = up(b.vertices, "vertices");
     impl_->grid = b.layout;
     impl_->resident = b.bytes();
+    ++impl_->uploads;
 }
 
 VoxelAddresses ComputeTracer::voxels() const
@@ -120,6 +123,7 @@ VoxelAddresses ComputeTracer::voxels() const
     a.leafIndirections = impl_->leafIndirections.address();
     a.leafData = impl_->leafData.address();
     a.vertices = impl_->vertices.address();
+    a.version = impl_->uploads;
     return a;
 }
 

@@ -12,6 +12,7 @@
 
 #include <cstring>
 #include <limits>
+#include <optional>
 
 namespace kerf::vk {
 
@@ -99,6 +100,20 @@ struct SceneRenderer::Impl {
     };
     std::vector<MeshBuffer> meshes;
     glm::dvec3 meshOrigin{0.0};
+
+    // What the tracer's targets hold: traced again only when this changes.
+    struct TraceKey {
+        const ComputeTracer* tracer = nullptr;
+        VkDeviceAddress tiles = 0, entries = 0, nodes = 0;
+        std::uint64_t voxelVersion = 0;
+        glm::dvec3 eye{0.0}, forward{0.0}, up{0.0};
+        double halfHeight = 0.0;
+        int width = 0, height = 0;
+        bool ortho = false;
+        bool operator==(const TraceKey&) const = default;
+    };
+    std::optional<TraceKey> traced;
+    bool lastTraced = false;
     Aabb meshBounds;
 
     explicit Impl(const Context& c) : ctx(c) {}
@@ -268,6 +283,8 @@ SceneRenderer::SceneRenderer(const Context& ctx) : impl_(std::make_unique<Impl>(
 
 SceneRenderer::~SceneRenderer() = default;
 
+bool SceneRenderer::lastFrameTraced() const { return impl_->lastTraced; }
+
 void SceneRenderer::setMeshes(const std::vector<PlacedMesh>& meshes)
 {
     impl_->meshes.clear();
@@ -333,8 +350,12 @@ RgbaImage SceneRenderer::render(ComputeTracer& tracer, const VoxelAddresses& vox
     GpuBuffer readback(ctx, std::size_t(w) * std::size_t(h) * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                        GpuBuffer::Kind::Readback, "colour readback");
 
+    const Impl::TraceKey key{&tracer,      voxels.tiles,     voxels.entries, voxels.nodes, voxels.version,
+                             camera.eye(), camera.forward(), camera.up(),    camera.halfHeight(),
+                             w,            h,                ortho};
+    impl_->lastTraced = !(impl_->traced && *impl_->traced == key);
     ctx.submitAndWait([&](VkCommandBuffer cb) {
-        tracer.record(cb, camera, voxels);
+        if (impl_->lastTraced) tracer.record(cb, camera, voxels);
         const TraceTargets& targets = tracer.targets();
         s.depth = targets.depth.address();
         s.normal = targets.normal.address();
@@ -437,6 +458,7 @@ RgbaImage SceneRenderer::render(ComputeTracer& tracer, const VoxelAddresses& vox
         vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &host, 0, nullptr, 0,
                              nullptr);
     });
+    impl_->traced = key;
     RgbaImage out;
     out.width = w;
     out.height = h;

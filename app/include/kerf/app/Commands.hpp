@@ -9,6 +9,7 @@
 namespace kerf {
 
 int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
 std::string mainHelp();

@@ -27,6 +27,9 @@ struct TraceTiming {
 struct VoxelAddresses {
     GridLayout grid;
     VkDeviceAddress tiles = 0, entries = 0, nodes = 0, leafIndirections = 0, leafData = 0, vertices = 0;
+    /// Changes whenever the data behind the addresses does (a new upload may
+    /// reuse the addresses of freed buffers).
+    std::uint64_t version = 0;
     static VoxelAddresses of(const ResidentSet& r);
 };
 

@@ -35,9 +35,13 @@ public:
     void setMeshes(const std::vector<PlacedMesh>& meshes);
 
     /// Traces `voxels` with `tracer`, shades, draws the meshes and reads the
-    /// picture back. `features` gives the per-feature colours.
+    /// picture back. `features` gives the per-feature colours. The trace is
+    /// recorded only when the camera, the image size or the voxels changed
+    /// since the last frame; shading and meshes are drawn every frame.
     RgbaImage render(ComputeTracer& tracer, const VoxelAddresses& voxels, const Camera& camera,
                      const std::vector<Feature>& features, const SceneOptions& options = {});
+    /// Whether the last render() traced (false: it reused the previous trace).
+    bool lastFrameTraced() const;
 
 private:
     struct Impl;

@@ -1,0 +1,180 @@
+// Export benchmarks (issue 5): the default chair meshed, checked and written
+// as binary STL, as `kerf export` does, at several feature sizes and thread
+// counts. Counters: triangles, the time of each phase, triangles per second,
+// and the peak resident memory of the export.
+//
+//   build/bench/kerf_bench_mesher [--benchmark_filter=...]
+//
+// Peak memory is the kernel's high-water mark of resident memory (VmHWM in
+// /proc/self/status), reset before every export by writing 5 to
+// /proc/self/clear_refs (Linux 4.0+): it counts everything the process
+// touches (malloc'd, mmap'd, oneTBB's), not only operator new. `base_MB` is
+// the resident memory just before the export (the program, the document,
+// after handing malloc's free pages back with malloc_trim); `peak_MB -
+// base_MB` is what the export itself needed. The STL goes to a
+// temporary folder ($TMPDIR or /tmp) and is deleted after each iteration.
+
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/mesher/MeshCheck.hpp"
+#include "kerf/mesher/MeshPart.hpp"
+#include "kerf/mesher/StlWriter.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
+namespace kerf {
+namespace {
+
+const Document& chairDocument()
+{
+    static const Document doc = Document::load(KERF_EXAMPLES_DIR "/side-chair.kerf");
+    return doc;
+}
+
+// Resident memory in MB from /proc/self/status ("VmRSS" now, "VmHWM" peak).
+double statusMegabytes(const char* field)
+{
+    std::ifstream in("/proc/self/status");
+    std::string line;
+    const std::string prefix = std::string(field) + ":";
+    while (std::getline(in, line))
+        if (line.rfind(prefix, 0) == 0) return std::stod(line.substr(prefix.size())) / 1024.0; // kB
+    return 0.0;
+}
+
+// malloc keeps freed memory resident for reuse; without this, what earlier
+// runs freed would count in the next run's base and hide part of its need.
+void releaseFreedMemory()
+{
+#ifdef __GLIBC__
+    ::malloc_trim(0);
+#endif
+}
+
+bool resetPeakMemory()
+{
+    std::ofstream out("/proc/self/clear_refs");
+    out << "5";
+    return bool(out);
+}
+
+double since(std::chrono::steady_clock::time_point t)
+{
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Args: feature size in micrometres, threads.
+void BM_ChairExport(benchmark::State& state)
+{
+    const double fs = double(state.range(0)) / 1000.0;
+    MeshOptions options;
+    options.featureSize = fs;
+    options.threads = int(state.range(1));
+    const std::filesystem::path file =
+        std::filesystem::temp_directory_path() / ("kerf-bench-chair-" + std::to_string(::getpid()) + ".stl");
+    double meshSeconds = 0, checkSeconds = 0, writeSeconds = 0, peak = 0, base = 0;
+    std::size_t triangles = 0, vertices = 0;
+    bool watertight = true;
+    MeshStats stats;
+    int n = 0;
+    for (auto _ : state) {
+        releaseFreedMemory();
+        base = statusMegabytes("VmRSS");
+        if (!resetPeakMemory()) state.SkipWithError("cannot reset the peak-memory mark (/proc/self/clear_refs)");
+        auto t = std::chrono::steady_clock::now();
+        std::optional<Mesh> mesh = meshPart(chairDocument(), options, {}, &stats);
+        meshSeconds += since(t);
+        t = std::chrono::steady_clock::now();
+        const MeshReport report = checkMesh(*mesh);
+        checkSeconds += since(t);
+        t = std::chrono::steady_clock::now();
+        writeStl(*mesh, file);
+        writeSeconds += since(t);
+        peak = std::max(peak, statusMegabytes("VmHWM"));
+        watertight = watertight && report.watertight();
+        triangles = mesh->triangles.size();
+        vertices = mesh->vertices.size();
+        std::filesystem::remove(file);
+        ++n;
+    }
+    if (!watertight) state.SkipWithError("the mesh is not watertight");
+    state.counters["triangles"] = double(triangles);
+    state.counters["vertices"] = double(vertices);
+    state.counters["mesh_s"] = meshSeconds / n;
+    state.counters["check_s"] = checkSeconds / n;
+    state.counters["write_s"] = writeSeconds / n;
+    state.counters["tri_per_s_mesh"] = double(triangles) * n / meshSeconds;
+    state.counters["tri_per_s_export"] = double(triangles) * n / (meshSeconds + checkSeconds + writeSeconds);
+    state.counters["peak_MB"] = peak;
+    state.counters["base_MB"] = base;
+    state.counters["seed_cpu_s"] = stats.seedSeconds;
+    state.counters["cell_cpu_s"] = stats.cellSeconds;
+    state.counters["merge_s"] = stats.mergeSeconds;
+    state.counters["flood_cells"] = double(stats.cellsFromFloodFill);
+    state.counters["rounds"] = stats.rounds;
+}
+BENCHMARK(BM_ChairExport)
+    ->ArgNames({"fs_um", "threads"})
+    ->Args({1000, 1})
+    ->Args({1000, 2})
+    ->Args({500, 1})
+    ->Args({500, 2})
+    ->Iterations(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_ChairExport)
+    ->ArgNames({"fs_um", "threads"})
+    ->Args({250, 1})
+    ->Args({250, 2})
+    ->Args({100, 2})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// Meshing alone (no check, no file), for the scaling of the mesher itself.
+void BM_ChairMeshOnly(benchmark::State& state)
+{
+    MeshOptions options;
+    options.featureSize = double(state.range(0)) / 1000.0;
+    options.threads = int(state.range(1));
+    MeshStats stats;
+    double peak = 0;
+    for (auto _ : state) {
+        releaseFreedMemory();
+        if (!resetPeakMemory()) state.SkipWithError("cannot reset the peak-memory mark (/proc/self/clear_refs)");
+        std::optional<Mesh> mesh = meshPart(chairDocument(), options, {}, &stats);
+        benchmark::DoNotOptimize(mesh->triangles.data());
+        peak = std::max(peak, statusMegabytes("VmHWM"));
+    }
+    state.counters["triangles"] = double(stats.triangles);
+    state.counters["tri_per_s"] =
+        benchmark::Counter(double(stats.triangles), benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["peak_MB"] = peak;
+    state.counters["seed_cpu_s"] = stats.seedSeconds;
+    state.counters["cell_cpu_s"] = stats.cellSeconds;
+    state.counters["merge_s"] = stats.mergeSeconds;
+}
+BENCHMARK(BM_ChairMeshOnly)
+    ->ArgNames({"fs_um", "threads"})
+    ->Args({1000, 1})
+    ->Args({1000, 2})
+    ->Args({500, 1})
+    ->Args({500, 2})
+    ->Iterations(3)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+} // namespace
+} // namespace kerf
+
+BENCHMARK_MAIN();

@@ -1,0 +1,105 @@
+#pragma once
+// Meshes a part for export: marching cubes on the exact field, closed and
+// consistently oriented by construction.
+//
+// How (each step has its own file):
+// 1. The part is voxelized tile by tile at the export feature size
+//    (GridLayout::choose over the tape's bounds). The populated voxels of the
+//    float contrees are only SEEDS: candidate cells (Seeds.hpp).
+// 2. Every cell corner is recomputed in double from the exact evaluator
+//    (LatticeTapes.hpp says how each lattice point gets one value, whoever
+//    asks). A cell is meshed iff its corner signs differ (value < 0 is
+//    inside; exactly 0 counts as outside, everywhere).
+// 3. Flood fill: a meshed cell with a sign change on one of its faces has its
+//    neighbour across that face meshed too, so float/double disagreements in
+//    the seeds can never open a hole. Requests that cross into another tile
+//    are exchanged between rounds until none is left.
+// 4. Each meshed cell becomes closed polygons from its faces' segments
+//    (CellPolygons.hpp: asymptotic decider on ambiguous faces, computed from
+//    the face's four values only, so both cells of a face agree), with one
+//    vertex per sign-changing lattice edge (EdgeRoots.hpp: root finding on the
+//    exact field), shared through a global edge key, then triangulated
+//    (Triangulate.hpp); the rare polygon that no diagonal may split gets a
+//    vertex on the surface inside its cell and a fan around it.
+//
+// Threading: the work runs in a oneTBB arena (options.threads); tiles are
+// independent within a round, and the result does not depend on the number
+// of threads (tiles are merged in a fixed order).
+// Memory: proportional to the surface: per meshed cell, its vertices and
+// triangles plus hash tables over surface cells and edges; nothing per volume
+// cell. A tile's float contree lives only while its seeds are read.
+
+#include "kerf/document/Document.hpp"
+#include "kerf/evaluator/Tape.hpp"
+#include "kerf/mesher/Mesh.hpp"
+#include "kerf/voxelizer/GridLayout.hpp"
+
+#include <glm/ext/vector_int3_sized.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace kerf {
+
+struct MeshOptions {
+    /// Cell edge in mm. 0: the document's settings.feature_size (meshPart),
+    /// which must then be set. The grid may coarsen it (MeshStats::note).
+    double featureSize = 0.0;
+    int threads = 0; // 0: every core
+    GridLimits limits;
+    /// Testing only: keeps a voxelizer seed (global cell coordinates) when it
+    /// returns true. Dropping seeds must not change the mesh of a connected
+    /// surface: the flood fill finds the rest.
+    std::function<bool(const glm::i64vec3& cell)> keepSeed;
+};
+
+/// Progress and cancellation. Both are optional. `onProgress` receives the
+/// fraction done in [0, 1], non-decreasing, from worker threads (calls are
+/// serialized, never concurrent), at most about 200 times. `cancelled` is
+/// polled from worker threads; once it returns true the work stops soon
+/// (within one contree node or one batch of cells) and nothing is returned.
+struct MeshProgress {
+    std::function<void(double fraction)> onProgress;
+    std::function<bool()> cancelled;
+};
+
+/// What the mesher did, for reports and benchmarks.
+struct MeshStats {
+    double featureSize = 0.0; // mm, as requested
+    double cellSize = 0.0;    // mm, as used (larger only when the grid had to coarsen)
+    std::string note;         // why cellSize differs, if it does
+    glm::ivec3 tiles{0};
+    int levels = 0;
+    std::uint64_t surfaceTiles = 0;   // tiles with seeds or meshed cells
+    std::uint64_t seeds = 0;          // populated float voxels
+    std::uint64_t seedsNotMeshed = 0; // seeds whose double corners agree in sign
+    std::uint64_t cellsMeshed = 0;
+    std::uint64_t cellsFromFloodFill = 0; // meshed cells that were not seeds
+    std::uint64_t crossTileRequests = 0;  // flood-fill requests sent to another tile
+    int rounds = 0;                       // flood-fill rounds (1 when no request crossed tiles)
+    std::uint64_t pointEvaluations = 0;   // corner values
+    std::uint64_t rootEvaluations = 0;    // evaluations spent placing vertices
+    std::uint64_t centreVertices = 0;     // vertices inside cells (polygons the face rule cannot split)
+    std::size_t vertices = 0;
+    std::size_t triangles = 0;
+    double seedSeconds = 0.0; // CPU seconds in the voxelizer, summed over threads
+    double cellSeconds = 0.0; // CPU seconds meshing cells, summed over threads
+    double mergeSeconds = 0.0;
+    double seconds = 0.0; // wall clock, all of it
+};
+
+/// Meshes the document's part. An empty part gives an empty mesh. Returns
+/// nothing when cancelled (never half a mesh). Throws std::invalid_argument
+/// when no feature size is given or set, std::runtime_error when the part is
+/// too large for its feature size.
+std::optional<Mesh> meshPart(const Document& doc, const MeshOptions& options = {}, const MeshProgress& progress = {},
+                             MeshStats* stats = nullptr);
+
+/// The same for a compiled tape (world coordinates; evaluated where it is,
+/// never rebased); options.featureSize must be positive.
+std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const MeshProgress& progress = {},
+                             MeshStats* stats = nullptr);
+
+} // namespace kerf

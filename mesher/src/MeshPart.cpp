@@ -1,0 +1,210 @@
+#include "kerf/mesher/MeshPart.hpp"
+
+#include "MergeTiles.hpp"
+#include "Seeds.hpp"
+#include "TileMesher.hpp"
+#include "TileShares.hpp"
+
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/voxelizer/TileBuilder.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+
+namespace kerf {
+
+using namespace mesher;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// Serializes progress reports and keeps them non-decreasing and sparse.
+class ProgressReporter {
+public:
+    explicit ProgressReporter(const MeshProgress& p) : progress_(p) {}
+    void report(double fraction)
+    {
+        if (!progress_.onProgress) return;
+        std::lock_guard lock(mutex_);
+        fraction = std::clamp(fraction, 0.0, 1.0);
+        if (fraction < last_ + 0.005 && !(fraction == 1.0 && last_ < 1.0)) return;
+        last_ = fraction;
+        progress_.onProgress(fraction);
+    }
+
+private:
+    const MeshProgress& progress_;
+    std::mutex mutex_;
+    double last_ = -1.0;
+};
+
+// Adds a thread's CPU-ish seconds (wall time of its tasks) to an atomic total.
+void addSeconds(std::atomic<std::int64_t>& total, Clock::time_point since)
+{
+    total += std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - since).count();
+}
+
+} // namespace
+
+std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const MeshProgress& progress,
+                             MeshStats* statsOut)
+{
+    const auto start = Clock::now();
+    if (!(options.featureSize > 0.0) || !std::isfinite(options.featureSize))
+        throw std::invalid_argument("mesher: the feature size must be a positive number of millimetres");
+    MeshStats stats;
+    stats.featureSize = options.featureSize;
+    auto finish = [&](Mesh mesh) -> std::optional<Mesh> {
+        stats.vertices = mesh.vertices.size();
+        stats.triangles = mesh.triangles.size();
+        stats.seconds = secondsSince(start);
+        if (statsOut) *statsOut = stats;
+        return mesh;
+    };
+    if (tape.empty() || tape.bounds().isEmpty()) return finish({});
+    if (!tape.bounds().isBounded()) throw std::runtime_error("the part is unbounded: nothing to mesh");
+    const GridLayout layout = GridLayout::choose(tape.bounds(), options.featureSize, options.limits);
+    if (layout.empty()) return finish({});
+    const Lattice lattice = Lattice::fromLayout(layout);
+    if (std::max({lattice.dims.x, lattice.dims.y, lattice.dims.z}) >= (std::int64_t(1) << 20))
+        throw std::runtime_error("the part is too large to mesh at a feature size of " +
+                                 std::to_string(options.featureSize) + " mm");
+    stats.cellSize = layout.voxelSize;
+    stats.note = layout.note;
+    stats.tiles = layout.dims;
+    stats.levels = layout.levels;
+
+    const TileMesher mesher(tape, lattice);
+    TileShares states(lattice);
+    ProgressReporter reporter(progress);
+    std::atomic<bool> stop{false};
+    const std::function<bool()> cancelled = [&] {
+        if (stop.load(std::memory_order_relaxed)) return true;
+        if (progress.cancelled && progress.cancelled()) stop = true;
+        return stop.load(std::memory_order_relaxed);
+    };
+    std::atomic<std::int64_t> seedNanos{0}, cellNanos{0};
+    tbb::enumerable_thread_specific<TileScratch> scratch([&] { return TileScratch(tape, lattice); });
+    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    const CancelCheck buildCancelled = [&] { return cancelled(); };
+
+    // Round 1: every tile of the voxelizer's grid: seeds from its float
+    // contree, sorted into the mesher tiles inside it, then the cells they
+    // lead to.
+    const long tileCount = layout.tileCount();
+    const std::int64_t voxelizerTile = std::int64_t(1) << (2 * layout.levels);
+    const std::int64_t split = voxelizerTile / lattice.n; // mesher tiles per voxelizer tile, along an axis
+    std::atomic<long> tilesDone{0};
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<long>(0, tileCount, 1), [&](const tbb::blocked_range<long>& r) {
+            std::vector<std::vector<std::uint64_t>> seeds(std::size_t(split * split * split));
+            for (long i = r.begin(); i != r.end(); ++i) {
+                if (stop.load(std::memory_order_relaxed)) return;
+                TileScratch& s = scratch.local();
+                const I3 t(layout.tileCoord(i));
+                auto t0 = Clock::now();
+                std::optional<TileData> built =
+                    buildTile(tape, layout, glm::ivec3(t), layout.levels, s.build, buildCancelled);
+                if (!built) {
+                    stop = true;
+                    return;
+                }
+                forEachSeed(*built, [&](const glm::ivec3& v) {
+                    const I3 cell = t * voxelizerTile + I3(v);
+                    if (options.keepSeed && !options.keepSeed(cell)) return;
+                    const I3 sub = I3(v) / lattice.n;
+                    seeds[std::size_t(sub.x + split * (sub.y + split * sub.z))].push_back(
+                        localKey(I3(v) - sub * lattice.n) | kSeedFlag);
+                });
+                built.reset();
+                addSeconds(seedNanos, t0);
+                t0 = Clock::now();
+                for (std::size_t k = 0; k < seeds.size(); ++k) {
+                    if (seeds[k].empty()) continue;
+                    const I3 sub(std::int64_t(k) % split, std::int64_t(k) / split % split,
+                                 std::int64_t(k) / (split * split));
+                    auto state = std::make_unique<TileShare>(t * split + sub);
+                    state->counters.seeds = seeds[k].size();
+                    if (!mesher.process(*state, seeds[k], s, cancelled)) {
+                        stop = true;
+                        return;
+                    }
+                    states.gridSlot(state->tile) = std::move(state);
+                    seeds[k].clear();
+                }
+                addSeconds(cellNanos, t0);
+                reporter.report(0.9 * double(++tilesDone) / double(tileCount));
+            }
+        });
+    });
+    if (stop || cancelled()) return std::nullopt;
+
+    // Further rounds: cells that other tiles asked for, until none is asked.
+    for (stats.rounds = 1;; ++stats.rounds) {
+        std::vector<TileShare*> work;
+        for (TileShare* st : states.ordered()) {
+            for (const I3& c : st->outbox) {
+                const I3 t = lattice.tileOf(c);
+                auto& target = states.slot(t);
+                if (!target) target = std::make_unique<TileShare>(t);
+                const std::uint64_t key = localKey(c - t * lattice.n);
+                if (!target->processed.contains(fromLocalKey(key))) target->inbox.push_back(key);
+            }
+            st->outbox.clear();
+            st->outbox.shrink_to_fit();
+        }
+        for (TileShare* st : states.ordered())
+            if (!st->inbox.empty()) work.push_back(st);
+        if (work.empty()) break;
+        arena.execute([&] {
+            tbb::parallel_for(std::size_t(0), work.size(), [&](std::size_t k) {
+                if (stop.load(std::memory_order_relaxed)) return;
+                const auto t0 = Clock::now();
+                TileShare& st = *work[k];
+                std::vector<std::uint64_t> cells;
+                cells.swap(st.inbox);
+                if (!mesher.process(st, cells, scratch.local(), cancelled)) stop = true;
+                addSeconds(cellNanos, t0);
+            });
+        });
+        if (stop || cancelled()) return std::nullopt;
+        reporter.report(std::min(0.95, 0.9 + 0.01 * stats.rounds));
+    }
+
+    // Merge: global vertex numbers in tile order, shared vertices resolved.
+    const auto mergeStart = Clock::now();
+    scratch.clear();
+    Mesh mesh = mergeTiles(states, arena, stats);
+    stats.mergeSeconds = secondsSince(mergeStart);
+    stats.seedSeconds = double(seedNanos.load()) * 1e-9;
+    stats.cellSeconds = double(cellNanos.load()) * 1e-9;
+    reporter.report(1.0);
+    return finish(std::move(mesh));
+}
+
+std::optional<Mesh> meshPart(const Document& doc, const MeshOptions& options, const MeshProgress& progress,
+                             MeshStats* stats)
+{
+    MeshOptions o = options;
+    if (!(o.featureSize > 0.0)) {
+        if (!doc.settings.featureSize)
+            throw std::invalid_argument("mesher: no feature size given and the document sets none");
+        o.featureSize = *doc.settings.featureSize;
+    }
+    return meshTape(compileTape(doc), o, progress, stats);
+}
+
+} // namespace kerf
