@@ -3,8 +3,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <chrono>
-#include <cstdio>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -85,8 +83,6 @@ void copyOut(TileShare& st, glm::dvec3* vertices, Triangle* triangles, std::uint
 
 Mesh mergeTiles(TileShares& shares, tbb::task_arena& arena, MeshStats& stats)
 {
-    auto T0 = std::chrono::steady_clock::now(); auto el = [&]{ return std::chrono::duration<double>(std::chrono::steady_clock::now() - T0).count(); };
-    double tResize = 0, tCopy = 0, tTrim = 0;
     const std::vector<TileShare*> order = shares.ordered();
     std::vector<std::uint64_t> vertexOffset(order.size() + 1, 0);
     std::vector<std::size_t> triangleOffset(order.size() + 1, 0);
@@ -103,7 +99,6 @@ Mesh mergeTiles(TileShares& shares, tbb::task_arena& arena, MeshStats& stats)
         tbb::parallel_for(std::size_t(0), order.size(),
                           [&](std::size_t k) { resolveForeign(*order[k], shares, offsetOf); });
     });
-    std::fprintf(stderr, "resolved %.2f\n", el());
     for (TileShare* st : order) {
         st->processed.release();
         st->edges.release();
@@ -118,7 +113,6 @@ Mesh mergeTiles(TileShares& shares, tbb::task_arena& arena, MeshStats& stats)
     // here, so for large meshes it goes back to the system after each batch.
     // That costs about 0.5 s per GB on the development machine (a virtual
     // machine), so small meshes, whose peak does not matter, skip it.
-    std::fprintf(stderr, "released %.2f\n", el());
     const std::size_t triangleCount = triangleOffset.back();
     const bool trim =
         vertexOffset.back() * sizeof(glm::dvec3) + triangleCount * sizeof(Triangle) >= (std::size_t(512) << 20);
@@ -129,25 +123,19 @@ Mesh mergeTiles(TileShares& shares, tbb::task_arena& arena, MeshStats& stats)
         std::size_t last = first + 1;
         while (last < order.size() && triangleOffset[last] - triangleOffset[first] < triangleCount / 8)
             ++last;
-        double a = el();
         mesh.vertices.resize(vertexOffset[last]);
         mesh.triangles.resize(triangleOffset[last]);
-        double b = el(); tResize += b - a;
         arena.execute([&] {
             tbb::parallel_for(first, last, [&](std::size_t k) {
                 copyOut(*order[k], mesh.vertices.data() + vertexOffset[k], mesh.triangles.data() + triangleOffset[k],
                         std::uint32_t(vertexOffset[k]));
             });
         });
-        double c = el(); tCopy += c - b;
         if (trim) trimHeap();
-        tTrim += el() - c;
         first = last;
     }
-    std::fprintf(stderr, "resize %.2f copy %.2f trim %.2f total %.2f\n", tResize, tCopy, tTrim, el());
     shares.clear();
     if (trim) trimHeap();
-    std::fprintf(stderr, "end %.2f\n", el());
     return mesh;
 }
 
