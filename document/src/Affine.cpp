@@ -2,6 +2,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace kerf {
@@ -38,6 +39,40 @@ glm::dmat3 rotationFromDegrees(const glm::dvec3& degrees)
     const glm::dmat3 ry(cy, 0, -sy, 0, 1, 0, sy, 0, cy);
     const glm::dmat3 rz(cz, sz, 0, -sz, cz, 0, 0, 0, 1);
     return rz * ry * rx;
+}
+
+namespace {
+double snapped(double degrees)
+{
+    const double quarter = std::round(degrees / 90.0) * 90.0;
+    return std::fabs(degrees - quarter) < 1e-9 ? quarter : degrees;
+}
+} // namespace
+
+Transform transformFromAffine(const Affine& placement)
+{
+    // R = Rz(c) Ry(b) Rx(a); with R(i, j) = row i, column j = linear[j][i]:
+    // R(2, 0) = -sin b, R(2, 1) = cos b sin a, R(2, 2) = cos b cos a,
+    // R(1, 0) = sin c cos b, R(0, 0) = cos c cos b.
+    const glm::dmat3& m = placement.linear;
+    constexpr double toDegrees = 180.0 / 3.14159265358979323846;
+    const double sb = std::clamp(-m[0][2], -1.0, 1.0);
+    double a, b, c;
+    if (std::fabs(sb) < 1.0 - 1e-12) {
+        b = std::asin(sb);
+        a = std::atan2(m[1][2], m[2][2]);
+        c = std::atan2(m[0][1], m[0][0]);
+    } else {
+        // Gimbal lock (b = +-90 degrees): only a -+ c is determined; take c = 0.
+        // Then R = Ry(b) Rx(a): R(1, 1) = cos a, R(1, 2) = -sin a.
+        b = sb > 0.0 ? 3.14159265358979323846 / 2.0 : -3.14159265358979323846 / 2.0;
+        a = std::atan2(-m[2][1], m[1][1]);
+        c = 0.0;
+    }
+    Transform t;
+    t.translate = placement.translation;
+    t.rotate = {snapped(a * toDegrees), snapped(b * toDegrees), snapped(c * toDegrees)};
+    return t;
 }
 
 Affine Affine::fromTransform(const Transform& t)

@@ -117,7 +117,11 @@ private:
             p[0] = 0.5 * e.height;
             auto poly = std::make_shared<Polygon>();
             poly->points = e.profile;
-            for (const auto& v : e.profile) poly->pointsF.emplace_back(static_cast<float>(v.x), static_cast<float>(v.y));
+            for (const auto& v : e.profile) {
+                poly->pointsF.emplace_back(static_cast<float>(v.x), static_cast<float>(v.y));
+                poly->min = glm::min(poly->min, v);
+                poly->max = glm::max(poly->max, v);
+            }
             s.polygon = std::move(poly);
             break;
         }

@@ -160,4 +160,35 @@ TraceImage traceExact(const Tape& tape, const Camera& camera, double epsilon, in
     return image;
 }
 
+ExactHit castExactRay(const Tape& tape, const Ray& ray, double epsilon)
+{
+    if (!(epsilon > 0.0)) throw std::invalid_argument("castExactRay: epsilon must be positive");
+    ExactHit h;
+    double t = 0.0, tEnd = 0.0;
+    if (tape.empty() || !clip(ray.origin, ray.direction, tape.bounds().grown(2.0 * epsilon), t, tEnd)) return h;
+    PointEvaluator<double> points;
+    const glm::dvec3 o = ray.origin - tape.origin();
+    for (int step = 0; step < kMaxSteps && t <= tEnd; ++step) {
+        const glm::dvec3 p = o + t * ray.direction;
+        const double f = points.evaluate(tape, p.x, p.y, p.z);
+        if (!std::isfinite(f)) return h;
+        if (f < epsilon) {
+            GradientEvaluator<double> gradients;
+            double d = 0.0, gx = 0.0, gy = 0.0, gz = 0.0;
+            std::uint32_t feature = kNoFeature;
+            gradients.evaluate(tape, &p.x, &p.y, &p.z, 1, &d, &gx, &gy, &gz, &feature);
+            const glm::dvec3 g(gx, gy, gz);
+            const double len = glm::length(g);
+            h.hit = true;
+            h.depth = t;
+            h.point = ray.origin + t * ray.direction;
+            h.normal = len > 0.0 && std::isfinite(len) ? g / len : -ray.direction;
+            h.feature = feature;
+            return h;
+        }
+        t += f;
+    }
+    return h;
+}
+
 } // namespace kerf

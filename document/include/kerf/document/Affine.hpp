@@ -37,4 +37,10 @@ struct Affine {
 /// for multiples of 90 degrees, so axis-aligned parts stay axis-aligned.
 glm::dmat3 rotationFromDegrees(const glm::dvec3& degrees);
 
+/// The document transform of a rigid placement (a proper rotation and a
+/// translation; no reflection): the inverse of Affine::fromTransform up to
+/// rounding. Angles within 1e-9 degrees of a multiple of 90 are snapped to
+/// it, so axis-aligned placements stay exact through a round trip.
+Transform transformFromAffine(const Affine& placement);
+
 } // namespace kerf

@@ -18,6 +18,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -43,6 +44,7 @@ enum class ShapeKind : std::uint8_t { Box, Sphere, Cylinder, Cone, Torus, Extrud
 struct Polygon {
     std::vector<glm::dvec2> points;
     std::vector<glm::vec2> pointsF; // the same points in float
+    glm::dvec2 min{std::numeric_limits<double>::infinity()}, max{-std::numeric_limits<double>::infinity()}; // bounds
 };
 
 /// One placed primitive. Parameters are in the primitive's local frame, in

@@ -24,4 +24,17 @@ namespace kerf {
 /// (mm, > 0) is the hit distance. An empty tape gives an image of misses.
 TraceImage traceExact(const Tape& tape, const Camera& camera, double epsilon, int threads = 0);
 
+/// What one exactly traced ray found (picking and measuring in the viewport).
+struct ExactHit {
+    bool hit = false;
+    double depth = 0.0;        // mm along the ray from its origin
+    glm::dvec3 point{0.0};     // world, mm
+    glm::dvec3 normal{0.0};    // unit outward normal
+    std::uint32_t feature = kNoFeature; // index into tape.features()
+};
+
+/// Sphere-traces one world-space ray against `tape`, as traceExact() does
+/// per pixel. Pure function; safe from any thread.
+ExactHit castExactRay(const Tape& tape, const Ray& ray, double epsilon);
+
 } // namespace kerf

@@ -1,0 +1,71 @@
+#pragma once
+// Structural edits of a document's feature tree, as an editor makes them:
+// insert, remove, move (reorder and regroup), duplicate, wrap under a new
+// operation. Qt-free, so the desktop application's undo commands stay thin
+// and the rules are tested on their own.
+//
+// Contract: every function either applies its whole edit or throws
+// std::invalid_argument (with a sentence a person can read) and leaves the
+// document untouched. The functions check the tree's shape (an operation
+// that takes one child gets no second one, a node never moves into its own
+// subtree, ids stay unique); parameter validity is Document::validate()'s
+// job, which an editor runs on the result before committing it.
+
+#include "kerf/document/Document.hpp"
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace kerf::edit {
+
+/// Where a node sits: its parent's id and its index among the parent's
+/// children. The root has no location.
+struct NodeLocation {
+    std::string parentId;
+    std::size_t index = 0;
+    bool operator==(const NodeLocation&) const = default;
+};
+
+std::optional<NodeLocation> locate(const Document& doc, std::string_view id);
+
+/// How many children a node of this type may have: 0 for primitives, 1 for
+/// offset, shell, array and mirror, unlimited (SIZE_MAX) for booleans.
+std::size_t maxChildren(NodeType type);
+
+/// `base` when no node has that id, else `base-2`, `base-3`, ...
+std::string uniqueId(const Document& doc, std::string_view base);
+
+/// Inserts `node` (its ids must be new to the document) as child `index` of
+/// `parentId` (index past the end appends).
+void insertNode(Document& doc, std::string_view parentId, std::size_t index, Node node);
+
+/// Removes a node and its subtree (not the root); returns what was removed.
+Node removeNode(Document& doc, std::string_view id);
+
+/// Moves a node (with its subtree) to child `index` of `newParentId`, index
+/// counted in the parent's children as they are before the move. Refuses the
+/// root, a move into its own subtree and a parent that has no room.
+void moveNode(Document& doc, std::string_view id, std::string_view newParentId, std::size_t index);
+
+/// Copies a node's subtree with fresh ids (names get " copy"), inserted right
+/// after the original; returns the copy's id. Refuses the root and a parent
+/// with no room for another child.
+std::string duplicateNode(Document& doc, std::string_view id);
+
+/// Puts the given sibling nodes (in their order among the siblings) under a
+/// new operation node `op`, placed where the first of them was; returns its
+/// id. The root can be wrapped alone: the new operation becomes the root.
+std::string wrapNodes(Document& doc, const std::vector<std::string>& ids, Node op);
+
+/// Replaces a node's own fields (name, transform, visibility, colour,
+/// parameters, unknown fields) by `updated`'s, keeping its children and its
+/// id. Refuses a change of type.
+void updateNode(Document& doc, std::string_view id, const Node& updated);
+
+/// A new empty document: a root union with no children, settings default.
+/// Not valid on its own (a union needs a child): editors add one first.
+Document emptyDocument();
+
+} // namespace kerf::edit

@@ -1,0 +1,213 @@
+#include "kerf/document/DocumentEdits.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <unordered_set>
+
+namespace kerf::edit {
+
+namespace {
+
+[[noreturn]] void refuse(const std::string& why) { throw std::invalid_argument(why); }
+
+std::string inQuotes(std::string_view id) { return "'" + std::string(id) + "'"; }
+
+// The parent of the node with this id, and the node's index; null when the
+// id is the root's or unknown.
+Node* parentOf(Node& tree, std::string_view id, std::size_t& index)
+{
+    for (std::size_t i = 0; i < tree.children.size(); ++i)
+        if (tree.children[i].id == id) {
+            index = i;
+            return &tree;
+        }
+    for (auto& c : tree.children)
+        if (Node* p = parentOf(c, id, index)) return p;
+    return nullptr;
+}
+
+Node* parentOf(Document& doc, std::string_view id, std::size_t& index) { return parentOf(doc.root, id, index); }
+
+void collectIds(const Node& n, std::unordered_set<std::string>& ids)
+{
+    ids.insert(n.id);
+    for (const auto& c : n.children) collectIds(c, ids);
+}
+
+Node& requireNode(Document& doc, std::string_view id)
+{
+    Node* n = doc.root.find(id);
+    if (!n) refuse("there is no node " + inQuotes(id));
+    return *n;
+}
+
+void requireRoom(const Node& parent, std::size_t extra)
+{
+    const std::size_t limit = maxChildren(parent.type);
+    if (limit == 0) refuse("a " + std::string(nodeTypeName(parent.type)) + " has no children");
+    if (parent.children.size() + extra > limit)
+        refuse("a " + std::string(nodeTypeName(parent.type)) + " takes exactly 1 child, and " + inQuotes(parent.id) +
+               " has one already");
+}
+
+void renumber(const Document& doc, Node& n, std::unordered_set<std::string>& taken)
+{
+    // "leg-3" copies as "leg-4", "board" as "board-2".
+    std::string base = n.id;
+    int k = 2;
+    const auto dash = base.find_last_of('-');
+    if (dash != std::string::npos && dash + 1 < base.size() && base.size() - dash <= 9 &&
+        std::all_of(base.begin() + long(dash) + 1, base.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+        k = std::stoi(base.substr(dash + 1)) + 1;
+        base.resize(dash);
+    }
+    std::string id = base + "-" + std::to_string(k);
+    while (taken.count(id) || doc.root.find(id)) id = base + "-" + std::to_string(++k);
+    taken.insert(id);
+    n.id = id;
+    for (auto& c : n.children) renumber(doc, c, taken);
+}
+
+} // namespace
+
+std::optional<NodeLocation> locate(const Document& doc, std::string_view id)
+{
+    std::size_t index = 0;
+    const Node* parent = parentOf(const_cast<Document&>(doc), id, index);
+    if (!parent) return std::nullopt;
+    return NodeLocation{parent->id, index};
+}
+
+std::size_t maxChildren(NodeType type)
+{
+    if (isPrimitive(type)) return 0;
+    if (isBoolean(type)) return std::numeric_limits<std::size_t>::max();
+    return 1;
+}
+
+std::string uniqueId(const Document& doc, std::string_view base)
+{
+    std::string id(base.empty() ? "node" : base);
+    const std::string stem = id;
+    for (int k = 2; doc.root.find(id); ++k) id = stem + "-" + std::to_string(k);
+    return id;
+}
+
+void insertNode(Document& doc, std::string_view parentId, std::size_t index, Node node)
+{
+    Node& parent = requireNode(doc, parentId);
+    requireRoom(parent, 1);
+    std::unordered_set<std::string> ids;
+    collectIds(node, ids);
+    if (ids.size() != node.count()) refuse("the inserted nodes repeat an id");
+    for (const auto& id : ids)
+        if (doc.root.find(id)) refuse("a node " + inQuotes(id) + " exists already");
+    index = std::min(index, parent.children.size());
+    parent.children.insert(parent.children.begin() + long(index), std::move(node));
+}
+
+Node removeNode(Document& doc, std::string_view id)
+{
+    if (doc.root.id == id) refuse("the root cannot be removed");
+    std::size_t index = 0;
+    Node* parent = parentOf(doc, id, index);
+    if (!parent) refuse("there is no node " + inQuotes(id));
+    Node removed = std::move(parent->children[index]);
+    parent->children.erase(parent->children.begin() + long(index));
+    return removed;
+}
+
+void moveNode(Document& doc, std::string_view id, std::string_view newParentId, std::size_t index)
+{
+    if (doc.root.id == id) refuse("the root cannot be moved");
+    const Node* node = doc.root.find(id);
+    if (!node) refuse("there is no node " + inQuotes(id));
+    if (node->find(newParentId)) refuse(inQuotes(id) + " cannot move into its own subtree");
+    Node& newParent = requireNode(doc, newParentId);
+    std::size_t from = 0;
+    Node* oldParent = parentOf(doc, id, from);
+    const bool sameParent = oldParent == &newParent;
+    if (!sameParent) requireRoom(newParent, 1);
+    index = std::min(index, newParent.children.size());
+    // Removing first shifts later siblings of the same parent down by one.
+    if (sameParent && index > from) --index;
+    Node moving = std::move(oldParent->children[from]);
+    oldParent->children.erase(oldParent->children.begin() + long(from));
+    // Node pointers into the tree may have moved with the erase: look again.
+    Node& target = *doc.root.find(newParentId);
+    target.children.insert(target.children.begin() + long(std::min(index, target.children.size())),
+                           std::move(moving));
+}
+
+std::string duplicateNode(Document& doc, std::string_view id)
+{
+    if (doc.root.id == id) refuse("the root cannot be duplicated");
+    std::size_t index = 0;
+    Node* parent = parentOf(doc, id, index);
+    if (!parent) refuse("there is no node " + inQuotes(id));
+    requireRoom(*parent, 1);
+    Node copy = parent->children[index];
+    std::unordered_set<std::string> taken;
+    renumber(doc, copy, taken);
+    if (copy.name) *copy.name += " copy";
+    const std::string copyId = copy.id;
+    parent->children.insert(parent->children.begin() + long(index) + 1, std::move(copy));
+    return copyId;
+}
+
+std::string wrapNodes(Document& doc, const std::vector<std::string>& ids, Node op)
+{
+    if (ids.empty()) refuse("nothing to group");
+    if (isPrimitive(op.type)) refuse("nodes can only be grouped under an operation");
+    if (ids.size() > maxChildren(op.type))
+        refuse("a " + std::string(nodeTypeName(op.type)) + " takes exactly 1 child, not " +
+               std::to_string(ids.size()));
+    if (doc.root.find(op.id)) refuse("a node " + inQuotes(op.id) + " exists already");
+    op.children.clear();
+    const std::string opId = op.id;
+    if (ids.size() == 1 && ids.front() == doc.root.id) {
+        op.children.push_back(std::move(doc.root));
+        doc.root = std::move(op);
+        return opId;
+    }
+    std::size_t first = 0;
+    Node* parent = parentOf(doc, ids.front(), first);
+    if (!parent) refuse("there is no node " + inQuotes(ids.front()) + " (or it is the root, which groups alone)");
+    std::vector<std::size_t> indices;
+    for (const auto& id : ids) {
+        std::size_t i = 0;
+        if (parentOf(doc, id, i) != parent) refuse("only nodes with the same parent can be grouped");
+        if (std::find(indices.begin(), indices.end(), i) != indices.end()) refuse("a node is listed twice");
+        indices.push_back(i);
+    }
+    std::sort(indices.begin(), indices.end());
+    for (std::size_t i : indices) op.children.push_back(parent->children[i]);
+    for (auto it = indices.rbegin(); it != indices.rend(); ++it)
+        parent->children.erase(parent->children.begin() + long(*it));
+    parent->children.insert(parent->children.begin() + long(indices.front()), std::move(op));
+    return opId;
+}
+
+void updateNode(Document& doc, std::string_view id, const Node& updated)
+{
+    Node& n = requireNode(doc, id);
+    if (updated.type != n.type) refuse("a node's type cannot change");
+    if (updated.id != n.id) refuse("a node's id cannot change here");
+    n.name = updated.name;
+    n.transform = updated.transform;
+    n.visible = updated.visible;
+    n.color = updated.color;
+    n.params = updated.params;
+    n.extra = updated.extra;
+}
+
+Document emptyDocument()
+{
+    Document doc;
+    doc.root = makeNode(NodeType::Union, "root");
+    doc.root.name = "Part";
+    return doc;
+}
+
+} // namespace kerf::edit

@@ -1,0 +1,151 @@
+// Structural edits of the feature tree (document/DocumentEdits.hpp): each
+// applies whole or throws and leaves the document untouched; ids stay unique.
+
+#include "kerf/document/DocumentEdits.hpp"
+#include "kerf/document/DocumentError.hpp"
+
+#include <gtest/gtest.h>
+
+namespace kerf {
+namespace {
+
+Document sample()
+{
+    return Document::parse(R"({"format":"kerf","version":1,"root":{"id":"root","type":"union","children":[
+        {"id":"d","type":"difference","children":[
+            {"id":"board","type":"box","size":[100,50,18]},
+            {"id":"hole","type":"cylinder","radius":4,"height":30}]},
+        {"id":"leg-3","type":"box","size":[30,30,400],"name":"Leg"},
+        {"id":"m","type":"mirror","normal":[1,0,0],"children":[{"id":"knob","type":"sphere","radius":5}]}]}})",
+                           "sample.kerf");
+}
+
+std::vector<std::string> childIds(const Node& n)
+{
+    std::vector<std::string> v;
+    for (const auto& c : n.children) v.push_back(c.id);
+    return v;
+}
+
+// Runs `edit`, expects it to throw, and the document to be as before.
+template <class F> void expectRefused(Document& doc, F edit)
+{
+    const Document before = doc;
+    EXPECT_THROW(edit(doc), std::invalid_argument);
+    EXPECT_EQ(doc, before);
+}
+
+TEST(DocumentEdits, LocateFindsParentAndIndex)
+{
+    const Document doc = sample();
+    EXPECT_EQ(edit::locate(doc, "hole"), (edit::NodeLocation{"d", 1}));
+    EXPECT_EQ(edit::locate(doc, "leg-3"), (edit::NodeLocation{"root", 1}));
+    EXPECT_FALSE(edit::locate(doc, "root"));
+    EXPECT_FALSE(edit::locate(doc, "nothing"));
+}
+
+TEST(DocumentEdits, UniqueIdCountsUp)
+{
+    const Document doc = sample();
+    EXPECT_EQ(edit::uniqueId(doc, "box"), "box");
+    EXPECT_EQ(edit::uniqueId(doc, "board"), "board-2");
+}
+
+TEST(DocumentEdits, InsertRespectsChildLimitsAndIds)
+{
+    Document doc = sample();
+    edit::insertNode(doc, "d", 1, makeNode(NodeType::Sphere, "s"));
+    EXPECT_EQ(childIds(doc.root.children[0]), (std::vector<std::string>{"board", "s", "hole"}));
+    EXPECT_NO_THROW(doc.validate());
+    expectRefused(doc, [](Document& d) { edit::insertNode(d, "m", 0, makeNode(NodeType::Sphere, "s2")); });
+    expectRefused(doc, [](Document& d) { edit::insertNode(d, "board", 0, makeNode(NodeType::Sphere, "s3")); });
+    expectRefused(doc, [](Document& d) { edit::insertNode(d, "d", 0, makeNode(NodeType::Sphere, "hole")); });
+    expectRefused(doc, [](Document& d) { edit::insertNode(d, "nowhere", 0, makeNode(NodeType::Sphere, "s4")); });
+}
+
+TEST(DocumentEdits, RemoveAndRefuseTheRoot)
+{
+    Document doc = sample();
+    const Node removed = edit::removeNode(doc, "hole");
+    EXPECT_EQ(removed.id, "hole");
+    EXPECT_EQ(doc.root.find("hole"), nullptr);
+    expectRefused(doc, [](Document& d) { edit::removeNode(d, "root"); });
+    expectRefused(doc, [](Document& d) { edit::removeNode(d, "hole"); });
+}
+
+TEST(DocumentEdits, MoveReordersAndRegroups)
+{
+    Document doc = sample();
+    // Reorder among siblings: index counts positions before the move.
+    edit::moveNode(doc, "d", "root", 2);
+    EXPECT_EQ(childIds(doc.root), (std::vector<std::string>{"leg-3", "d", "m"}));
+    edit::moveNode(doc, "m", "root", 0);
+    EXPECT_EQ(childIds(doc.root), (std::vector<std::string>{"m", "leg-3", "d"}));
+    // Regroup under another operation.
+    edit::moveNode(doc, "leg-3", "d", 99);
+    EXPECT_EQ(childIds(*doc.root.find("d")), (std::vector<std::string>{"board", "hole", "leg-3"}));
+    EXPECT_NO_THROW(doc.validate());
+    expectRefused(doc, [](Document& d) { edit::moveNode(d, "d", "d", 0); });
+    expectRefused(doc, [](Document& d) { edit::moveNode(d, "root", "d", 0); });
+    expectRefused(doc, [](Document& d) { edit::moveNode(d, "hole", "m", 0); }); // mirror is full
+    expectRefused(doc, [](Document& d) { edit::moveNode(d, "hole", "board", 0); });
+}
+
+TEST(DocumentEdits, DuplicateGivesFreshIdsAfterTheOriginal)
+{
+    Document doc = sample();
+    const std::string copy = edit::duplicateNode(doc, "leg-3");
+    EXPECT_EQ(copy, "leg-4");
+    EXPECT_EQ(childIds(doc.root), (std::vector<std::string>{"d", "leg-3", "leg-4", "m"}));
+    EXPECT_EQ(doc.root.find("leg-4")->name, "Leg copy");
+    const std::string dcopy = edit::duplicateNode(doc, "d");
+    const Node* dc = doc.root.find(dcopy);
+    ASSERT_NE(dc, nullptr);
+    EXPECT_EQ(childIds(*dc), (std::vector<std::string>{"board-2", "hole-2"}));
+    EXPECT_NO_THROW(doc.validate());
+    expectRefused(doc, [](Document& d) { edit::duplicateNode(d, "knob"); }); // the mirror takes one child
+}
+
+TEST(DocumentEdits, WrapPutsSiblingsUnderANewOperation)
+{
+    Document doc = sample();
+    const std::string id = edit::wrapNodes(doc, {"m", "leg-3"}, makeNode(NodeType::Difference, "cut"));
+    EXPECT_EQ(id, "cut");
+    EXPECT_EQ(childIds(doc.root), (std::vector<std::string>{"d", "cut"}));
+    EXPECT_EQ(childIds(*doc.root.find("cut")), (std::vector<std::string>{"leg-3", "m"}));
+    EXPECT_NO_THROW(doc.validate());
+    expectRefused(doc, [](Document& d) { edit::wrapNodes(d, {"board", "leg-3"}, makeNode(NodeType::Union, "u")); });
+    expectRefused(doc, [](Document& d) { edit::wrapNodes(d, {"board", "hole"}, makeNode(NodeType::Shell, "sh")); });
+    expectRefused(doc, [](Document& d) { edit::wrapNodes(d, {"board"}, makeNode(NodeType::Box, "b")); });
+    // The root alone: the new operation becomes the root.
+    edit::wrapNodes(doc, {"root"}, makeNode(NodeType::Offset, "grow"));
+    EXPECT_EQ(doc.root.id, "grow");
+    EXPECT_EQ(doc.root.children.at(0).id, "root");
+}
+
+TEST(DocumentEdits, UpdateKeepsIdTypeAndChildren)
+{
+    Document doc = sample();
+    Node changed = *doc.root.find("d");
+    changed.children.clear();
+    changed.name = "Board with hole";
+    changed.as<BooleanParams>().blend = 2.0;
+    edit::updateNode(doc, "d", changed);
+    const Node& d = *doc.root.find("d");
+    EXPECT_EQ(d.name, "Board with hole");
+    EXPECT_EQ(d.as<BooleanParams>().blend, 2.0);
+    EXPECT_EQ(d.children.size(), 2u);
+    Node wrongType = makeNode(NodeType::Union, "d");
+    expectRefused(doc, [&](Document& x) { edit::updateNode(x, "d", wrongType); });
+}
+
+TEST(DocumentEdits, EmptyDocumentBecomesValidWithOneFeature)
+{
+    Document doc = edit::emptyDocument();
+    EXPECT_THROW(doc.validate(), DocumentError);
+    edit::insertNode(doc, doc.root.id, 0, makeNode(NodeType::Box, "box"));
+    EXPECT_NO_THROW(doc.validate());
+}
+
+} // namespace
+} // namespace kerf
