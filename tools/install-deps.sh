@@ -18,7 +18,7 @@ packages=(
   qt6-base-dev qt6-base-dev-tools libqt6opengl6-dev libqt6openglwidgets6
   qt6-charts-dev libxkbcommon-dev xvfb xauth
   # packaging
-  dpkg-dev fakeroot lintian
+  dpkg-dev fakeroot lintian help2man librsvg2-bin desktop-file-utils shared-mime-info
 )
 
 missing=()

@@ -12,7 +12,7 @@ namespace kerf {
 std::string mainHelp()
 {
     return R"(Usage: kerf [FILE.kerf]
-       kerf COMMAND [OPTIONS]
+  or:  kerf COMMAND [OPTIONS]
 
 Kerf models furniture parts as implicit solids: a feature tree of primitives,
 booleans, blends, offsets, shells, arrays and mirrors, in millimetres.
