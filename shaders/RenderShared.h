@@ -27,6 +27,14 @@ struct RMat4 {
 #define KERF_SHADE_ORTHO 1u
 #define KERF_SHADE_EDGES 2u
 
+// Per-feature flags, in the w of a featureColors entry (as a float).
+#define KERF_FEATURE_HAS_COLOR 1u
+#define KERF_FEATURE_SELECTED 2u
+
+// The feature id the tracer writes where a section plane cuts the solid
+// (the cap), rather than a surface of the part.
+#define KERF_SECTION_CAP_FEATURE 0xFFFFFFFEu
+
 struct ShadeParams {
     KERF_U64 depth;         // float per pixel, +inf = nothing hit
     KERF_U64 normal;        // vec4 per pixel
@@ -46,6 +54,11 @@ struct ShadeParams {
     KERF_VEC4 backgroundTop;
     KERF_VEC4 backgroundBottom;
     KERF_VEC4 defaultColor; // rgb: parts without a colour; w: edge darkening (0..1)
+    KERF_VEC4 highlight;    // rgb: selection colour (linear); w: how much it tints the selection (0..1)
+    KERF_VEC4 eye;          // xyz: eye in world mm (the grid pass); w: unused
+    KERF_VEC4 grid;         // x: minor spacing (mm), y: major spacing (mm), z: fade distance (mm), w: 1 to draw
+    KERF_VEC4 section;      // xyz: unit normal of the section plane (world); w: its offset (mm)
+    KERF_VEC4 capColor;     // rgb: colour of the section's cut faces (linear); w: hatch spacing (pixels)
 };
 
 /// Push constants of the mesh pass.
@@ -56,8 +69,16 @@ struct MeshPush {
     KERF_U64 pad;
 };
 
+/// Push constants of the gizmo pass.
+struct GizmoPush {
+    KERF_U64 shade;  // address of the ShadeParams (the view frame)
+    KERF_U64 pad;
+    KERF_VEC4 rect;  // x, y: top-left corner (pixels); z: size (pixels)
+};
+
 #ifdef __cplusplus
-static_assert(sizeof(ShadeParams) == 48 + 10 * 16);
+static_assert(sizeof(GizmoPush) == 32);
+static_assert(sizeof(ShadeParams) == 48 + 15 * 16);
 static_assert(sizeof(MeshPush) == 96);
 } // namespace kerf::gpu
 #endif

@@ -50,10 +50,11 @@ struct TraceParams {
     KERF_VEC4 up;        // xyz: unit image up
     KERF_IVEC4 dims;     // xyz: tiles along each axis
     KERF_UVEC4 image;    // x: width, y: height (pixels)
+    KERF_VEC4 section;   // xyz: unit normal of the section plane, w: its offset from the grid origin; zero: none
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(TraceParams) == 80 + 6 * 16);
+static_assert(sizeof(TraceParams) == 80 + 7 * 16);
 } // namespace kerf::gpu
 #endif
 

@@ -1,7 +1,8 @@
 #version 460
 // The depth prepass and shading of the traced part: writes the part's colour
 // and its depth, so that meshes drawn afterwards are hidden where the part is
-// in front and hide it where they are.
+// in front and hide it where they are. Selected features are tinted and
+// outlined; a section plane's cut faces are hatched.
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_GOOGLE_include_directive : require
@@ -30,6 +31,10 @@ uint featureAt(ivec2 p)
     p = clamp(p, ivec2(0), ivec2(S.width - 1, S.height - 1));
     return Uints(S.feature).u[uint(p.x) + S.width * uint(p.y)];
 }
+uint flagsOf(uint feature)
+{
+    return feature < S.featureCount ? uint(Vec4s(S.featureColors).v[feature].w + 0.5) : 0u;
+}
 
 void main()
 {
@@ -55,25 +60,38 @@ void main()
     gl_FragDepth = ortho ? (z - n) / (f - n) : f * (z - n) / (z * (f - n));
 
     const uint feature = Uints(S.feature).u[i];
+    const uint flags = flagsOf(feature);
     vec3 albedo = S.defaultColor.rgb;
-    if (feature < S.featureCount) {
-        const vec4 fc = Vec4s(S.featureColors).v[feature];
-        if (fc.a > 0.5) albedo = fc.rgb;
-    }
+    if ((flags & KERF_FEATURE_HAS_COLOR) != 0u) albedo = Vec4s(S.featureColors).v[feature].rgb;
     vec3 nrm = Vec4s(S.normal).v[i].xyz;
-    vec3 c = lightSurface(S, albedo, nrm, -dir);
+    vec3 c;
+    if (feature == KERF_SECTION_CAP_FEATURE) {
+        // The cut face: flat colour with diagonal hatching in screen space,
+        // as a drawing shows a section.
+        const float hatch = mod(gl_FragCoord.x + gl_FragCoord.y, S.capColor.w);
+        c = S.capColor.rgb * (hatch < 1.5 ? 0.55 : 1.0);
+    } else {
+        const bool selected = (flags & KERF_FEATURE_SELECTED) != 0u;
+        if (selected) albedo = mix(albedo, S.highlight.rgb, S.highlight.w);
+        c = lightSurface(S, albedo, nrm, -dir);
+    }
 
     if ((S.flags & KERF_SHADE_EDGES) != 0u) {
         // Silhouette and crease lines: a neighbour that is background, much
-        // farther or nearer, or another feature.
+        // farther or nearer, or another feature; the outline of a selection.
         float edge = 0.0;
+        bool outline = false;
+        const bool selected = (flags & KERF_FEATURE_SELECTED) != 0u;
         const ivec2 offs[4] = ivec2[4](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
         for (int k = 0; k < 4; ++k) {
             const float tn = depthAt(p + offs[k]);
+            const uint fn = featureAt(p + offs[k]);
             if (isinf(tn) || abs(tn - t) > 0.02 * t) edge = 1.0;
-            else if (featureAt(p + offs[k]) != feature) edge = max(edge, 0.6);
+            else if (fn != feature) edge = max(edge, 0.6);
+            if (selected && (isinf(tn) || (flagsOf(fn) & KERF_FEATURE_SELECTED) == 0u)) outline = true;
         }
         c *= 1.0 - S.defaultColor.w * edge;
+        if (outline) c = S.highlight.rgb;
     }
     outColor = vec4(toSrgb(c), 1.0);
 }

@@ -22,6 +22,7 @@ const uint kEmptyTile = 0xFFFFFFFFu;
 const uint kFullTile = 0xFFFFFFFEu;
 const uint kLeafFlag = 0x80000000u;
 const uint kNoFeature = 0xFFFFFFFFu;
+const uint kSectionCap = 0xFFFFFFFEu;
 const float kInf = 1.0 / 0.0;
 const float kDistanceRange = 2.0;
 const int kBisectionSteps = 16;
@@ -33,6 +34,20 @@ struct Hit {
     vec3 normal;
     uint feature;
 };
+
+// A section's cap, pending while the ray, started on the section plane, has
+// met no populated voxel (ReferenceTracer.cpp, CapState).
+bool capPending = false;
+float capDepth = 0.0;
+vec3 capNormal = vec3(0.0);
+
+void hitCap(inout Hit hit)
+{
+    hit.depth = capDepth;
+    hit.normal = capNormal;
+    hit.feature = kSectionCap;
+    capPending = false;
+}
 
 uint word(uint64_t base, uint index) { return Words(base).w[index]; }
 
@@ -223,7 +238,15 @@ bool traceTile(uint entry, ivec3 tile, vec3 origin, vec3 dir, vec3 invDir, float
             trilinear(d, k);
             const vec3 o = clamp((e + s * dir - voxelLo) * voxelScale, 0.0, 1.0);
             const float wEnd = max(0.0, (sExit - s) * voxelScale);
-            const float w = firstCrossing(alongRay(k, o, dir), wEnd);
+            const vec4 along = alongRay(k, o, dir);
+            if (capPending) {
+                if (evalCubic(along, 0.0) <= 0.0) {
+                    hitCap(hit);
+                    return true;
+                }
+                capPending = false;
+            }
+            const float w = firstCrossing(along, wEnd);
             if (w >= 0.0) {
                 const vec3 u = clamp(o + w * dir, 0.0, 1.0);
                 vec3 nrm = vec3(0.0);
@@ -282,9 +305,29 @@ Hit traceRay(vec3 origin, vec3 direction)
     const vec3 t1 = (vec3(dims) * tileSize - origin) * invDir;
     const vec3 tNear = min(t0, t1), tFar = max(t0, t1);
     float tEnter = max(max(tNear.x, tNear.y), max(tNear.z, 0.0));
-    const float tLeave = min(tFar.x, min(tFar.y, tFar.z));
-    if (!(tEnter <= tLeave)) return hit;
+    float tLeave = min(tFar.x, min(tFar.y, tFar.z));
     int enterAxis = tNear.x >= tNear.y && tNear.x >= tNear.z ? 0 : (tNear.y >= tNear.z ? 1 : 2);
+
+    // The section plane keeps dot(n, p) <= offset (ReferenceTracer.cpp).
+    const vec3 n = P.section.xyz;
+    if (n != vec3(0.0)) {
+        const float denom = dot(n, dir);
+        const float above = dot(n, origin) - P.section.w;
+        if (abs(denom) < 1e-12) {
+            if (above > 0.0) return hit;
+        } else {
+            const float tPlane = -above / denom;
+            if (denom > 0.0) {
+                tLeave = min(tLeave, tPlane);
+            } else if (tPlane > tEnter) {
+                tEnter = tPlane;
+                capPending = true;
+                capDepth = tPlane;
+                capNormal = n;
+            }
+        }
+    }
+    if (!(tEnter <= tLeave)) return hit;
 
     const vec3 p = (origin + tEnter * dir) / tileSize;
     ivec3 tile = clamp(ivec3(floor(p)), ivec3(0), dims - 1);
@@ -296,6 +339,10 @@ Hit traceRay(vec3 origin, vec3 direction)
         const int axis = tNext.x <= tNext.y && tNext.x <= tNext.z ? 0 : (tNext.y <= tNext.z ? 1 : 2);
         const float tExitTile = tNext[axis];
         const uint value = word(P.tiles, uint(tile.x + dims.x * (tile.y + dims.y * tile.z)));
+        if (value == kFullTile && capPending) {
+            hitCap(hit);
+            return hit;
+        }
         if (value == kFullTile) {
             hit.depth = tEnter;
             hit.normal = vec3(0.0);
@@ -303,7 +350,14 @@ Hit traceRay(vec3 origin, vec3 direction)
             hit.feature = kNoFeature;
             return hit;
         }
-        if (value != kEmptyTile && traceTile(value, tile, origin, dir, invDir, tileSize, tEnter, hit)) return hit;
+        if (value != kEmptyTile && traceTile(value, tile, origin, dir, invDir, tileSize, tEnter, hit)) {
+            if (hit.depth > tLeave) { // past the section plane: in the part cut away
+                hit.depth = kInf;
+                hit.normal = vec3(0.0);
+                hit.feature = kNoFeature;
+            }
+            return hit;
+        }
         if (tExitTile >= tLeave) break;
         tEnter = max(tEnter, tExitTile);
         tile[axis] += stepDir[axis];

@@ -104,6 +104,19 @@ TEST_P(EveryExample, MatchesTheCpuReferenceTracer)
         EXPECT_GE(double(c.normalClose), 0.99 * double(c.bothHit));
         EXPECT_GE(double(c.featureSame), 0.99 * double(c.bothHit));
     }
+    // A section through the middle, seen from the cut side: caps and all.
+    const Section section = Section::alongAxis(0, tape.bounds().center().x);
+    const Camera camera = Camera::standardView(tape.bounds(), "right", 320, 240);
+    const TraceImage gpu = tracer.trace(camera, nullptr, section);
+    const TraceImage cpu = traceVoxels(buffers, camera, 0, section);
+    const Comparison c = compare(gpu, cpu, 0.01 * layout.voxelSize + 1e-4 * extent);
+    std::size_t caps = 0;
+    for (std::uint32_t f : cpu.feature) caps += f == kSectionCap;
+    EXPECT_GT(caps, 0u) << "the plane through the middle cuts the part";
+    EXPECT_LE(c.holes, c.pixels / 1000);
+    EXPECT_LE(c.extra, c.pixels / 1000);
+    EXPECT_GE(double(c.depthClose), 0.995 * double(c.bothHit));
+    EXPECT_GE(double(c.featureSame), 0.99 * double(c.bothHit));
     EXPECT_EQ(context->validationErrors(), 0) << (context->validationMessages().empty()
                                                       ? std::string()
                                                       : context->validationMessages().front());

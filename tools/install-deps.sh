@@ -8,7 +8,7 @@ packages=(
   # toolchain
   build-essential cmake ninja-build ccache pkg-config git
   # core
-  nlohmann-json3-dev libtbb-dev libglm-dev libopenmesh-dev libstb-dev
+  nlohmann-json3-dev libtbb-dev libglm-dev libopenmesh-dev libstb-dev libmuparser-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   # viewport

@@ -2,8 +2,11 @@
 // subcommand kerf opens the desktop application.
 
 #include "kerf/app/Commands.hpp"
+#include "kerf/ui/Desktop.hpp"
 
+#include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,15 +39,33 @@ Exit status: 0 success, 1 the work failed, 2 bad usage or a bad input file.
 )";
 }
 
+namespace {
+
+// kerf, kerf FILE.kerf, or Qt's own options (-platform xcb, -style fusion)
+// before either: the desktop application; anything else is a subcommand.
+bool opensDesktop(const std::vector<std::string>& args)
+{
+    if (args.empty()) return true;
+    const std::string& first = args.front();
+    if (first.size() > 5 && first.ends_with(".kerf")) return true;
+    return first.size() > 1 && first[0] == '-' && first[1] != '-' && first != "-h";
+}
+
+} // namespace
+
 } // namespace kerf
 
 int main(int argc, char** argv)
 {
     std::vector<std::string> args(argv + 1, argv + argc);
-    if (args.empty()) {
-        std::cerr << "kerf: the desktop application is not part of this build yet; "
-                     "use a subcommand (kerf --help)\n";
-        return 2;
+    // No subcommand: the desktop application, on the bundled example or on
+    // the document named (a double-click on a .kerf file).
+    const bool desktop = kerf::opensDesktop(args);
+    if (desktop) {
+        std::optional<std::filesystem::path> file;
+        for (const auto& a : args)
+            if (a.size() > 5 && a.ends_with(".kerf")) file = a;
+        return kerf::ui::runDesktop(argc, argv, file);
     }
     const std::string command = args.front();
     const std::vector<std::string> rest(args.begin() + 1, args.end());

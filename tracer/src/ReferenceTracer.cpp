@@ -140,11 +140,28 @@ float firstCrossing(const Cubic& c, float wEnd)
 // and the slab and cell exits need no special case (1e-20 bends nothing).
 float nonZero(float v) { return std::fabs(v) < 1e-20f ? (v < 0.0f ? -1e-20f : 1e-20f) : v; }
 
+// A section's cap, pending while the ray, started on the section plane, has
+// met no populated voxel yet: until then no surface was crossed, so the
+// first voxel's value at the ray's entry says whether the plane point was
+// inside the solid (a cap) or not.
+struct CapState {
+    bool pending = false;
+    float depth = 0.0f;
+    glm::vec3 normal{0.0f};
+    void hitAt(RayHit& hit)
+    {
+        hit.depth = depth;
+        hit.normal = normal;
+        hit.feature = kSectionCap;
+        pending = false;
+    }
+};
+
 // Traces inside one surface tile, from ray parameter tEnter (where the ray is
 // in the tile) until it leaves the tile. Returns true with `hit` filled when
-// it finds the surface.
+// it finds the surface (or a section's cap).
 bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const glm::ivec3& tile, const glm::vec3& origin,
-               const glm::vec3& dir, const glm::vec3& invDir, float tileSize, float tEnter, RayHit& hit)
+               const glm::vec3& dir, const glm::vec3& invDir, float tileSize, float tEnter, RayHit& hit, CapState& cap)
 {
     const int levels = int(entry.levels);
     const int n = 1 << (2 * levels); // finest cells per tile edge
@@ -207,7 +224,15 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const glm::ive
             // Voxel-local coordinates ([0, 1]^3 across the voxel), w in voxel edges from the entry.
             const glm::vec3 o = glm::clamp((e + s * dir - voxelLo) * voxelScale, 0.0f, 1.0f);
             const float wEnd = glm::max(0.0f, (sExit - s) * voxelScale);
-            const float w = firstCrossing(alongRay(tri, o, dir), wEnd);
+            const Cubic along = alongRay(tri, o, dir);
+            if (cap.pending) {
+                if (evalCubic(along, 0.0f) <= 0.0f) {
+                    cap.hitAt(hit);
+                    return true;
+                }
+                cap.pending = false;
+            }
+            const float w = firstCrossing(along, wEnd);
             if (w >= 0.0f) {
                 const glm::vec3 u = glm::clamp(o + w * dir, 0.0f, 1.0f);
                 glm::vec3 nrm(0.0f);
@@ -254,7 +279,8 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const glm::ive
 
 } // namespace
 
-RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction)
+RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction,
+                const glm::vec4& plane)
 {
     RayHit hit;
     const GridLayout& layout = b.layout;
@@ -270,10 +296,33 @@ RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::v
     const glm::vec3 t1 = (glm::vec3(dims) * tileSize - origin) * invDir;
     const glm::vec3 tNear = glm::min(t0, t1), tFar = glm::max(t0, t1);
     float tEnter = glm::max(glm::max(tNear.x, tNear.y), glm::max(tNear.z, 0.0f));
-    const float tLeave = glm::min(tFar.x, glm::min(tFar.y, tFar.z));
-    if (!(tEnter <= tLeave)) return hit;
+    float tLeave = glm::min(tFar.x, glm::min(tFar.y, tFar.z));
     // The axis whose face the ray enters by (for a full tile's normal).
     int enterAxis = tNear.x >= tNear.y && tNear.x >= tNear.z ? 0 : (tNear.y >= tNear.z ? 1 : 2);
+
+    // A section plane (a unit normal, w = offset; zero normal: none) keeps
+    // dot(n, p) <= offset. A ray heading into the cut-away side ends at the
+    // plane; one coming out of it starts there, where a cap may be.
+    CapState cap;
+    const glm::vec3 n(plane);
+    if (n != glm::vec3(0.0f)) {
+        const float denom = glm::dot(n, dir);
+        const float above = glm::dot(n, origin) - plane.w; // > 0: the origin is cut away
+        if (std::fabs(denom) < 1e-12f) {
+            if (above > 0.0f) return hit;
+        } else {
+            const float tPlane = -above / denom;
+            if (denom > 0.0f) {
+                tLeave = glm::min(tLeave, tPlane);
+            } else if (tPlane > tEnter) {
+                tEnter = tPlane;
+                cap.pending = true;
+                cap.depth = tPlane;
+                cap.normal = n;
+            }
+        }
+    }
+    if (!(tEnter <= tLeave)) return hit;
 
     // 2. DDA over the tiles (Amanatides & Woo).
     const glm::vec3 p = (origin + tEnter * dir) / tileSize;
@@ -288,6 +337,10 @@ RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::v
         const float tExitTile = tNext[axis];
         const std::uint32_t value = b.tiles[std::size_t(tile.x + dims.x * (tile.y + dims.y * tile.z))];
         ++hit.steps;
+        if (value == voxel::kFullTile && cap.pending) {
+            cap.hitAt(hit);
+            return hit;
+        }
         if (value == voxel::kFullTile) {
             hit.depth = tEnter;
             hit.normal = glm::vec3(0.0f);
@@ -296,8 +349,11 @@ RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::v
             return hit;
         }
         if (value != voxel::kEmptyTile &&
-            traceTile(b, b.entries[value], tile, origin, dir, invDir, tileSize, tEnter, hit))
+            traceTile(b, b.entries[value], tile, origin, dir, invDir, tileSize, tEnter, hit, cap)) {
+            // A hit past the section plane is in the part cut away.
+            if (hit.depth > tLeave) hit = RayHit{};
             return hit;
+        }
         if (tExitTile >= tLeave) break;
         tEnter = glm::max(tEnter, tExitTile);
         tile[axis] += step[axis];
@@ -308,12 +364,20 @@ RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::v
     return hit;
 }
 
-RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray)
+glm::vec4 localPlane(const GridLayout& layout, const Section& section)
 {
-    return traceRay(buffers, glm::vec3(ray.origin - buffers.layout.origin), glm::vec3(ray.direction));
+    if (!section.enabled) return glm::vec4(0.0f);
+    // The offset relative to the grid origin, in double: float sees small numbers.
+    return glm::vec4(glm::vec3(section.normal), float(section.offset - glm::dot(section.normal, layout.origin)));
 }
 
-TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, int threads)
+RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray, const Section& section)
+{
+    return traceRay(buffers, glm::vec3(ray.origin - buffers.layout.origin), glm::vec3(ray.direction),
+                    localPlane(buffers.layout, section));
+}
+
+TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, int threads, const Section& section)
 {
     TraceImage image(camera.width(), camera.height());
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
@@ -321,7 +385,7 @@ TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, in
         tbb::parallel_for(tbb::blocked_range<int>(0, image.height), [&](const tbb::blocked_range<int>& rows) {
             for (int y = rows.begin(); y != rows.end(); ++y)
                 for (int x = 0; x < image.width; ++x) {
-                    const RayHit h = traceRay(buffers, camera.ray(x, y));
+                    const RayHit h = traceRay(buffers, camera.ray(x, y), section);
                     const std::size_t i = image.index(x, y);
                     image.depth[i] = h.depth;
                     image.normal[i] = h.normal;

@@ -1,5 +1,6 @@
 #include "kerf/viewport/ComputeTracer.hpp"
 
+#include "kerf/tracer/ReferenceTracer.hpp"
 #include "kerf/viewport/VulkanError.hpp"
 
 #include "TraceShared.h"
@@ -127,7 +128,8 @@ VoxelAddresses ComputeTracer::voxels() const
     return a;
 }
 
-void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const VoxelAddresses& addr)
+void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const VoxelAddresses& addr,
+                           const Section& section)
 {
     const int w = camera.width(), h = camera.height();
     impl_->ensureTargets(w, h);
@@ -154,6 +156,8 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
     // With nothing resident the grid is empty: every ray misses.
     p.dims = {addr.tiles ? addr.grid.dims.x : 0, addr.tiles ? addr.grid.dims.y : 0, addr.tiles ? addr.grid.dims.z : 0, 0};
     p.image = {std::uint32_t(w), std::uint32_t(h), 0, 0};
+    const glm::vec4 plane = localPlane(addr.grid, section);
+    p.section = {plane.x, plane.y, plane.z, plane.w};
     vkCmdUpdateBuffer(cb, impl_->params.buffer(), 0, sizeof p, &p);
     VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     before.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
@@ -188,9 +192,13 @@ TraceTiming ComputeTracer::lastTiming() const
     return t;
 }
 
-TraceImage ComputeTracer::trace(const Camera& camera, TraceTiming* timing) { return trace(camera, ResidentSet{}, timing); }
+TraceImage ComputeTracer::trace(const Camera& camera, TraceTiming* timing, const Section& section)
+{
+    return trace(camera, ResidentSet{}, timing, section);
+}
 
-TraceImage ComputeTracer::trace(const Camera& camera, const ResidentSet& voxels, TraceTiming* timing)
+TraceImage ComputeTracer::trace(const Camera& camera, const ResidentSet& voxels, TraceTiming* timing,
+                                const Section& section)
 {
     const Context& ctx = impl_->ctx;
     const VoxelAddresses addr = voxels.valid() ? VoxelAddresses::of(voxels) : this->voxels();
@@ -200,7 +208,7 @@ TraceImage ComputeTracer::trace(const Camera& camera, const ResidentSet& voxels,
     GpuBuffer normal(ctx, pixels * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback, "normal");
     GpuBuffer feature(ctx, pixels * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback, "feature");
     ctx.submitAndWait([&](VkCommandBuffer cb) {
-        record(cb, camera, addr);
+        record(cb, camera, addr, section);
         const TraceTargets& t = impl_->targets;
         VkBufferCopy d{0, 0, pixels * sizeof(float)}, n{0, 0, pixels * 16}, f{0, 0, pixels * 4};
         vkCmdCopyBuffer(cb, t.depth.buffer(), depth.buffer(), 1, &d);

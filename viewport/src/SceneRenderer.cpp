@@ -4,6 +4,8 @@
 
 #include "RenderShared.h"
 #include "fullscreen.vert.h"
+#include "gizmo.frag.h"
+#include "grid.frag.h"
 #include "mesh.frag.h"
 #include "mesh.vert.h"
 #include "part.frag.h"
@@ -83,11 +85,19 @@ float toLinear(std::uint8_t c)
 
 } // namespace
 
+// How a graphics pipeline treats depth and colour.
+struct PipelineStyle {
+    bool meshInput = false;              // vertex buffer of position + normal
+    VkCompareOp depthCompare = VK_COMPARE_OP_ALWAYS;
+    bool depthWrite = true;
+    bool blend = false;                  // alpha blending over what is there
+};
+
 struct SceneRenderer::Impl {
     const Context& ctx;
     RenderPass renderPass;
-    PipelineLayout partLayout, meshLayout;
-    Pipeline partPipeline, meshPipeline;
+    PipelineLayout partLayout, meshLayout, gizmoLayout;
+    Pipeline partPipeline, meshPipeline, markerPipeline, gridPipeline, gizmoPipeline;
     GpuBuffer shade;
     int width = 0, height = 0;
     Target color, depth;
@@ -98,8 +108,9 @@ struct SceneRenderer::Impl {
         std::uint32_t count = 0;
         glm::vec3 color;
     };
-    std::vector<MeshBuffer> meshes;
+    std::vector<MeshBuffer> meshes, markers;
     glm::dvec3 meshOrigin{0.0};
+    GpuBuffer frameColors; // this frame's feature colours and flags (one frame in flight)
 
     // What the tracer's targets hold: traced again only when this changes.
     struct TraceKey {
@@ -110,6 +121,7 @@ struct SceneRenderer::Impl {
         double halfHeight = 0.0;
         int width = 0, height = 0;
         bool ortho = false;
+        Section section;
         bool operator==(const TraceKey&) const = default;
     };
     std::optional<TraceKey> traced;
@@ -118,7 +130,11 @@ struct SceneRenderer::Impl {
 
     explicit Impl(const Context& c) : ctx(c) {}
     void ensureTargets(int w, int h);
-    Pipeline makePipeline(VkPipelineLayout layout, const ShaderModule& vs, const ShaderModule& fs, bool meshInput);
+    Pipeline makePipeline(VkPipelineLayout layout, const ShaderModule& vs, const ShaderModule& fs,
+                          const PipelineStyle& style);
+    std::vector<MeshBuffer> upload(const std::vector<PlacedMesh>& placed) const;
+    void drawMeshes(VkCommandBuffer cb, const std::vector<MeshBuffer>& list, VkPipeline pipeline,
+                    const glm::mat4& clip, std::uint64_t shadeAddress) const;
 };
 
 void SceneRenderer::Impl::ensureTargets(int w, int h)
@@ -143,8 +159,9 @@ void SceneRenderer::Impl::ensureTargets(int w, int h)
 }
 
 Pipeline SceneRenderer::Impl::makePipeline(VkPipelineLayout layout, const ShaderModule& vs, const ShaderModule& fs,
-                                           bool meshInput)
+                                           const PipelineStyle& style)
 {
+    const bool meshInput = style.meshInput;
     VkPipelineShaderStageCreateInfo stages[2]{};
     stages[0].sType = stages[1].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
     stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
@@ -178,10 +195,18 @@ Pipeline SceneRenderer::Impl::makePipeline(VkPipelineLayout layout, const Shader
     ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
     VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     ds.depthTestEnable = VK_TRUE;
-    ds.depthWriteEnable = VK_TRUE;
-    // The part pass writes the traced depth everywhere; meshes test against it.
-    ds.depthCompareOp = meshInput ? VK_COMPARE_OP_LESS_OR_EQUAL : VK_COMPARE_OP_ALWAYS;
+    ds.depthWriteEnable = style.depthWrite ? VK_TRUE : VK_FALSE;
+    ds.depthCompareOp = style.depthCompare;
     VkPipelineColorBlendAttachmentState blend{};
+    if (style.blend) {
+        blend.blendEnable = VK_TRUE;
+        blend.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
+        blend.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+        blend.colorBlendOp = VK_BLEND_OP_ADD;
+        blend.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+        blend.dstAlphaBlendFactor = VK_BLEND_FACTOR_ZERO;
+        blend.alphaBlendOp = VK_BLEND_OP_ADD;
+    }
     blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
                            VK_COLOR_COMPONENT_A_BIT;
     VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
@@ -270,12 +295,29 @@ SceneRenderer::SceneRenderer(const Context& ctx) : impl_(std::make_unique<Impl>(
     check(vkCreatePipelineLayout(dev, &plci, nullptr, &pl), "vkCreatePipelineLayout (mesh)");
     impl_->meshLayout = PipelineLayout(dev, pl);
 
+    VkPushConstantRange gizmoRange{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(gpu::GizmoPush)};
+    plci.pPushConstantRanges = &gizmoRange;
+    check(vkCreatePipelineLayout(dev, &plci, nullptr, &pl), "vkCreatePipelineLayout (gizmo)");
+    impl_->gizmoLayout = PipelineLayout(dev, pl);
+
     const ShaderModule fullscreen = makeModule(dev, kFullscreenVert, sizeof kFullscreenVert, "shader fullscreen.vert");
     const ShaderModule part = makeModule(dev, kPartFrag, sizeof kPartFrag, "shader part.frag");
     const ShaderModule meshVert = makeModule(dev, kMeshVert, sizeof kMeshVert, "shader mesh.vert");
     const ShaderModule meshFrag = makeModule(dev, kMeshFrag, sizeof kMeshFrag, "shader mesh.frag");
-    impl_->partPipeline = impl_->makePipeline(impl_->partLayout, fullscreen, part, false);
-    impl_->meshPipeline = impl_->makePipeline(impl_->meshLayout, meshVert, meshFrag, true);
+    const ShaderModule grid = makeModule(dev, kGridFrag, sizeof kGridFrag, "shader grid.frag");
+    const ShaderModule gizmo = makeModule(dev, kGizmoFrag, sizeof kGizmoFrag, "shader gizmo.frag");
+    // The part pass writes the traced depth everywhere; meshes test against
+    // it; the grid tests without writing and blends; markers and the gizmo
+    // are drawn over everything.
+    impl_->partPipeline = impl_->makePipeline(impl_->partLayout, fullscreen, part, {});
+    impl_->meshPipeline =
+        impl_->makePipeline(impl_->meshLayout, meshVert, meshFrag, {true, VK_COMPARE_OP_LESS_OR_EQUAL, true, false});
+    impl_->markerPipeline =
+        impl_->makePipeline(impl_->meshLayout, meshVert, meshFrag, {true, VK_COMPARE_OP_ALWAYS, false, false});
+    impl_->gridPipeline =
+        impl_->makePipeline(impl_->partLayout, fullscreen, grid, {false, VK_COMPARE_OP_LESS_OR_EQUAL, false, true});
+    impl_->gizmoPipeline =
+        impl_->makePipeline(impl_->gizmoLayout, fullscreen, gizmo, {false, VK_COMPARE_OP_ALWAYS, false, true});
     impl_->shade = GpuBuffer(ctx, sizeof(gpu::ShadeParams),
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                              GpuBuffer::Kind::DeviceLocal, "shade params");
@@ -285,32 +327,93 @@ SceneRenderer::~SceneRenderer() = default;
 
 bool SceneRenderer::lastFrameTraced() const { return impl_->lastTraced; }
 
+std::vector<SceneRenderer::Impl::MeshBuffer> SceneRenderer::Impl::upload(const std::vector<PlacedMesh>& placed) const
+{
+    std::vector<MeshBuffer> out;
+    for (const auto& m : placed) {
+        if (m.mesh.positions.empty()) continue;
+        std::vector<float> v;
+        v.reserve(m.mesh.positions.size() * 6);
+        for (std::size_t i = 0; i < m.mesh.positions.size(); ++i) {
+            const glm::dvec3 p = m.worldFromLocal.apply(m.mesh.positions[i]) - meshOrigin;
+            const glm::vec3 n = glm::normalize(glm::vec3(m.worldFromLocal.applyLinear(glm::dvec3(m.mesh.normals[i]))));
+            v.insert(v.end(), {float(p.x), float(p.y), float(p.z), n.x, n.y, n.z});
+        }
+        MeshBuffer b;
+        b.vertices = uploadBuffer(ctx, v.data(), v.size() * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+                                  "mesh vertices");
+        b.count = std::uint32_t(m.mesh.positions.size());
+        b.color = m.color;
+        out.push_back(std::move(b));
+    }
+    return out;
+}
+
+void SceneRenderer::Impl::drawMeshes(VkCommandBuffer cb, const std::vector<MeshBuffer>& list, VkPipeline pipeline,
+                                     const glm::mat4& clip, std::uint64_t shadeAddress) const
+{
+    if (list.empty()) return;
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    for (const auto& m : list) {
+        gpu::MeshPush push{};
+        std::memcpy(push.clipFromWorld.m, &clip[0][0], sizeof push.clipFromWorld.m);
+        push.color = vec4(m.color, 1.0f);
+        push.shade = shadeAddress;
+        vkCmdPushConstants(cb, meshLayout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push,
+                           &push);
+        const VkDeviceSize offset = 0;
+        const VkBuffer vb = m.vertices.buffer();
+        vkCmdBindVertexBuffers(cb, 0, 1, &vb, &offset);
+        vkCmdDraw(cb, m.count, 1, 0, 0);
+    }
+}
+
 void SceneRenderer::setMeshes(const std::vector<PlacedMesh>& meshes)
 {
-    impl_->meshes.clear();
+    // The origin is chosen once per mesh set; markers are placed relative
+    // to the same origin.
     impl_->meshBounds = Aabb::empty();
     for (const auto& m : meshes) impl_->meshBounds = impl_->meshBounds.merged(m.worldBounds());
     // Vertices relative to the meshes' centre: float keeps its precision.
     impl_->meshOrigin = impl_->meshBounds.isEmpty() ? glm::dvec3(0.0) : impl_->meshBounds.center();
-    for (const auto& m : meshes) {
-        std::vector<float> v;
-        v.reserve(m.mesh.positions.size() * 6);
-        for (std::size_t i = 0; i < m.mesh.positions.size(); ++i) {
-            const glm::dvec3 p = m.worldFromLocal.apply(m.mesh.positions[i]) - impl_->meshOrigin;
-            const glm::vec3 n = glm::normalize(glm::vec3(m.worldFromLocal.applyLinear(glm::dvec3(m.mesh.normals[i]))));
-            v.insert(v.end(), {float(p.x), float(p.y), float(p.z), n.x, n.y, n.z});
-        }
-        Impl::MeshBuffer b;
-        b.vertices = uploadBuffer(impl_->ctx, v.data(), v.size() * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
-                                  "mesh vertices");
-        b.count = std::uint32_t(m.mesh.positions.size());
-        b.color = m.color;
-        impl_->meshes.push_back(std::move(b));
-    }
+    impl_->meshes = impl_->upload(meshes);
 }
 
+void SceneRenderer::setMarkers(const std::vector<PlacedMesh>& markers) { impl_->markers = impl_->upload(markers); }
+
+VkImage SceneRenderer::colorImage() const { return impl_->color.image; }
+
 RgbaImage SceneRenderer::render(ComputeTracer& tracer, const VoxelAddresses& voxels, const Camera& camera,
-                                const std::vector<Feature>& features, const SceneOptions& options)
+                                const std::vector<Feature>& features, const SceneOptions& options, const Section& section)
+{
+    const Context& ctx = impl_->ctx;
+    const int w = camera.width(), h = camera.height();
+    GpuBuffer readback(ctx, std::size_t(w) * std::size_t(h) * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                       GpuBuffer::Kind::Readback, "colour readback");
+    ctx.submitAndWait([&](VkCommandBuffer cb) {
+        record(cb, tracer, voxels, camera, features, options, section);
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {std::uint32_t(w), std::uint32_t(h), 1};
+        vkCmdCopyImageToBuffer(cb, impl_->color.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer(), 1,
+                               &region);
+        VkMemoryBarrier host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &host, 0, nullptr, 0,
+                             nullptr);
+    });
+    RgbaImage out;
+    out.width = w;
+    out.height = h;
+    out.pixels.resize(std::size_t(w) * std::size_t(h) * 4);
+    std::memcpy(out.pixels.data(), readback.mapped(), out.pixels.size());
+    return out;
+}
+
+void SceneRenderer::record(VkCommandBuffer cb, ComputeTracer& tracer, const VoxelAddresses& voxels,
+                           const Camera& camera, const std::vector<Feature>& features, const SceneOptions& options,
+                           const Section& section)
 {
     const Context& ctx = impl_->ctx;
     const int w = camera.width(), h = camera.height();
@@ -318,9 +421,15 @@ RgbaImage SceneRenderer::render(ComputeTracer& tracer, const VoxelAddresses& vox
     const bool ortho = camera.projection() == Projection::Orthographic;
     const double halfHeight = camera.halfHeight();
 
-    // Near and far planes around everything drawn.
+    // Near and far planes around everything drawn (the grid's visible reach too).
     Aabb scene = impl_->meshBounds;
     if (voxels.tiles) scene = scene.merged(voxels.grid.bounds());
+    const double sceneSize = scene.isEmpty() ? 1000.0 : std::max(glm::length(scene.size()), 1.0);
+    const double gridReach = 4.0 * sceneSize;
+    if (options.grid) {
+        const glm::dvec3 c = scene.isEmpty() ? glm::dvec3(0.0) : scene.center();
+        scene = scene.merged(Aabb{{c.x - gridReach, c.y - gridReach, 0.0}, {c.x + gridReach, c.y + gridReach, 0.0}});
+    }
     double zMin = std::numeric_limits<double>::max(), zMax = 0.0;
     for (int c = 0; c < 8 && !scene.isEmpty(); ++c) {
         const glm::dvec3 p(c & 1 ? scene.max.x : scene.min.x, c & 2 ? scene.max.y : scene.min.y,
@@ -333,138 +442,147 @@ RgbaImage SceneRenderer::render(ComputeTracer& tracer, const VoxelAddresses& vox
     const double far = std::max(zMax, 1.0) * 1.01 + 1.0;
     const double near = ortho ? std::min(zMin, 0.0) - 1.0 : std::max(std::max(zMin, 0.0) * 0.99, far * 1e-5);
 
-    gpu::ShadeParams s{};
-    const TraceTargets& t = tracer.targets();
-    (void)t;
+    // Feature colours and flags, this frame's.
     std::vector<float> colors;
+    colors.reserve(features.size() * 4 + 4);
     for (const auto& f : features) {
         if (f.hasColor)
-            colors.insert(colors.end(), {toLinear(f.color.r), toLinear(f.color.g), toLinear(f.color.b), 1.0f});
+            colors.insert(colors.end(), {toLinear(f.color.r), toLinear(f.color.g), toLinear(f.color.b),
+                                         float(KERF_FEATURE_HAS_COLOR)});
         else
             colors.insert(colors.end(), {0, 0, 0, 0});
     }
+    for (std::uint32_t sel : options.selectedFeatures)
+        if (sel < features.size()) colors[4 * sel + 3] += float(KERF_FEATURE_SELECTED);
     if (colors.empty()) colors.assign(4, 0.0f);
-    GpuBuffer colorBuffer(ctx, colors.size() * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                          GpuBuffer::Kind::HostVisible, "feature colours");
-    std::memcpy(colorBuffer.mapped(), colors.data(), colors.size() * sizeof(float));
-    GpuBuffer readback(ctx, std::size_t(w) * std::size_t(h) * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                       GpuBuffer::Kind::Readback, "colour readback");
+    impl_->frameColors = GpuBuffer(ctx, colors.size() * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                   GpuBuffer::Kind::HostVisible, "feature colours");
+    std::memcpy(impl_->frameColors.mapped(), colors.data(), colors.size() * sizeof(float));
 
     const Impl::TraceKey key{&tracer,      voxels.tiles,     voxels.entries, voxels.nodes, voxels.version,
                              camera.eye(), camera.forward(), camera.up(),    camera.halfHeight(),
-                             w,            h,                ortho};
+                             w,            h,                ortho,          section};
     impl_->lastTraced = !(impl_->traced && *impl_->traced == key);
-    ctx.submitAndWait([&](VkCommandBuffer cb) {
-        if (impl_->lastTraced) tracer.record(cb, camera, voxels);
-        const TraceTargets& targets = tracer.targets();
-        s.depth = targets.depth.address();
-        s.normal = targets.normal.address();
-        s.feature = targets.feature.address();
-        s.featureColors = colorBuffer.address();
-        s.featureCount = std::uint32_t(features.size());
-        s.width = std::uint32_t(w);
-        s.height = std::uint32_t(h);
-        s.flags = (ortho ? KERF_SHADE_ORTHO : 0u) | (options.edges ? KERF_SHADE_EDGES : 0u);
-        s.forward = vec4(glm::vec3(camera.forward()), float(near));
-        s.right = vec4(glm::vec3(camera.right()), float(far));
-        s.up = vec4(glm::vec3(camera.up()), float(halfHeight));
-        s.light = vec4(glm::normalize(options.lights.lightDirection), options.lights.keyStrength);
-        s.view = vec4(glm::normalize(options.lights.viewDirection), options.lights.headlightStrength);
-        s.sky = vec4(options.lights.sky, 0.25f);
-        s.ground = vec4(options.lights.ground, 48.0f);
-        s.backgroundTop = {0.52f, 0.56f, 0.62f, 1.0f};
-        s.backgroundBottom = {0.20f, 0.21f, 0.23f, 1.0f};
-        s.defaultColor = vec4(options.defaultColor, options.edgeDarkening);
-        vkCmdUpdateBuffer(cb, impl_->shade.buffer(), 0, sizeof s, &s);
-        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                             VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT, 0, 1, &mb, 0,
-                             nullptr, 0, nullptr);
+    if (impl_->lastTraced) tracer.record(cb, camera, voxels, section);
+    impl_->traced = key;
 
-        VkClearValue clears[2];
-        clears[0].color = {{0.0f, 0.0f, 0.0f, 1.0f}};
-        clears[1].depthStencil = {1.0f, 0};
-        VkRenderPassBeginInfo rbi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-        rbi.renderPass = impl_->renderPass;
-        rbi.framebuffer = impl_->framebuffer;
-        rbi.renderArea = {{0, 0}, {std::uint32_t(w), std::uint32_t(h)}};
-        rbi.clearValueCount = 2;
-        rbi.pClearValues = clears;
-        vkCmdBeginRenderPass(cb, &rbi, VK_SUBPASS_CONTENTS_INLINE);
-        VkViewport viewport{0.0f, 0.0f, float(w), float(h), 0.0f, 1.0f};
-        VkRect2D scissor{{0, 0}, {std::uint32_t(w), std::uint32_t(h)}};
-        vkCmdSetViewport(cb, 0, 1, &viewport);
-        vkCmdSetScissor(cb, 0, 1, &scissor);
+    gpu::ShadeParams s{};
+    const TraceTargets& targets = tracer.targets();
+    s.depth = targets.depth.address();
+    s.normal = targets.normal.address();
+    s.feature = targets.feature.address();
+    s.featureColors = impl_->frameColors.address();
+    s.featureCount = std::uint32_t(features.size());
+    s.width = std::uint32_t(w);
+    s.height = std::uint32_t(h);
+    s.flags = (ortho ? KERF_SHADE_ORTHO : 0u) | (options.edges ? KERF_SHADE_EDGES : 0u);
+    s.forward = vec4(glm::vec3(camera.forward()), float(near));
+    s.right = vec4(glm::vec3(camera.right()), float(far));
+    s.up = vec4(glm::vec3(camera.up()), float(halfHeight));
+    s.light = vec4(glm::normalize(options.lights.lightDirection), options.lights.keyStrength);
+    s.view = vec4(glm::normalize(options.lights.viewDirection), options.lights.headlightStrength);
+    s.sky = vec4(options.lights.sky, 0.25f);
+    s.ground = vec4(options.lights.ground, 48.0f);
+    s.backgroundTop = {0.52f, 0.56f, 0.62f, 1.0f};
+    s.backgroundBottom = {0.20f, 0.21f, 0.23f, 1.0f};
+    s.defaultColor = vec4(options.defaultColor, options.edgeDarkening);
+    s.highlight = vec4(options.highlight, options.highlightStrength);
+    s.eye = vec4(glm::vec3(camera.eye()), 0.0f);
+    // Grid lines: minor spacing a power of ten near 1/40 of the view's
+    // height at the part, major ten times that.
+    const double viewHeight = ortho ? 2.0 * halfHeight
+                                    : 2.0 * halfHeight * std::max(glm::dot(scene.center() - camera.eye(), camera.forward()), 1.0);
+    const double minor = std::pow(10.0, std::floor(std::log10(std::max(viewHeight / 40.0, 1e-3))));
+    s.grid = {float(minor), float(10.0 * minor), float(gridReach), options.grid ? 1.0f : 0.0f};
+    s.section = vec4(glm::vec3(section.normal), float(section.offset));
+    s.capColor = vec4(options.capColor, 6.0f);
+    vkCmdUpdateBuffer(cb, impl_->shade.buffer(), 0, sizeof s, &s);
+    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT, 0, 1, &mb, 0,
+                         nullptr, 0, nullptr);
 
-        const std::uint64_t shadeAddress = impl_->shade.address();
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->partPipeline);
+    VkClearValue clears[2];
+    clears[0].color = {{0.0f, 0.0f, 0.0f, 1.0f}};
+    clears[1].depthStencil = {1.0f, 0};
+    VkRenderPassBeginInfo rbi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+    rbi.renderPass = impl_->renderPass;
+    rbi.framebuffer = impl_->framebuffer;
+    rbi.renderArea = {{0, 0}, {std::uint32_t(w), std::uint32_t(h)}};
+    rbi.clearValueCount = 2;
+    rbi.pClearValues = clears;
+    vkCmdBeginRenderPass(cb, &rbi, VK_SUBPASS_CONTENTS_INLINE);
+    VkViewport viewport{0.0f, 0.0f, float(w), float(h), 0.0f, 1.0f};
+    VkRect2D scissor{{0, 0}, {std::uint32_t(w), std::uint32_t(h)}};
+    vkCmdSetViewport(cb, 0, 1, &viewport);
+    vkCmdSetScissor(cb, 0, 1, &scissor);
+
+    const std::uint64_t shadeAddress = impl_->shade.address();
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->partPipeline);
+    vkCmdPushConstants(cb, impl_->partLayout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof shadeAddress, &shadeAddress);
+    vkCmdDraw(cb, 3, 1, 0, 0);
+
+    if (!impl_->meshes.empty() || !impl_->markers.empty()) {
+        // clip = P * V, with the view's translation taken in double from
+        // the meshes' origin to the eye.
+        const double aspect = double(w) / double(h);
+        const glm::dvec3 r = camera.right(), u = camera.up(), f = camera.forward();
+        const glm::dvec3 d = impl_->meshOrigin - camera.eye();
+        glm::dmat4 view(1.0);
+        for (int c = 0; c < 3; ++c) {
+            view[c][0] = r[c];
+            view[c][1] = u[c];
+            view[c][2] = f[c];
+        }
+        view[3] = glm::dvec4(glm::dot(d, r), glm::dot(d, u), glm::dot(d, f), 1.0);
+        glm::dmat4 proj(0.0);
+        if (ortho) {
+            proj[0][0] = 1.0 / (halfHeight * aspect);
+            proj[1][1] = -1.0 / halfHeight;
+            proj[2][2] = 1.0 / (far - near);
+            proj[3][2] = -near / (far - near);
+            proj[3][3] = 1.0;
+        } else {
+            proj[0][0] = 1.0 / (halfHeight * aspect);
+            proj[1][1] = -1.0 / halfHeight;
+            proj[2][2] = far / (far - near);
+            proj[3][2] = -far * near / (far - near);
+            proj[2][3] = 1.0;
+        }
+        const glm::mat4 clip(proj * view);
+        impl_->drawMeshes(cb, impl_->meshes, impl_->meshPipeline, clip, shadeAddress);
+        if (options.grid) {
+            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->gridPipeline);
+            vkCmdPushConstants(cb, impl_->partLayout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof shadeAddress,
+                               &shadeAddress);
+            vkCmdDraw(cb, 3, 1, 0, 0);
+        }
+        impl_->drawMeshes(cb, impl_->markers, impl_->markerPipeline, clip, shadeAddress);
+    } else if (options.grid) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->gridPipeline);
         vkCmdPushConstants(cb, impl_->partLayout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof shadeAddress, &shadeAddress);
         vkCmdDraw(cb, 3, 1, 0, 0);
+    }
 
-        if (!impl_->meshes.empty()) {
-            // clip = P * V, with the view's translation taken in double from
-            // the meshes' origin to the eye.
-            const double aspect = double(w) / double(h);
-            const glm::dvec3 r = camera.right(), u = camera.up(), f = camera.forward();
-            const glm::dvec3 d = impl_->meshOrigin - camera.eye();
-            glm::dmat4 view(1.0);
-            for (int c = 0; c < 3; ++c) {
-                view[c][0] = r[c];
-                view[c][1] = u[c];
-                view[c][2] = f[c];
-            }
-            view[3] = glm::dvec4(glm::dot(d, r), glm::dot(d, u), glm::dot(d, f), 1.0);
-            glm::dmat4 proj(0.0);
-            if (ortho) {
-                proj[0][0] = 1.0 / (halfHeight * aspect);
-                proj[1][1] = -1.0 / halfHeight;
-                proj[2][2] = 1.0 / (far - near);
-                proj[3][2] = -near / (far - near);
-                proj[3][3] = 1.0;
-            } else {
-                proj[0][0] = 1.0 / (halfHeight * aspect);
-                proj[1][1] = -1.0 / halfHeight;
-                proj[2][2] = far / (far - near);
-                proj[3][2] = -far * near / (far - near);
-                proj[2][3] = 1.0;
-            }
-            const glm::mat4 clip(proj * view);
-            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->meshPipeline);
-            for (const auto& m : impl_->meshes) {
-                gpu::MeshPush push{};
-                std::memcpy(push.clipFromWorld.m, &clip[0][0], sizeof push.clipFromWorld.m);
-                push.color = vec4(m.color, 1.0f);
-                push.shade = shadeAddress;
-                vkCmdPushConstants(cb, impl_->meshLayout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                                   sizeof push, &push);
-                const VkDeviceSize offset = 0;
-                const VkBuffer vb = m.vertices.buffer();
-                vkCmdBindVertexBuffers(cb, 0, 1, &vb, &offset);
-                vkCmdDraw(cb, m.count, 1, 0, 0);
-            }
+    if (options.axes) {
+        const float size = float(std::min({96, w, h}));
+        const float x = 8.0f, y = float(h) - size - 8.0f;
+        VkViewport gv{x, y, size, size, 0.0f, 1.0f};
+        VkRect2D gs{{std::int32_t(x), std::int32_t(y)}, {std::uint32_t(size), std::uint32_t(size)}};
+        if (x >= 0.0f && y >= 0.0f) {
+            vkCmdSetViewport(cb, 0, 1, &gv);
+            vkCmdSetScissor(cb, 0, 1, &gs);
+            gpu::GizmoPush push{};
+            push.shade = shadeAddress;
+            push.rect = {x, y, size, 0.0f};
+            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->gizmoPipeline);
+            vkCmdPushConstants(cb, impl_->gizmoLayout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push, &push);
+            vkCmdDraw(cb, 3, 1, 0, 0);
         }
-        vkCmdEndRenderPass(cb);
-
-        VkBufferImageCopy region{};
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        region.imageExtent = {std::uint32_t(w), std::uint32_t(h), 1};
-        vkCmdCopyImageToBuffer(cb, impl_->color.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer(), 1,
-                               &region);
-        VkMemoryBarrier host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &host, 0, nullptr, 0,
-                             nullptr);
-    });
-    impl_->traced = key;
-    RgbaImage out;
-    out.width = w;
-    out.height = h;
-    out.pixels.resize(std::size_t(w) * std::size_t(h) * 4);
-    std::memcpy(out.pixels.data(), readback.mapped(), out.pixels.size());
-    return out;
+    }
+    vkCmdEndRenderPass(cb);
 }
 
 } // namespace kerf::vk

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <unordered_set>
 
 namespace kerf::vk {
 
@@ -206,12 +207,15 @@ FrameUpload VoxelStreamer::recordFrame(VkCommandBuffer cb)
             // The old tables and the tiles only they used go after the frames in flight.
             auto oldTables = tables_;
             std::vector<std::pair<std::size_t, std::size_t>> freed;
+            std::unordered_set<const TileData*> kept;
+            if (residentSnapshot_) {
+                kept.reserve(target_->tiles.size());
+                for (const auto& t : target_->tiles) kept.insert(t.get());
+            }
             if (residentSnapshot_)
                 for (const auto& t : residentSnapshot_->tiles) {
                     if (!t || t->state != TileState::Surface) continue;
-                    const bool kept = std::any_of(target_->tiles.begin(), target_->tiles.end(),
-                                                  [&](const auto& n) { return n.get() == t.get(); });
-                    if (kept) continue;
+                    if (kept.count(t.get())) continue;
                     const auto it = placed_.find(t.get());
                     if (it == placed_.end()) continue; // lived in an older heap
                     freed.emplace_back(it->second.offset, it->second.bytes);

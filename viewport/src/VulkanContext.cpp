@@ -34,6 +34,15 @@ bool hasInstanceExtension(const char* name)
     return std::any_of(ext.begin(), ext.end(), [&](const auto& e) { return std::strcmp(e.extensionName, name) == 0; });
 }
 
+bool hasDeviceExtension(VkPhysicalDevice d, const char* name)
+{
+    std::uint32_t n = 0;
+    vkEnumerateDeviceExtensionProperties(d, nullptr, &n, nullptr);
+    std::vector<VkExtensionProperties> ext(n);
+    vkEnumerateDeviceExtensionProperties(d, nullptr, &n, ext.data());
+    return std::any_of(ext.begin(), ext.end(), [&](const auto& e) { return std::strcmp(e.extensionName, name) == 0; });
+}
+
 int deviceRank(VkPhysicalDeviceType t, bool preferCpu)
 {
     if (preferCpu) return t == VK_PHYSICAL_DEVICE_TYPE_CPU ? 0 : 1;
@@ -90,16 +99,22 @@ Context::Context(const ContextOptions& options) : messages_(std::make_unique<Mes
     dbg.pfnUserCallback = onDebugMessage;
     dbg.pUserData = messages_.get();
 
-    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-    ici.pApplicationInfo = &app;
-    ici.enabledLayerCount = std::uint32_t(layers.size());
-    ici.ppEnabledLayerNames = layers.data();
-    ici.enabledExtensionCount = std::uint32_t(extensions.size());
-    ici.ppEnabledExtensionNames = extensions.data();
-    if (debugUtils) ici.pNext = &dbg;
-    check(vkCreateInstance(&ici, nullptr, &instance_), "vkCreateInstance");
+    if (options.externalInstance) {
+        instance_ = options.externalInstance;
+        ownsInstance_ = false;
+        validation_ = options.validation;
+    } else {
+        VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+        ici.pApplicationInfo = &app;
+        ici.enabledLayerCount = std::uint32_t(layers.size());
+        ici.ppEnabledLayerNames = layers.data();
+        ici.enabledExtensionCount = std::uint32_t(extensions.size());
+        ici.ppEnabledExtensionNames = extensions.data();
+        if (debugUtils) ici.pNext = &dbg;
+        check(vkCreateInstance(&ici, nullptr, &instance_), "vkCreateInstance");
+    }
 
-    if (debugUtils) {
+    if (debugUtils || (options.externalInstance && options.validation)) {
         auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
             vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
         if (create) create(instance_, &dbg, nullptr, &messenger_);
@@ -119,6 +134,7 @@ Context::Context(const ContextOptions& options) : messages_(std::make_unique<Mes
         f2.pNext = &f12;
         vkGetPhysicalDeviceFeatures2(d, &f2);
         if (!f12.bufferDeviceAddress || !f2.features.shaderInt64) continue;
+        if (options.presentation && !hasDeviceExtension(d, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) continue;
         const int rank = deviceRank(p.deviceType, options.preferCpu);
         if (rank < best) {
             best = rank;
@@ -127,9 +143,11 @@ Context::Context(const ContextOptions& options) : messages_(std::make_unique<Mes
         }
     }
     if (!physical_) {
-        vkDestroyInstance(instance_, nullptr);
+        if (ownsInstance_) vkDestroyInstance(instance_, nullptr);
         instance_ = VK_NULL_HANDLE;
-        throw VulkanError("finding a Vulkan 1.2 device with buffer device addresses and 64-bit integers",
+        throw VulkanError(options.presentation
+                              ? "finding a Vulkan 1.2 device with buffer device addresses, 64-bit integers and swapchains"
+                              : "finding a Vulkan 1.2 device with buffer device addresses and 64-bit integers",
                           VK_ERROR_INCOMPATIBLE_DRIVER);
     }
     vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
@@ -164,10 +182,15 @@ Context::Context(const ContextOptions& options) : messages_(std::make_unique<Mes
     VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     f2.pNext = &f12;
     f2.features.shaderInt64 = VK_TRUE;
+    const char* swapchain = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
     VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     dci.pNext = &f2;
     dci.queueCreateInfoCount = 1;
     dci.pQueueCreateInfos = &qci;
+    if (options.presentation) {
+        dci.enabledExtensionCount = 1;
+        dci.ppEnabledExtensionNames = &swapchain;
+    }
     check(vkCreateDevice(physical_, &dci, nullptr, &device_), "vkCreateDevice");
     vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
 
@@ -189,7 +212,7 @@ Context::~Context()
             vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
         if (destroy) destroy(instance_, messenger_, nullptr);
     }
-    if (instance_) vkDestroyInstance(instance_, nullptr);
+    if (instance_ && ownsInstance_) vkDestroyInstance(instance_, nullptr);
 }
 
 std::string Context::deviceDescription() const

@@ -78,6 +78,14 @@ VoxelizerStats Voxelizer::lastStats() const
     return stats_;
 }
 
+VoxelizerProgress Voxelizer::progress() const
+{
+    std::lock_guard lock(mutex_);
+    VoxelizerProgress p = progress_;
+    p.tilesBuilt = std::min(tilesBuilt_.load(), p.tilesToBuild);
+    return p;
+}
+
 void Voxelizer::run()
 {
     for (;;) {
@@ -179,6 +187,17 @@ void Voxelizer::process(Request request)
     const BlockTapes blocks(tape, layout);
     const CancelCheck cancelled = [&] { return stale(revision); };
 
+    auto pass = [&](bool coarse, std::size_t tiles, int levels) {
+        std::lock_guard lock(mutex_);
+        progress_.revision = revision;
+        progress_.busy = tiles > 0;
+        progress_.coarsePass = coarse;
+        progress_.tilesToBuild = tiles;
+        progress_.levels = levels;
+        progress_.targetLevels = layout.levels;
+        tilesBuilt_ = 0;
+    };
+
     // Builds `tiles` at `levels` into `snap`; false when cancelled.
     auto buildInto = [&](VoxelSnapshot& snap, const std::vector<long>& tiles, int levels) {
         std::vector<std::shared_ptr<const TileData>> built(tiles.size());
@@ -193,6 +212,7 @@ void Voxelizer::process(Request request)
                     return;
                 }
                 if (t->state != TileState::Empty) built[k] = std::make_shared<const TileData>(std::move(*t));
+                ++tilesBuilt_;
             });
         });
         if (aborted || stale(revision)) return false;
@@ -204,12 +224,14 @@ void Voxelizer::process(Request request)
         stats.cancelled = cancelledNow;
         std::lock_guard lock(mutex_);
         stats_ = stats;
+        progress_.busy = false;
     };
 
     const int coarseLevels = std::max(1, layout.levels - options_.coarseLevelDrop);
     auto current = start();
     const bool coarsePass = coarseLevels < layout.levels && !order.empty();
     if (coarsePass) {
+        pass(true, order.size(), coarseLevels);
         if (!buildInto(*current, order, coarseLevels)) return finish(true);
         current->complete = false;
         publish(current);
@@ -220,6 +242,7 @@ void Voxelizer::process(Request request)
     // already describes the new document, so batches can be published as
     // they finish (each a consistent snapshot); without one, only the end.
     const std::size_t batch = std::max<std::size_t>(64, order.size() / 4);
+    pass(false, order.size(), layout.levels);
     for (std::size_t first = 0; first < order.size(); first += batch) {
         const std::vector<long> part(order.begin() + long(first),
                                      order.begin() + long(std::min(order.size(), first + batch)));

@@ -25,6 +25,11 @@
 //     rounding, or a ray starting inside the solid, still stops there.
 //  5. The normal is the normalised trilinear interpolation of the corner
 //     normals at the hit; the feature is the nearest corner's.
+//  6. With a section plane, the ray is clipped to the side kept (ending at
+//     the plane, or starting there); a ray starting on the plane meets a
+//     cap when its first populated voxel (or a full tile) is entered with
+//     f <= 0: no surface was crossed since the plane, so the plane point was
+//     inside. A cap has the plane's normal and the feature kSectionCap.
 //  A kFullTile tile (entirely inside) is reported hit at its entry face,
 //  with that face's normal; with consistent voxel data a ray always meets a
 //  populated voxel before, so this is only a safety net.
@@ -36,9 +41,11 @@
 
 #include "kerf/tracer/Camera.hpp"
 #include "kerf/tracer/Image.hpp"
+#include "kerf/tracer/Section.hpp"
 #include "kerf/voxelizer/VoxelSnapshot.hpp"
 
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include <cstdint>
 #include <limits>
@@ -57,15 +64,22 @@ struct RayHit {
 
 /// Traces one ray through `buffers`. `origin` is relative to the grid's
 /// origin (buffers.layout.origin), in mm; `direction` is of unit length.
-/// Pure function of its arguments; safe from any thread.
-RayHit traceRay(const FlatVoxelBuffers& buffers, const glm::vec3& origin, const glm::vec3& direction);
+/// `plane`: a section plane in the same coordinates (xyz unit normal, w
+/// offset), or zero for none. Pure function of its arguments; safe from any
+/// thread.
+RayHit traceRay(const FlatVoxelBuffers& buffers, const glm::vec3& origin, const glm::vec3& direction,
+                const glm::vec4& plane = glm::vec4(0.0f));
+
+/// A world-space section as traceRay's grid-local plane (zero when disabled).
+glm::vec4 localPlane(const GridLayout& layout, const Section& section);
 
 /// As above for a world-space ray (the subtraction of the grid origin is
 /// done in double, as the GPU path does on the CPU before uploading).
-RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray);
+RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray, const Section& section = {});
 
 /// Traces every pixel of `camera`'s image, rows in parallel with oneTBB on
 /// `threads` threads (0: every core). The buffers must not change meanwhile.
-TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, int threads = 0);
+TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, int threads = 0,
+                       const Section& section = {});
 
 } // namespace kerf

@@ -9,6 +9,7 @@
 
 #include "kerf/tracer/Camera.hpp"
 #include "kerf/tracer/Image.hpp"
+#include "kerf/tracer/Section.hpp"
 #include "kerf/viewport/GpuBuffer.hpp"
 #include "kerf/viewport/VoxelStreamer.hpp"
 #include "kerf/viewport/VulkanContext.hpp"
@@ -54,13 +55,14 @@ public:
     /// Records the trace of `camera`'s image into the targets (resized as
     /// needed), followed by a barrier making them readable by fragment
     /// shaders and transfers. Writes the timestamps read by lastTiming().
-    void record(VkCommandBuffer cb, const Camera& camera, const VoxelAddresses& voxels);
+    void record(VkCommandBuffer cb, const Camera& camera, const VoxelAddresses& voxels, const Section& section = {});
     const TraceTargets& targets() const;
     TraceTiming lastTiming() const;
 
     /// Traces and reads the image back (waits for the device).
-    TraceImage trace(const Camera& camera, TraceTiming* timing = nullptr);
-    TraceImage trace(const Camera& camera, const ResidentSet& voxels, TraceTiming* timing = nullptr);
+    TraceImage trace(const Camera& camera, TraceTiming* timing = nullptr, const Section& section = {});
+    TraceImage trace(const Camera& camera, const ResidentSet& voxels, TraceTiming* timing = nullptr,
+                     const Section& section = {});
 
 private:
     struct Impl;

@@ -62,6 +62,8 @@ public:
     /// a barrier to compute shader reads). Call once per frame.
     FrameUpload recordFrame(VkCommandBuffer cb);
     const ResidentSet& resident() const { return resident_; }
+    /// The snapshot the resident set holds (null before the first switch).
+    const std::shared_ptr<const VoxelSnapshot>& residentSnapshot() const { return residentSnapshot_; }
     bool upToDate() const;
     std::size_t heapCapacity() const { return heap_.capacity(); }
 

@@ -20,6 +20,15 @@ namespace kerf::vk {
 struct ContextOptions {
     bool validation = false;   // enable VK_LAYER_KHRONOS_validation when installed
     bool preferCpu = false;    // pick lavapipe even when a GPU exists (tests)
+    /// Enable VK_KHR_swapchain: the device must be able to present (a
+    /// viewport in a window). Devices without it are passed over.
+    bool presentation = false;
+    /// Adopt this instance instead of creating one (a window system's
+    /// instance, created with its surface extensions): the context does not
+    /// destroy it. `validation` then only says whether the instance was
+    /// created with the validation layer and VK_EXT_debug_utils, so that
+    /// the context counts their messages.
+    VkInstance externalInstance = VK_NULL_HANDLE;
 };
 
 class Context {
@@ -68,6 +77,7 @@ private:
     VkPhysicalDeviceMemoryProperties memory_{};
     std::size_t maxAllocation_ = std::size_t(1) << 30;
     bool validation_ = false;
+    bool ownsInstance_ = true;
     std::unique_ptr<Messages> messages_;
     CommandPool pool_;
 };

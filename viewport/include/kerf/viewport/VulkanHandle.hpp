@@ -52,6 +52,7 @@ using DescriptorSetLayout = Owned<VkDescriptorSetLayout, VkDevice, vkDestroyDesc
 using DescriptorPool = Owned<VkDescriptorPool, VkDevice, vkDestroyDescriptorPool>;
 using CommandPool = Owned<VkCommandPool, VkDevice, vkDestroyCommandPool>;
 using Fence = Owned<VkFence, VkDevice, vkDestroyFence>;
+using Semaphore = Owned<VkSemaphore, VkDevice, vkDestroySemaphore>;
 using QueryPool = Owned<VkQueryPool, VkDevice, vkDestroyQueryPool>;
 using Image = Owned<VkImage, VkDevice, vkDestroyImage>;
 using ImageView = Owned<VkImageView, VkDevice, vkDestroyImageView>;

@@ -48,6 +48,17 @@ struct VoxelizerStats {
     bool cancelled = false;
 };
 
+/// Where the background work stands (for a progress display).
+struct VoxelizerProgress {
+    std::uint64_t revision = 0; // the revision being built (or last built)
+    bool busy = false;
+    bool coarsePass = false;    // building the coarse preview (else full depth)
+    std::size_t tilesToBuild = 0;
+    std::size_t tilesBuilt = 0; // of this pass
+    int levels = 0;             // depth this pass builds to
+    int targetLevels = 0;       // full depth
+};
+
 class Voxelizer {
 public:
     explicit Voxelizer(VoxelizerOptions options = {});
@@ -66,6 +77,8 @@ public:
     bool waitFor(std::uint64_t revision, bool complete, std::chrono::milliseconds timeout) const;
     /// Statistics of the last revision whose work finished or was cancelled.
     VoxelizerStats lastStats() const;
+    /// What the background work is doing now (cheap; any thread).
+    VoxelizerProgress progress() const;
 
 private:
     struct Request {
@@ -87,6 +100,8 @@ private:
     glm::dvec3 focus_{0.0};
     std::atomic<std::uint64_t> latestRevision_{0};
     std::atomic<bool> stopping_{false};
+    VoxelizerProgress progress_;               // guarded by mutex_
+    std::atomic<std::size_t> tilesBuilt_{0};    // of the current pass
     std::uint64_t nextVersion_ = 1; // coordinating thread only
 
     // Owned by the coordinating thread.

@@ -1,0 +1,91 @@
+#include "CutListDialog.hpp"
+
+#include "kerf/document/AtomicFile.hpp"
+
+#include <QDialogButtonBox>
+#include <QFileDialog>
+#include <QHeaderView>
+#include <QLabel>
+#include <QPushButton>
+#include <QTableWidget>
+#include <QVBoxLayout>
+#include <QtConcurrent/QtConcurrentRun>
+
+namespace kerf::ui {
+
+CutListDialog::CutListDialog(const Document& doc, QString partName, QWidget* parent)
+    : QDialog(parent), partName_(std::move(partName))
+{
+    setWindowTitle(tr("Cut list — %1").arg(partName_));
+    resize(720, 420);
+    auto* layout = new QVBoxLayout(this);
+    table_ = new QTableWidget(0, 5, this);
+    table_->setObjectName("cutlist.table");
+    table_->setHorizontalHeaderLabels({tr("Part"), tr("Qty"), tr("Length (mm)"), tr("Width (mm)"), tr("Thickness (mm)")});
+    table_->horizontalHeader()->setSectionResizeMode(0, QHeaderView::Stretch);
+    table_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+    table_->setSortingEnabled(false);
+    layout->addWidget(table_);
+    status_ = new QLabel(tr("Measuring the bodies…"), this);
+    layout->addWidget(status_);
+    auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close, this);
+    exportButton_ = buttons->addButton(tr("Export CSV…"), QDialogButtonBox::ActionRole);
+    exportButton_->setEnabled(false);
+    layout->addWidget(buttons);
+    connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
+    connect(exportButton_, &QPushButton::clicked, this, [this] {
+        const QString f = QFileDialog::getSaveFileName(this, tr("Export cut list"), partName_ + ".csv",
+                                                       tr("CSV files (*.csv)"));
+        if (!f.isEmpty()) exportCsv(f);
+    });
+    connect(&watcher_, &QFutureWatcher<std::vector<CutListRow>>::finished, this, [this] {
+        try {
+            showRows(watcher_.result());
+        } catch (const std::exception& e) {
+            status_->setText(tr("The cut list could not be made: %1").arg(QString::fromUtf8(e.what())));
+        }
+    });
+    watcher_.setFuture(QtConcurrent::run([doc] { return cutList(doc); }));
+}
+
+void CutListDialog::showRows(std::vector<CutListRow> rows)
+{
+    rows_ = std::move(rows);
+    table_->setRowCount(int(rows_.size()));
+    auto cell = [](const QString& text, bool number) {
+        auto* item = new QTableWidgetItem(text);
+        if (number) item->setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
+        return item;
+    };
+    double worst = 0.0;
+    for (int r = 0; r < int(rows_.size()); ++r) {
+        const CutListRow& row = rows_[std::size_t(r)];
+        table_->setItem(r, 0, cell(QString::fromStdString(row.name), false));
+        table_->setItem(r, 1, cell(QString::number(row.quantity), true));
+        for (int c = 0; c < 3; ++c) {
+            const double v = c == 0 ? row.length : c == 1 ? row.width : row.thickness;
+            table_->setItem(r, 2 + c, cell(row.unbounded ? tr("unbounded") : QString::number(v, 'f', 2), true));
+        }
+        worst = std::max(worst, row.uncertainty);
+    }
+    status_->setText(rows_.empty() ? tr("The part has no visible body.")
+                                   : tr("%n bodies; dimensions within %1 mm.", nullptr, int(rows_.size()))
+                                         .arg(std::max(worst, 0.01), 0, 'f', 2));
+    exportButton_->setEnabled(!rows_.empty());
+    ready_ = true;
+    emit computed();
+}
+
+bool CutListDialog::exportCsv(const QString& file)
+{
+    try {
+        writeFileAtomically(file.toStdString(), cutListCsv(rows_));
+        status_->setText(tr("Wrote %1").arg(file));
+        return true;
+    } catch (const std::exception& e) {
+        status_->setText(tr("Could not write the cut list: %1").arg(QString::fromUtf8(e.what())));
+        return false;
+    }
+}
+
+} // namespace kerf::ui

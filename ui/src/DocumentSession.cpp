@@ -1,0 +1,76 @@
+#include "DocumentSession.hpp"
+
+#include "EditCommand.hpp"
+#include "kerf/document/DocumentEdits.hpp"
+#include "kerf/document/DocumentError.hpp"
+
+#include <QFileInfo>
+
+namespace kerf::ui {
+
+DocumentSession::DocumentSession(QObject* parent) : QObject(parent), document_(edit::emptyDocument())
+{
+    connect(&undo_, &QUndoStack::cleanChanged, this, &DocumentSession::stateChanged);
+}
+
+QString DocumentSession::displayName() const
+{
+    return path_ ? QFileInfo(QString::fromStdString(path_->string())).fileName() : tr("Untitled");
+}
+
+bool DocumentSession::apply(const QString& text, const std::function<void(Document&)>& edit, QString* error,
+                            const QString& mergeKey)
+{
+    Document after = document_;
+    try {
+        edit(after);
+        // A document with an empty root is where every new part starts; it
+        // is let through so that the first feature can be added to it.
+        if (!after.root.children.empty() || !isBoolean(after.root.type)) after.validate(path_ ? path_->string() : "");
+    } catch (const DocumentError& e) {
+        if (error) {
+            // The message without the file name: the field is right there.
+            QString m = QString::fromStdString(e.nodeId().empty() ? "" : "node '" + e.nodeId() + "'");
+            if (!e.field().empty()) m += QString::fromStdString((m.isEmpty() ? "field '" : ", field '") + e.field() + "'");
+            if (!m.isEmpty()) m += ": ";
+            *error = m + QString::fromStdString(e.reason());
+        }
+        return false;
+    } catch (const std::exception& e) {
+        if (error) *error = QString::fromUtf8(e.what());
+        return false;
+    }
+    if (after == document_) return true; // nothing to undo
+    undo_.push(new EditCommand(this, text, document_, std::move(after), mergeKey));
+    return true;
+}
+
+void DocumentSession::setDocumentFromCommand(const Document& doc)
+{
+    document_ = doc;
+    ++revision_;
+    emit documentChanged();
+}
+
+void DocumentSession::reset(Document doc, std::optional<std::filesystem::path> path, bool modified)
+{
+    document_ = std::move(doc);
+    path_ = std::move(path);
+    undo_.clear();
+    undo_.setClean();
+    modifiedWithoutUndo_ = modified;
+    ++revision_;
+    emit documentChanged();
+    emit stateChanged();
+}
+
+void DocumentSession::saveAs(const std::filesystem::path& file)
+{
+    document_.save(file); // validates, writes atomically; throws and leaves everything as it was
+    path_ = file;
+    modifiedWithoutUndo_ = false;
+    undo_.setClean();
+    emit stateChanged();
+}
+
+} // namespace kerf::ui

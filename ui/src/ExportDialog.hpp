@@ -1,0 +1,76 @@
+#pragma once
+// Export STL: the file, the feature size (cell edge; the document's by
+// default), binary or ASCII. Meshing runs on a worker thread with a
+// progress bar and a Cancel button; the dialog stays responsive and the
+// file is written whole or not at all. The result line says the triangle
+// count and whether the mesh is closed.
+
+#include "kerf/document/Document.hpp"
+
+#include <QDialog>
+
+#include <atomic>
+#include <filesystem>
+#include <memory>
+#include <thread>
+
+class QLineEdit;
+class QComboBox;
+class QProgressBar;
+class QPushButton;
+class QLabel;
+class QTimer;
+
+namespace kerf::ui {
+
+class QuantityEdit;
+
+struct ExportOutcome {
+    bool written = false;
+    bool cancelled = false;
+    QString message; // the result or the reason it failed
+    std::size_t triangles = 0;
+    bool closed = false;
+};
+
+class ExportDialog : public QDialog {
+    Q_OBJECT
+public:
+    ExportDialog(const Document& doc, const std::filesystem::path& suggested, QWidget* parent = nullptr);
+    ~ExportDialog() override;
+
+    /// Starts the export with the dialog's settings (the Export button).
+    void start();
+    /// Asks a running export to stop (the Cancel button).
+    void cancel();
+    bool running() const { return worker_.joinable() && !finished_; }
+    const ExportOutcome& outcome() const { return outcome_; }
+
+signals:
+    void finished(const kerf::ui::ExportOutcome& outcome);
+
+protected:
+    void reject() override;
+
+private:
+    void poll();
+
+    Document doc_;
+    QLineEdit* path_;
+    QuantityEdit* featureSize_;
+    QComboBox* format_;
+    QProgressBar* progress_;
+    QLabel* result_;
+    QPushButton* exportButton_;
+    QPushButton* cancelButton_;
+    QTimer* timer_;
+
+    std::thread worker_;
+    std::atomic<bool> cancel_{false};
+    std::atomic<double> fraction_{0.0};
+    std::atomic<bool> done_{false};
+    bool finished_ = true;
+    ExportOutcome outcome_, workerOutcome_;
+};
+
+} // namespace kerf::ui

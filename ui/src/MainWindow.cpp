@@ -1,0 +1,958 @@
+#include "MainWindow.hpp"
+
+#include "CutListDialog.hpp"
+#include "ExportDialog.hpp"
+#include "FeatureTreeModel.hpp"
+#include "NodeText.hpp"
+#include "PropertyEditor.hpp"
+#include "QuantityEdit.hpp"
+#include "kerf/document/DocumentEdits.hpp"
+#include "kerf/document/DocumentError.hpp"
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/evaluator/TightBounds.hpp"
+#include "kerf/viewport/ReferenceMesh.hpp"
+#include "kerf/viewport/qt/ViewportWidget.hpp"
+
+#include <QAction>
+#include <QActionGroup>
+#include <QApplication>
+#include <QCheckBox>
+#include <QCloseEvent>
+#include <QComboBox>
+#include <QDockWidget>
+#include <QDragEnterEvent>
+#include <QDropEvent>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QFutureWatcher>
+#include <QHBoxLayout>
+#include <QHeaderView>
+#include <QLabel>
+#include <QMenu>
+#include <QMenuBar>
+#include <QMimeData>
+#include <QScrollArea>
+#include <QSettings>
+#include <QSlider>
+#include <QStatusBar>
+#include <QTimer>
+#include <QToolBar>
+#include <QTreeView>
+#include <QVBoxLayout>
+#include <QtConcurrent/QtConcurrentRun>
+
+#include <glm/glm.hpp>
+
+namespace kerf::ui {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kMaxRecentFiles = 8;
+
+const NodeType kPrimitives[] = {NodeType::Box,   NodeType::Sphere,  NodeType::Cylinder, NodeType::Cone,
+                                NodeType::Torus, NodeType::Extrude, NodeType::Halfspace};
+const NodeType kOperations[] = {NodeType::Union, NodeType::Intersection, NodeType::Difference, NodeType::Offset,
+                                NodeType::Shell, NodeType::Array,        NodeType::Mirror};
+
+QString objectNameFor(const char* prefix, NodeType t)
+{
+    return QString(prefix) + QString::fromUtf8(nodeTypeName(t).data(), qsizetype(nodeTypeName(t).size()));
+}
+
+bool isMeshFile(const QString& file)
+{
+    const QString s = QFileInfo(file).suffix().toLower();
+    return s == "stl" || s == "obj" || s == "ply" || s == "off";
+}
+
+// Primitive node ids in a subtree: what the viewport highlights for a selection.
+void collectFeatureNodes(const Node& n, std::unordered_set<std::string>& out)
+{
+    if (isPrimitive(n.type)) out.insert(n.id);
+    for (const auto& c : n.children) collectFeatureNodes(c, out);
+}
+
+QString millimetres(double v) { return QString::number(v, 'f', 2); }
+
+} // namespace
+
+MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
+{
+    setObjectName("mainWindow");
+    setAcceptDrops(true);
+    session_ = new DocumentSession(this);
+    voxelizer_ = new VoxelizerBridge(this);
+    recovery_ = std::make_unique<RecoveryStore>(options_.recoveryFolder);
+    model_ = new FeatureTreeModel(session_, this);
+
+    viewport_ = new qt::ViewportWidget(this);
+    viewport_->setObjectName("viewport");
+    setCentralWidget(viewport_);
+
+    tree_ = new QTreeView(this);
+    tree_->setObjectName("featureTree");
+    tree_->setModel(model_);
+    tree_->setSelectionMode(QAbstractItemView::ExtendedSelection);
+    tree_->setDragDropMode(QAbstractItemView::InternalMove);
+    tree_->setDefaultDropAction(Qt::MoveAction);
+    tree_->setDragEnabled(true);
+    tree_->setAcceptDrops(true);
+    tree_->setDropIndicatorShown(true);
+    tree_->setEditTriggers(QAbstractItemView::EditKeyPressed | QAbstractItemView::SelectedClicked);
+    tree_->setContextMenuPolicy(Qt::CustomContextMenu);
+    tree_->header()->setSectionResizeMode(0, QHeaderView::Stretch);
+    tree_->header()->setStretchLastSection(false);
+    tree_->expandAll();
+
+    properties_ = new PropertyEditor(session_, this);
+    properties_->setObjectName("propertyEditor");
+
+    buildActions();
+    buildDocks();
+    buildStatusBar();
+
+    connect(session_, &DocumentSession::documentChanged, this, &MainWindow::onDocumentChanged);
+    connect(session_, &DocumentSession::stateChanged, this, &MainWindow::updateTitle);
+    connect(model_, &QAbstractItemModel::modelAboutToBeReset, this, [this] {
+        expanded_.clear();
+        // Remember which rows are open and selected, by node id.
+        std::function<void(const QModelIndex&)> walk = [&](const QModelIndex& parent) {
+            for (int r = 0; r < model_->rowCount(parent); ++r) {
+                const QModelIndex i = model_->index(r, 0, parent);
+                if (tree_->isExpanded(i)) expanded_.push_back(model_->nodeIdAt(i));
+                walk(i);
+            }
+        };
+        walk({});
+        selectionBeforeReset_ = selectedNodeIds();
+    });
+    connect(model_, &QAbstractItemModel::modelReset, this, [this] {
+        for (const auto& id : expanded_) tree_->setExpanded(model_->indexOf(id), true);
+        tree_->setExpanded(model_->index(0, 0), true);
+        std::vector<std::string> keep;
+        for (const auto& id : selectionBeforeReset_)
+            if (session_->document().root.find(id)) keep.push_back(id);
+        selectNodes(keep);
+    });
+    connect(tree_->selectionModel(), &QItemSelectionModel::selectionChanged, this, &MainWindow::onSelectionChanged);
+    connect(model_, &FeatureTreeModel::editRefused, this, [this](const QString& why) { showMessage(why); });
+    connect(viewport_, &qt::ViewportWidget::clicked, this, &MainWindow::onViewportClicked);
+    connect(viewport_, &qt::ViewportWidget::frameDrawn, this, &MainWindow::updateStatus);
+    connect(viewport_, &qt::ViewportWidget::backendChanged, this, [this] {
+        showMessage(tr("The viewport uses the CPU reference tracer: %1").arg(viewport_->status().fallbackReason), 0);
+    });
+    connect(voxelizer_, &VoxelizerBridge::published, this, [this](std::shared_ptr<const VoxelSnapshot> s) {
+        viewport_->setSnapshot(std::move(s));
+        updateStatus();
+    });
+
+    autosave_ = new QTimer(this);
+    autosave_->setInterval(options_.autosaveMs);
+    connect(autosave_, &QTimer::timeout, this, &MainWindow::autosaveNow);
+    autosave_->start();
+    progressTimer_ = new QTimer(this);
+    progressTimer_->setInterval(100);
+    connect(progressTimer_, &QTimer::timeout, this, &MainWindow::updateStatus);
+    progressTimer_->start();
+
+    resize(1400, 860);
+    onDocumentChanged();
+    updateTitle();
+    if (!viewport_->status().vulkan)
+        showMessage(tr("No usable Vulkan device (%1): the viewport uses the CPU reference tracer.")
+                        .arg(viewport_->status().fallbackReason),
+                    0);
+}
+
+MainWindow::~MainWindow() = default;
+
+// ---------------------------------------------------------------------------
+// Actions, menus, toolbars
+
+void MainWindow::buildActions()
+{
+    auto action = [this](const QString& text, const QString& name, const QKeySequence& key = {}) {
+        auto* a = new QAction(text, this);
+        a->setObjectName(name);
+        if (!key.isEmpty()) a->setShortcut(key);
+        addAction(a);
+        return a;
+    };
+
+    // File
+    QMenu* file = menuBar()->addMenu(tr("&File"));
+    QAction* newAct = action(tr("&New"), "action.new", QKeySequence::New);
+    connect(newAct, &QAction::triggered, this, &MainWindow::newDocument);
+    QAction* openAct = action(tr("&Open…"), "action.open", QKeySequence::Open);
+    connect(openAct, &QAction::triggered, this, [this] {
+        const QString f = askFile(false, {});
+        if (!f.isEmpty()) openFile(f.toStdString());
+    });
+    recentMenu_ = new QMenu(tr("Open &Recent"), this);
+    QAction* saveAct = action(tr("&Save"), "action.save", QKeySequence::Save);
+    connect(saveAct, &QAction::triggered, this, [this] { save(); });
+    QAction* saveAsAct = action(tr("Save &As…"), "action.saveAs", QKeySequence::SaveAs);
+    connect(saveAsAct, &QAction::triggered, this, [this] { saveAs(); });
+    QAction* exportAct = action(tr("&Export STL…"), "action.export", QKeySequence(tr("Ctrl+E")));
+    connect(exportAct, &QAction::triggered, this, [this] {
+        fs::path suggested = session_->path() ? session_->path()->parent_path() / session_->path()->stem()
+                                              : fs::path(QDir::homePath().toStdString()) / "part";
+        suggested += ".stl";
+        auto* d = new ExportDialog(session_->document(), suggested, this);
+        d->setObjectName("exportDialog");
+        d->setAttribute(Qt::WA_DeleteOnClose);
+        d->show();
+    });
+    QAction* cutListAct = action(tr("&Cut List…"), "action.cutList");
+    connect(cutListAct, &QAction::triggered, this, [this] {
+        auto* d = new CutListDialog(session_->document(), session_->displayName(), this);
+        d->setObjectName("cutListDialog");
+        d->setAttribute(Qt::WA_DeleteOnClose);
+        d->show();
+    });
+    QAction* quitAct = action(tr("&Quit"), "action.quit", QKeySequence::Quit);
+    connect(quitAct, &QAction::triggered, this, &QWidget::close);
+    file->addActions({newAct, openAct});
+    file->addMenu(recentMenu_);
+    file->addActions({saveAct, saveAsAct});
+    file->addSeparator();
+    file->addActions({exportAct, cutListAct});
+    file->addSeparator();
+    file->addAction(quitAct);
+    rebuildRecentMenu();
+
+    // Edit
+    QMenu* edit = menuBar()->addMenu(tr("&Edit"));
+    QAction* undoAct = session_->undoStack()->createUndoAction(this, tr("&Undo"));
+    undoAct->setObjectName("action.undo");
+    undoAct->setShortcut(QKeySequence::Undo);
+    QAction* redoAct = session_->undoStack()->createRedoAction(this, tr("&Redo"));
+    redoAct->setObjectName("action.redo");
+    redoAct->setShortcuts({QKeySequence(tr("Ctrl+Shift+Z")), QKeySequence::Redo});
+    addActions({undoAct, redoAct});
+    QAction* deleteAct = action(tr("&Delete"), "action.delete", QKeySequence::Delete);
+    connect(deleteAct, &QAction::triggered, this, [this] { deleteSelection(); });
+    QAction* duplicateAct = action(tr("D&uplicate"), "action.duplicate", QKeySequence(tr("Ctrl+D")));
+    connect(duplicateAct, &QAction::triggered, this, [this] { duplicateSelection(); });
+    QAction* renameAct = action(tr("Re&name"), "action.rename", QKeySequence(Qt::Key_F2));
+    connect(renameAct, &QAction::triggered, this, [this] {
+        if (tree_->currentIndex().isValid()) tree_->edit(tree_->currentIndex().siblingAtColumn(0));
+    });
+    edit->addActions({undoAct, redoAct});
+    edit->addSeparator();
+    edit->addActions({deleteAct, duplicateAct, renameAct});
+
+    // Add (primitives and operations), also on the feature toolbar and the tree's context menu.
+    QMenu* add = menuBar()->addMenu(tr("&Add"));
+    QMenu* group = new QMenu(tr("&Group Selection Under"), this);
+    std::vector<QAction*> primitiveActions, operationActions;
+    for (NodeType t : kPrimitives) {
+        QAction* a = action(nodeTypeLabel(t), objectNameFor("action.add.", t));
+        connect(a, &QAction::triggered, this, [this, t] { addFeature(t); });
+        primitiveActions.push_back(a);
+        add->addAction(a);
+    }
+    add->addSeparator();
+    for (NodeType t : kOperations) {
+        QAction* a = action(nodeTypeLabel(t), objectNameFor("action.add.", t));
+        connect(a, &QAction::triggered, this, [this, t] { addFeature(t); });
+        operationActions.push_back(a);
+        add->addAction(a);
+        QAction* g = action(nodeTypeLabel(t), objectNameFor("action.group.", t));
+        connect(g, &QAction::triggered, this, [this, t] { groupSelection(t); });
+        group->addAction(g);
+    }
+    add->addSeparator();
+    add->addMenu(group);
+    QAction* addMeshAct = action(tr("Reference &Mesh…"), "action.addMesh");
+    connect(addMeshAct, &QAction::triggered, this, [this] {
+        const QStringList files = QFileDialog::getOpenFileNames(this, tr("Add reference meshes"), {},
+                                                                tr("Meshes (*.stl *.obj *.ply *.off)"));
+        addMeshFiles(files);
+    });
+    add->addAction(addMeshAct);
+
+    // View
+    QMenu* view = menuBar()->addMenu(tr("&View"));
+    for (const auto& [name, label, key] :
+         {std::tuple{"iso", tr("&Isometric"), QKeySequence(tr("0"))}, std::tuple{"front", tr("&Front"), QKeySequence(tr("1"))},
+          std::tuple{"back", tr("&Back"), QKeySequence()}, std::tuple{"left", tr("&Left"), QKeySequence()},
+          std::tuple{"right", tr("&Right"), QKeySequence(tr("3"))}, std::tuple{"top", tr("&Top"), QKeySequence(tr("7"))},
+          std::tuple{"bottom", tr("Botto&m"), QKeySequence()}}) {
+        QAction* a = new QAction(label, this);
+        a->setObjectName(QString("action.view.") + name);
+        const QString n = name;
+        connect(a, &QAction::triggered, this, [this, n] { viewport_->setStandardView(n); });
+        view->addAction(a);
+    }
+    view->addSeparator();
+    QAction* fitAct = action(tr("&Fit All"), "action.fitAll", QKeySequence(tr("F")));
+    fitAct->setShortcutContext(Qt::WidgetWithChildrenShortcut);
+    connect(fitAct, &QAction::triggered, viewport_, &qt::ViewportWidget::fitAll);
+    QAction* orthoAct = action(tr("&Orthographic"), "action.orthographic", QKeySequence(tr("5")));
+    orthoAct->setShortcutContext(Qt::WidgetWithChildrenShortcut);
+    orthoAct->setCheckable(true);
+    connect(orthoAct, &QAction::toggled, viewport_, &qt::ViewportWidget::setOrthographic);
+    QAction* gridAct = action(tr("&Grid"), "action.grid");
+    gridAct->setCheckable(true);
+    gridAct->setChecked(true);
+    connect(gridAct, &QAction::toggled, viewport_, &qt::ViewportWidget::setGridVisible);
+    QAction* axesAct = action(tr("&Axes"), "action.axes");
+    axesAct->setCheckable(true);
+    axesAct->setChecked(true);
+    connect(axesAct, &QAction::toggled, viewport_, &qt::ViewportWidget::setAxesVisible);
+    view->addActions({fitAct, orthoAct});
+    view->addSeparator();
+    view->addActions({gridAct, axesAct});
+    view->addSeparator();
+
+    // Tools
+    QMenu* tools = menuBar()->addMenu(tr("&Tools"));
+    measureAction_ = action(tr("&Measure Distance"), "action.measure", QKeySequence(tr("M")));
+    measureAction_->setShortcutContext(Qt::WidgetWithChildrenShortcut);
+    measureAction_->setCheckable(true);
+    connect(measureAction_, &QAction::toggled, this, [this](bool on) {
+        measurePoints_.clear();
+        viewport_->setMarkers({});
+        measureLabel_->setText(on ? tr("Click two points on the part.") : QString());
+    });
+    QAction* bboxAct = action(tr("Part &Bounding Box"), "action.boundingBox");
+    connect(bboxAct, &QAction::triggered, this, &MainWindow::showBoundingBox);
+    tools->addActions({measureAction_, bboxAct});
+
+    // Toolbars
+    QToolBar* fileBar = addToolBar(tr("File"));
+    fileBar->setObjectName("toolbar.file");
+    fileBar->addActions({newAct, openAct, saveAct, undoAct, redoAct, exportAct});
+    QToolBar* featureBar = addToolBar(tr("Features"));
+    featureBar->setObjectName("toolbar.features");
+    for (QAction* a : primitiveActions) featureBar->addAction(a);
+    featureBar->addSeparator();
+    for (QAction* a : operationActions) featureBar->addAction(a);
+    QToolBar* viewBar = addToolBar(tr("View"));
+    viewBar->setObjectName("toolbar.view");
+    viewBar->addActions({fitAct, orthoAct, measureAction_});
+
+    // The tree's context menu.
+    connect(tree_, &QTreeView::customContextMenuRequested, this,
+            [this, add, group, deleteAct, duplicateAct, renameAct](const QPoint& at) {
+                QMenu menu(this);
+                menu.addMenu(add);
+                menu.addMenu(group);
+                menu.addSeparator();
+                menu.addActions({renameAct, duplicateAct, deleteAct});
+                menu.exec(tree_->viewport()->mapToGlobal(at));
+            });
+}
+
+void MainWindow::buildDocks()
+{
+    auto* treeDock = new QDockWidget(tr("Features"), this);
+    treeDock->setObjectName("dock.features");
+    treeDock->setWidget(tree_);
+    addDockWidget(Qt::LeftDockWidgetArea, treeDock);
+
+    auto* scroll = new QScrollArea(this);
+    scroll->setWidget(properties_);
+    scroll->setWidgetResizable(true);
+    auto* propDock = new QDockWidget(tr("Properties"), this);
+    propDock->setObjectName("dock.properties");
+    propDock->setWidget(scroll);
+    addDockWidget(Qt::RightDockWidgetArea, propDock);
+
+    // Section view: a clipping plane across X, Y or Z at a draggable offset.
+    auto* section = new QWidget(this);
+    auto* sv = new QVBoxLayout(section);
+    sectionOn_ = new QCheckBox(tr("Section view"), section);
+    sectionOn_->setObjectName("section.enabled");
+    sectionAxis_ = new QComboBox(section);
+    sectionAxis_->setObjectName("section.axis");
+    sectionAxis_->addItems({tr("Across X"), tr("Across Y"), tr("Across Z")});
+    sectionSlider_ = new QSlider(Qt::Horizontal, section);
+    sectionSlider_->setObjectName("section.slider");
+    sectionSlider_->setRange(0, 1000);
+    sectionSlider_->setValue(500);
+    sectionOffset_ = new QuantityEdit(QuantityEdit::Unit::Millimetres, section);
+    sectionOffset_->setObjectName("section.offset");
+    sectionFlip_ = new QCheckBox(tr("Keep the other side"), section);
+    sectionFlip_->setObjectName("section.flip");
+    sv->addWidget(sectionOn_);
+    sv->addWidget(sectionAxis_);
+    sv->addWidget(sectionSlider_);
+    sv->addWidget(sectionOffset_);
+    sv->addWidget(sectionFlip_);
+    sv->addStretch(1);
+    // The slider spans the part's extent along the chosen axis.
+    auto sliderToOffset = [this] {
+        const Aabb b = voxelizer_->latest() ? voxelizer_->latest()->layout.bounds() : Aabb{glm::dvec3(-100), glm::dvec3(100)};
+        const int a = sectionAxis_->currentIndex();
+        return b.min[a] + (b.max[a] - b.min[a]) * sectionSlider_->value() / 1000.0;
+    };
+    connect(sectionSlider_, &QSlider::valueChanged, this, [this, sliderToOffset] {
+        sectionOffset_->showValue(sliderToOffset());
+        updateSection();
+    });
+    connect(sectionOffset_, &QuantityEdit::valueChanged, this, [this] { updateSection(); });
+    connect(sectionAxis_, &QComboBox::currentIndexChanged, this, [this, sliderToOffset] {
+        sectionOffset_->showValue(sliderToOffset());
+        updateSection();
+    });
+    connect(sectionOn_, &QCheckBox::toggled, this, [this, sliderToOffset] {
+        sectionOffset_->showValue(sliderToOffset());
+        updateSection();
+    });
+    connect(sectionFlip_, &QCheckBox::toggled, this, &MainWindow::updateSection);
+    auto* sectionDock = new QDockWidget(tr("Section"), this);
+    sectionDock->setObjectName("dock.section");
+    sectionDock->setWidget(section);
+    addDockWidget(Qt::RightDockWidgetArea, sectionDock);
+
+    measureLabel_ = new QLabel(this);
+    measureLabel_->setObjectName("measure.result");
+    measureLabel_->setWordWrap(true);
+    measureLabel_->setTextInteractionFlags(Qt::TextSelectableByMouse);
+    measureLabel_->setMargin(6);
+    measureLabel_->setAlignment(Qt::AlignTop | Qt::AlignLeft);
+    auto* measureDock = new QDockWidget(tr("Measure"), this);
+    measureDock->setObjectName("dock.measure");
+    measureDock->setWidget(measureLabel_);
+    addDockWidget(Qt::RightDockWidgetArea, measureDock);
+
+    // The docks' toggles go in the View menu.
+    for (QAction* a : menuBar()->actions())
+        if (a->menu() && a->text() == tr("&View"))
+            for (QDockWidget* d : {treeDock, propDock, sectionDock, measureDock}) a->menu()->addAction(d->toggleViewAction());
+}
+
+void MainWindow::buildStatusBar()
+{
+    voxelStatus_ = new QLabel(this);
+    voxelStatus_->setObjectName("status.voxels");
+    memoryStatus_ = new QLabel(this);
+    memoryStatus_->setObjectName("status.memory");
+    frameStatus_ = new QLabel(this);
+    frameStatus_->setObjectName("status.frame");
+    deviceStatus_ = new QLabel(this);
+    deviceStatus_->setObjectName("status.device");
+    statusBar()->addPermanentWidget(voxelStatus_);
+    statusBar()->addPermanentWidget(memoryStatus_);
+    statusBar()->addPermanentWidget(frameStatus_);
+    statusBar()->addPermanentWidget(deviceStatus_);
+}
+
+// ---------------------------------------------------------------------------
+// Document and selection
+
+void MainWindow::onDocumentChanged()
+{
+    const Document& doc = session_->document();
+    try {
+        viewport_->setPickTape(std::make_shared<const Tape>(compileTape(doc)));
+    } catch (const std::exception& e) {
+        showMessage(tr("The part could not be compiled: %1").arg(QString::fromUtf8(e.what())));
+    }
+    voxelizer_->submit(doc);
+    if (doc.meshes != loadedMeshes_) {
+        std::vector<std::string> problems;
+        const fs::path folder = session_->path() ? session_->path()->parent_path() : fs::current_path();
+        viewport_->setMeshes(loadReferenceMeshes(doc, folder, problems));
+        for (const auto& p : problems) showMessage(QString::fromStdString(p) + tr(" (left out)"), 10000);
+        loadedMeshes_ = doc.meshes;
+    }
+    onSelectionChanged();
+    updateTitle();
+}
+
+std::vector<std::string> MainWindow::selectedNodeIds() const
+{
+    std::vector<std::string> ids;
+    for (const QModelIndex& i : tree_->selectionModel()->selectedRows(0)) ids.push_back(model_->nodeIdAt(i));
+    // In tree order, so that grouping keeps the order of the siblings.
+    std::vector<std::string> ordered;
+    std::function<void(const Node&)> walk = [&](const Node& n) {
+        if (std::find(ids.begin(), ids.end(), n.id) != ids.end()) ordered.push_back(n.id);
+        for (const auto& c : n.children) walk(c);
+    };
+    walk(session_->document().root);
+    return ordered;
+}
+
+void MainWindow::selectNodes(const std::vector<std::string>& ids)
+{
+    QItemSelection selection;
+    QModelIndex current;
+    for (const auto& id : ids) {
+        const QModelIndex i = model_->indexOf(id);
+        if (!i.isValid()) continue;
+        selection.select(i, model_->indexOf(id, FeatureTreeModel::TypeColumn));
+        current = i;
+        for (QModelIndex p = i.parent(); p.isValid(); p = p.parent()) tree_->setExpanded(p, true);
+    }
+    tree_->selectionModel()->select(selection, QItemSelectionModel::ClearAndSelect);
+    if (current.isValid()) {
+        tree_->selectionModel()->setCurrentIndex(current, QItemSelectionModel::NoUpdate);
+        tree_->scrollTo(current);
+    }
+    onSelectionChanged();
+}
+
+void MainWindow::onSelectionChanged()
+{
+    const std::vector<std::string> ids = selectedNodeIds();
+    properties_->setNode(ids.size() == 1 ? ids.front() : std::string());
+    std::unordered_set<std::string> features;
+    for (const auto& id : ids)
+        if (const Node* n = session_->document().root.find(id)) collectFeatureNodes(*n, features);
+    viewport_->setSelectedFeatureNodes(std::move(features));
+}
+
+void MainWindow::onViewportClicked(const qt::ViewportPick& pick)
+{
+    if (measureAction_->isChecked()) {
+        if (!pick.hit) return;
+        if (measurePoints_.size() == 2) measurePoints_.clear();
+        measurePoints_.push_back(pick.point);
+        viewport_->setMarkers(measurePoints_);
+        const glm::dvec3& a = measurePoints_.front();
+        if (measurePoints_.size() == 1) {
+            measureLabel_->setText(tr("Point 1: (%1, %2, %3) mm\nClick the second point.")
+                                       .arg(millimetres(a.x), millimetres(a.y), millimetres(a.z)));
+            return;
+        }
+        const glm::dvec3& b = measurePoints_.back();
+        const glm::dvec3 d = b - a;
+        measureLabel_->setText(tr("Distance: %1 mm\nΔX %2   ΔY %3   ΔZ %4 mm\nfrom (%5, %6, %7)\nto (%8, %9, %10)")
+                                   .arg(millimetres(glm::length(d)), millimetres(d.x), millimetres(d.y),
+                                        millimetres(d.z), millimetres(a.x), millimetres(a.y), millimetres(a.z),
+                                        millimetres(b.x), millimetres(b.y))
+                                   .arg(millimetres(b.z)));
+        return;
+    }
+    if (!pick.hit || pick.nodeId.empty()) {
+        if (!(pick.modifiers & Qt::ControlModifier)) selectNodes({});
+        return;
+    }
+    std::vector<std::string> ids;
+    if (pick.modifiers & Qt::ControlModifier) ids = selectedNodeIds();
+    auto it = std::find(ids.begin(), ids.end(), pick.nodeId);
+    if (it != ids.end()) ids.erase(it);
+    else ids.push_back(pick.nodeId);
+    selectNodes(ids);
+}
+
+QString MainWindow::measureText() const { return measureLabel_->text(); }
+
+void MainWindow::showBoundingBox()
+{
+    std::shared_ptr<const Tape> tape;
+    try {
+        tape = std::make_shared<const Tape>(compileTape(session_->document()));
+    } catch (const std::exception& e) {
+        measureLabel_->setText(QString::fromUtf8(e.what()));
+        return;
+    }
+    measureLabel_->setText(tr("Measuring the part…"));
+    auto* watcher = new QFutureWatcher<QString>(this);
+    connect(watcher, &QFutureWatcher<QString>::finished, this, [this, watcher] {
+        measureLabel_->setText(watcher->result());
+        watcher->deleteLater();
+    });
+    watcher->setFuture(QtConcurrent::run([tape]() -> QString {
+        try {
+            const auto tb = tightBounds(*tape, 1e-3);
+            if (!tb) return tr("The part is empty.");
+            const Aabb& b = tb->outer;
+            const glm::dvec3 s = b.size();
+            return tr("Bounding box: %1 x %2 x %3 mm\nX %4 … %5\nY %6 … %7\nZ %8 … %9")
+                .arg(millimetres(s.x), millimetres(s.y), millimetres(s.z), millimetres(b.min.x), millimetres(b.max.x),
+                     millimetres(b.min.y), millimetres(b.max.y), millimetres(b.min.z))
+                .arg(millimetres(b.max.z));
+        } catch (const std::exception& e) {
+            return tr("No bounding box: %1").arg(QString::fromUtf8(e.what()));
+        }
+    }));
+}
+
+void MainWindow::updateSection()
+{
+    if (!sectionOn_->isChecked()) {
+        viewport_->setSection(Section{});
+        return;
+    }
+    viewport_->setSection(Section::alongAxis(sectionAxis_->currentIndex(), sectionOffset_->value(), sectionFlip_->isChecked()));
+}
+
+// ---------------------------------------------------------------------------
+// Structural edits
+
+bool MainWindow::addFeature(NodeType type)
+{
+    const std::vector<std::string> sel = selectedNodeIds();
+    const Document& doc = session_->document();
+    std::string parent = doc.root.id;
+    std::size_t index = std::size_t(-1);
+    if (sel.size() == 1) {
+        const Node* n = doc.root.find(sel.front());
+        if (n && isBoolean(n->type)) {
+            parent = n->id;
+        } else if (n && n->children.size() < edit::maxChildren(n->type)) {
+            parent = n->id; // an empty offset, shell, array or mirror takes it
+        } else if (auto loc = edit::locate(doc, sel.front())) {
+            parent = loc->parentId;
+            index = loc->index + 1;
+        }
+    }
+    const Node* target = doc.root.find(parent);
+    const bool wrapRoot = !target || (target == &doc.root && edit::maxChildren(doc.root.type) <= doc.root.children.size());
+    const std::string id = edit::uniqueId(doc, std::string(nodeTypeName(type)));
+    QString error;
+    const bool ok = session_->apply(tr("Add %1").arg(nodeTypeLabel(type)),
+                                    [&](Document& d) {
+                                        std::string into = parent;
+                                        if (wrapRoot) // a root that takes no more children goes under a union
+                                            into = edit::wrapNodes(d, {d.root.id}, makeNode(NodeType::Union, edit::uniqueId(d, "part")));
+                                        Node n = makeNode(type, id);
+                                        if (!isPrimitive(type)) {
+                                            // An operation starts with a primitive to act on, so the part stays valid.
+                                            const std::string child = edit::uniqueId(d, id + "-box");
+                                            n.children.push_back(makeNode(NodeType::Box, child));
+                                        }
+                                        edit::insertNode(d, into, index, std::move(n));
+                                    },
+                                    &error);
+    if (!ok) {
+        showMessage(tr("Cannot add a %1: %2").arg(nodeTypeLabel(type), error));
+        return false;
+    }
+    selectNodes({id});
+    return true;
+}
+
+bool MainWindow::groupSelection(NodeType type)
+{
+    const std::vector<std::string> ids = selectedNodeIds();
+    if (ids.empty()) {
+        showMessage(tr("Select the features to group first."));
+        return false;
+    }
+    const std::string id = edit::uniqueId(session_->document(), std::string(nodeTypeName(type)));
+    QString error;
+    const bool ok = session_->apply(tr("Group under %1").arg(nodeTypeLabel(type)),
+                                    [&](Document& d) { edit::wrapNodes(d, ids, makeNode(type, id)); }, &error);
+    if (!ok) {
+        showMessage(tr("Cannot group: %1").arg(error));
+        return false;
+    }
+    selectNodes({id});
+    return true;
+}
+
+bool MainWindow::deleteSelection()
+{
+    const std::vector<std::string> ids = selectedNodeIds();
+    if (ids.empty()) return false;
+    QString error;
+    const bool ok = session_->apply(ids.size() == 1 ? tr("Delete %1").arg(QString::fromStdString(ids.front()))
+                                                    : tr("Delete %1 features").arg(ids.size()),
+                                    [&](Document& d) {
+                                        for (const auto& id : ids)
+                                            if (d.root.find(id)) edit::removeNode(d, id);
+                                    },
+                                    &error);
+    if (!ok) showMessage(tr("Cannot delete: %1").arg(error));
+    return ok;
+}
+
+bool MainWindow::duplicateSelection()
+{
+    const std::vector<std::string> ids = selectedNodeIds();
+    if (ids.empty()) return false;
+    std::vector<std::string> copies;
+    QString error;
+    const bool ok = session_->apply(tr("Duplicate"),
+                                    [&](Document& d) {
+                                        copies.clear();
+                                        for (const auto& id : ids) copies.push_back(edit::duplicateNode(d, id));
+                                    },
+                                    &error);
+    if (!ok) {
+        showMessage(tr("Cannot duplicate: %1").arg(error));
+        return false;
+    }
+    selectNodes(copies);
+    return true;
+}
+
+void MainWindow::addMeshFiles(const QStringList& files)
+{
+    if (files.isEmpty()) return;
+    QString error;
+    const std::optional<fs::path> docFolder = session_->path() ? std::optional(session_->path()->parent_path()) : std::nullopt;
+    const bool ok = session_->apply(tr("Add reference mesh"),
+                                    [&](Document& d) {
+                                        for (const QString& f : files) {
+                                            // Check it loads first: a broken mesh is named, not added.
+                                            loadTriangleMesh(f.toStdString());
+                                            MeshReference m;
+                                            std::string stem = QFileInfo(f).completeBaseName().toStdString();
+                                            std::string id = stem.empty() ? "mesh" : stem;
+                                            for (int k = 2; std::any_of(d.meshes.begin(), d.meshes.end(),
+                                                                        [&](const MeshReference& r) { return r.id == id; });
+                                                 ++k)
+                                                id = stem + "-" + std::to_string(k);
+                                            m.id = id;
+                                            fs::path p = fs::absolute(f.toStdString());
+                                            if (docFolder) p = p.lexically_relative(fs::absolute(*docFolder));
+                                            m.path = p.string();
+                                            d.meshes.push_back(m);
+                                        }
+                                    },
+                                    &error);
+    if (!ok) showMessage(tr("Cannot add the mesh: %1").arg(error));
+}
+
+// ---------------------------------------------------------------------------
+// Files
+
+QString MainWindow::askFile(bool saving, const QString& suggested)
+{
+    if (options_.askFile) return options_.askFile(saving, suggested);
+    const QString filter = tr("Kerf documents (*.kerf)");
+    if (saving) {
+        QString f = QFileDialog::getSaveFileName(this, tr("Save As"), suggested, filter);
+        if (!f.isEmpty() && !f.endsWith(".kerf")) f += ".kerf";
+        return f;
+    }
+    return QFileDialog::getOpenFileName(this, tr("Open"), suggested, filter);
+}
+
+bool MainWindow::maybeSave()
+{
+    if (!session_->isModified()) return true;
+    const QMessageBox::StandardButton answer =
+        options_.askSave ? options_.askSave(session_->displayName())
+                         : QMessageBox::warning(this, tr("Unsaved changes"),
+                                                tr("%1 has changes that are not saved. Save them?").arg(session_->displayName()),
+                                                QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel,
+                                                QMessageBox::Save);
+    if (answer == QMessageBox::Cancel) return false;
+    if (answer == QMessageBox::Save) return save();
+    return true;
+}
+
+void MainWindow::newDocument()
+{
+    if (!maybeSave()) return;
+    session_->reset(edit::emptyDocument(), std::nullopt);
+    recovery_->clearAutosave();
+    viewport_->setStandardView("iso");
+    showMessage(tr("New part: add a feature from the Add menu or the toolbar."));
+}
+
+bool MainWindow::openFile(const fs::path& file)
+{
+    if (!maybeSave()) return false;
+    try {
+        Document doc = Document::load(file);
+        session_->reset(std::move(doc), file);
+        recovery_->clearAutosave();
+        addRecentFile(file);
+        showMessage(tr("Opened %1").arg(QString::fromStdString(file.string())));
+        tree_->expandToDepth(1);
+        QTimer::singleShot(0, viewport_, [this] { viewport_->setStandardView("iso"); });
+        return true;
+    } catch (const DocumentError& e) {
+        showMessage(QString::fromUtf8(e.what()), 0);
+        if (!options_.askFile) QMessageBox::warning(this, tr("Cannot open"), QString::fromUtf8(e.what()));
+        return false;
+    }
+}
+
+bool MainWindow::save()
+{
+    if (!session_->path()) return saveAs();
+    return saveAs(*session_->path());
+}
+
+bool MainWindow::saveAs(const std::optional<fs::path>& file)
+{
+    fs::path target;
+    if (file) {
+        target = *file;
+    } else {
+        const QString suggested = session_->path() ? QString::fromStdString(session_->path()->string())
+                                                   : QDir::homePath() + "/part.kerf";
+        const QString f = askFile(true, suggested);
+        if (f.isEmpty()) return false;
+        target = f.toStdString();
+    }
+    try {
+        session_->saveAs(target);
+        recovery_->clearAutosave();
+        autosavedRevision_ = session_->revision();
+        addRecentFile(target);
+        showMessage(tr("Saved %1").arg(QString::fromStdString(target.string())));
+        return true;
+    } catch (const std::exception& e) {
+        showMessage(tr("Not saved: %1").arg(QString::fromUtf8(e.what())), 0);
+        if (!options_.askFile) QMessageBox::warning(this, tr("Cannot save"), QString::fromUtf8(e.what()));
+        return false;
+    }
+}
+
+void MainWindow::autosaveNow()
+{
+    const Document& doc = session_->document();
+    if (!session_->isModified() || session_->revision() == autosavedRevision_) return;
+    if (doc.root.children.empty() && isBoolean(doc.root.type)) return; // nothing worth keeping yet
+    try {
+        recovery_->autosave(doc, session_->path());
+        autosavedRevision_ = session_->revision();
+    } catch (const std::exception& e) {
+        showMessage(tr("Autosave failed: %1").arg(QString::fromUtf8(e.what())));
+    }
+}
+
+void MainWindow::offerRecovery()
+{
+    std::vector<RecoveryCandidate> orphans = recovery_->orphans();
+    std::sort(orphans.begin(), orphans.end(),
+              [](const RecoveryCandidate& a, const RecoveryCandidate& b) { return a.savedAt > b.savedAt; });
+    bool restored = false;
+    for (const RecoveryCandidate& c : orphans) {
+        bool restore = false;
+        if (!restored) {
+            if (options_.askRestore) {
+                restore = options_.askRestore(c);
+            } else {
+                const QString what = c.original ? QString::fromStdString(c.original->string()) : tr("an unsaved part");
+                restore = QMessageBox::question(
+                              this, tr("Restore unsaved changes?"),
+                              tr("Kerf did not close properly. Restore the changes to %1 autosaved at %2?")
+                                  .arg(what, c.savedAt.toLocalTime().toString(Qt::TextDate)),
+                              QMessageBox::Yes | QMessageBox::No, QMessageBox::Yes) == QMessageBox::Yes;
+            }
+        }
+        if (restore) {
+            try {
+                Document doc = RecoveryStore::load(c);
+                session_->reset(std::move(doc), c.original, /*modified=*/true);
+                restored = true;
+                showMessage(tr("Restored the autosave of %1 — save it to keep it.").arg(session_->displayName()), 0);
+            } catch (const std::exception& e) {
+                showMessage(tr("The autosave could not be restored: %1").arg(QString::fromUtf8(e.what())), 0);
+            }
+        }
+        recovery_->discard(c);
+    }
+}
+
+void MainWindow::addRecentFile(const fs::path& file)
+{
+    QSettings settings;
+    QStringList list = settings.value("recentFiles").toStringList();
+    const QString f = QString::fromStdString(fs::absolute(file).string());
+    list.removeAll(f);
+    list.prepend(f);
+    while (list.size() > kMaxRecentFiles) list.removeLast();
+    settings.setValue("recentFiles", list);
+    rebuildRecentMenu();
+}
+
+void MainWindow::rebuildRecentMenu()
+{
+    recentMenu_->clear();
+    const QStringList list = QSettings().value("recentFiles").toStringList();
+    for (const QString& f : list) {
+        QAction* a = recentMenu_->addAction(QFileInfo(f).fileName());
+        a->setToolTip(f);
+        connect(a, &QAction::triggered, this, [this, f] { openFile(f.toStdString()); });
+    }
+    recentMenu_->setEnabled(!list.isEmpty());
+}
+
+void MainWindow::closeEvent(QCloseEvent* e)
+{
+    if (!maybeSave()) {
+        e->ignore();
+        return;
+    }
+    e->accept();
+}
+
+void MainWindow::dragEnterEvent(QDragEnterEvent* e)
+{
+    if (!e->mimeData()->hasUrls()) return;
+    for (const QUrl& u : e->mimeData()->urls()) {
+        const QString f = u.toLocalFile();
+        if (f.endsWith(".kerf", Qt::CaseInsensitive) || isMeshFile(f)) {
+            e->acceptProposedAction();
+            return;
+        }
+    }
+}
+
+void MainWindow::dropEvent(QDropEvent* e)
+{
+    QStringList meshes;
+    for (const QUrl& u : e->mimeData()->urls()) {
+        const QString f = u.toLocalFile();
+        if (f.endsWith(".kerf", Qt::CaseInsensitive)) {
+            openFile(f.toStdString());
+            e->acceptProposedAction();
+            return;
+        }
+        if (isMeshFile(f)) meshes << f;
+    }
+    addMeshFiles(meshes);
+    e->acceptProposedAction();
+}
+
+// ---------------------------------------------------------------------------
+// Title and status
+
+void MainWindow::updateTitle()
+{
+    setWindowTitle(tr("%1[*] — Kerf").arg(session_->displayName()));
+    setWindowModified(session_->isModified());
+}
+
+void MainWindow::showMessage(const QString& text, int timeoutMs)
+{
+    lastMessage_ = text;
+    statusBar()->showMessage(text, timeoutMs);
+}
+
+void MainWindow::updateStatus()
+{
+    const VoxelizerProgress p = voxelizer_->progress();
+    const auto snap = voxelizer_->latest();
+    const qt::ViewportStatus v = viewport_->status();
+    if (p.busy) {
+        voxelStatus_->setText(tr("Voxelizing: %1 %2 of %3 tiles (depth %4 of %5)")
+                                  .arg(p.coarsePass ? tr("coarse preview") : tr("refining"))
+                                  .arg(p.tilesBuilt)
+                                  .arg(p.tilesToBuild)
+                                  .arg(p.levels)
+                                  .arg(p.targetLevels));
+    } else if (snap) {
+        const VoxelizerStats s = voxelizer_->lastStats();
+        voxelStatus_->setText(tr("Voxels: %L1 tiles, depth %2, %3 rebuilt; %4 mm")
+                                  .arg(snap->layout.tileCount())
+                                  .arg(snap->layout.levels)
+                                  .arg(s.dirtyTiles)
+                                  .arg(snap->layout.voxelSize, 0, 'g', 3));
+    }
+    memoryStatus_->setText(tr("%1: %2 MB%3")
+                               .arg(v.vulkan ? tr("GPU") : tr("Voxels"))
+                               .arg(double(v.voxelBytes) / 1e6, 0, 'f', 1)
+                               .arg(v.streaming ? tr(" (streaming)") : QString()));
+    frameStatus_->setText(v.traceMs >= 0.0 ? tr("Frame %1 ms, trace %2 ms").arg(v.frameMs, 0, 'f', 1).arg(v.traceMs, 0, 'f', 1)
+                                           : tr("Frame %1 ms").arg(v.frameMs, 0, 'f', 1));
+    deviceStatus_->setText(v.device);
+    deviceStatus_->setToolTip(v.fallbackReason);
+}
+
+} // namespace kerf::ui

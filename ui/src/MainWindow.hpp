@@ -1,0 +1,159 @@
+#pragma once
+// The main window: the feature tree (left), the viewport (centre), the
+// property editor (right), the section and measure panels, menus and
+// toolbars for every command, and a status bar that shows the
+// voxelization's progress, the GPU memory, the frame time and the device.
+//
+// Everything the person does goes through the DocumentSession (undoable,
+// validated); the voxelizer rebuilds in the background and the viewport
+// streams what it publishes; files are saved atomically; the document is
+// autosaved and offered back after a crash.
+
+#include "DocumentSession.hpp"
+#include "Recovery.hpp"
+#include "VoxelizerBridge.hpp"
+
+#include <QMainWindow>
+#include <QMessageBox>
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+class QTreeView;
+class QLabel;
+class QTimer;
+class QMenu;
+class QDockWidget;
+class QCheckBox;
+class QComboBox;
+class QSlider;
+
+namespace kerf::qt {
+class ViewportWidget;
+struct ViewportPick;
+} // namespace kerf::qt
+
+namespace kerf::ui {
+
+class FeatureTreeModel;
+class PropertyEditor;
+class QuantityEdit;
+
+struct MainWindowOptions {
+    std::filesystem::path recoveryFolder = RecoveryStore::defaultFolder();
+    int autosaveMs = 30000;
+    /// Asked for each autosave left by a session that did not end cleanly;
+    /// true restores it. Default: a question box.
+    std::function<bool(const RecoveryCandidate&)> askRestore;
+    /// Asked before changes would be lost: Save, Discard or Cancel.
+    /// Default: a question box.
+    std::function<QMessageBox::StandardButton(const QString& documentName)> askSave;
+    /// Asked for a file name (Save As, Open): empty cancels. Default: file dialogs.
+    std::function<QString(bool save, const QString& suggested)> askFile;
+};
+
+class MainWindow : public QMainWindow {
+    Q_OBJECT
+public:
+    explicit MainWindow(MainWindowOptions options = {});
+    ~MainWindow() override;
+
+    DocumentSession* session() { return session_; }
+    qt::ViewportWidget* viewport() { return viewport_; }
+    QTreeView* featureTree() { return tree_; }
+    FeatureTreeModel* featureModel() { return model_; }
+    PropertyEditor* propertyEditor() { return properties_; }
+    VoxelizerBridge* voxelizer() { return voxelizer_; }
+    RecoveryStore& recovery() { return *recovery_; }
+
+    /// Opens a file (asking to save changes first). False when refused or
+    /// cancelled; the reason goes to the status bar and a message box.
+    bool openFile(const std::filesystem::path& file);
+    /// Saves to the document's file (or asks where). False when cancelled or refused.
+    bool save();
+    bool saveAs(const std::optional<std::filesystem::path>& file = std::nullopt);
+    void newDocument();
+    /// Offers the autosaves of sessions that ended without closing.
+    void offerRecovery();
+    /// Writes the autosave now (the timer's work).
+    void autosaveNow();
+
+    /// Adds a feature of `type` where the selection says (inside a selected
+    /// operation, else after the selected node, else in the root); selects it.
+    bool addFeature(NodeType type);
+    /// Puts the selected siblings under a new operation of `type`.
+    bool groupSelection(NodeType type);
+    bool deleteSelection();
+    bool duplicateSelection();
+    void selectNodes(const std::vector<std::string>& ids);
+    std::vector<std::string> selectedNodeIds() const;
+
+    /// The last message shown in the status bar's message area.
+    QString lastMessage() const { return lastMessage_; }
+    /// The measure panel's text (distance, or the bounding box).
+    QString measureText() const;
+
+protected:
+    void closeEvent(QCloseEvent* e) override;
+    void dragEnterEvent(QDragEnterEvent* e) override;
+    void dropEvent(QDropEvent* e) override;
+
+private:
+    void buildActions();
+    void buildDocks();
+    void buildStatusBar();
+    void onDocumentChanged();
+    void onSelectionChanged();
+    void onViewportClicked(const qt::ViewportPick& pick);
+    void updateTitle();
+    void updateStatus();
+    void showMessage(const QString& text, int timeoutMs = 6000);
+    bool maybeSave();
+    void addRecentFile(const std::filesystem::path& file);
+    void rebuildRecentMenu();
+    void addMeshFiles(const QStringList& files);
+    void updateSection();
+    void showBoundingBox();
+    QString askFile(bool save, const QString& suggested);
+
+    MainWindowOptions options_;
+    DocumentSession* session_;
+    VoxelizerBridge* voxelizer_;
+    std::unique_ptr<RecoveryStore> recovery_;
+    qt::ViewportWidget* viewport_;
+    QTreeView* tree_;
+    FeatureTreeModel* model_;
+    PropertyEditor* properties_;
+    QMenu* recentMenu_ = nullptr;
+    QTimer* autosave_;
+    QTimer* progressTimer_;
+    std::uint64_t autosavedRevision_ = 0;
+    std::vector<MeshReference> loadedMeshes_;
+    std::vector<std::string> expanded_;
+    std::vector<std::string> selectionBeforeReset_;
+
+    // Measure.
+    QAction* measureAction_ = nullptr;
+    std::vector<glm::dvec3> measurePoints_;
+    QLabel* measureLabel_ = nullptr;
+
+    // Section.
+    QCheckBox* sectionOn_ = nullptr;
+    QComboBox* sectionAxis_ = nullptr;
+    QSlider* sectionSlider_ = nullptr;
+    QuantityEdit* sectionOffset_ = nullptr;
+    QCheckBox* sectionFlip_ = nullptr;
+
+    // Status bar.
+    QLabel* voxelStatus_;
+    QLabel* memoryStatus_;
+    QLabel* frameStatus_;
+    QLabel* deviceStatus_;
+    QString lastMessage_;
+};
+
+} // namespace kerf::ui

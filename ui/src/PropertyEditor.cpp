@@ -1,0 +1,404 @@
+#include "PropertyEditor.hpp"
+
+#include "NodeText.hpp"
+#include "QuantityEdit.hpp"
+
+#include <QCheckBox>
+#include <QColorDialog>
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QHeaderView>
+#include <QLabel>
+#include <QLineEdit>
+#include <QPushButton>
+#include <QSignalBlocker>
+#include <QTableWidget>
+#include <QVBoxLayout>
+
+#include <glm/glm.hpp>
+
+#include <cmath>
+
+namespace kerf::ui {
+
+namespace {
+
+constexpr int kMm = int(QuantityEdit::Unit::Millimetres);
+constexpr int kDeg = int(QuantityEdit::Unit::Degrees);
+constexpr int kPlain = int(QuantityEdit::Unit::None);
+const char* kAxes[3] = {"x", "y", "z"};
+
+QLabel* errorLabel(QWidget* parent)
+{
+    auto* l = new QLabel(parent);
+    l->setWordWrap(true);
+    l->setStyleSheet(QStringLiteral("color: #c0392b;"));
+    l->setVisible(false);
+    return l;
+}
+
+// A unit normal from a vector whose one component was just typed: the
+// document holds unit normals (the reader normalises them), so the edit does
+// too; a zero vector is left for validation to refuse.
+void setNormalComponent(glm::dvec3& n, int axis, double v)
+{
+    n[axis] = v;
+    const double len = glm::length(n);
+    if (len > 0.0 && std::isfinite(len)) n /= len;
+}
+
+} // namespace
+
+PropertyEditor::PropertyEditor(DocumentSession* session, QWidget* parent) : QWidget(parent), session_(session)
+{
+    auto* outer = new QVBoxLayout(this);
+    title_ = new QLabel(this);
+    title_->setStyleSheet(QStringLiteral("font-weight: bold;"));
+    outer->addWidget(title_);
+    auto* body = new QWidget(this);
+    form_ = new QFormLayout(body);
+    form_->setFieldGrowthPolicy(QFormLayout::AllNonFixedFieldsGrow);
+    outer->addWidget(body);
+    outer->addStretch(1);
+    connect(session_, &DocumentSession::documentChanged, this, [this] {
+        const Node* n = session_->document().root.find(nodeId_);
+        if (!n || n->type != shownType_) rebuild();
+        else refresh();
+    });
+    rebuild();
+}
+
+void PropertyEditor::setNode(const std::string& nodeId)
+{
+    if (nodeId == nodeId_) return;
+    nodeId_ = nodeId;
+    rebuild();
+}
+
+QString PropertyEditor::errorFor(const QString& field) const
+{
+    for (const Field& f : fields_)
+        if (f.key == field) return f.error->isVisible() ? f.error->text() : QString();
+    if (field == "profile" && profileError_) return profileError_->isVisible() ? profileError_->text() : QString();
+    if (field == "name" && generalError_) return generalError_->isVisible() ? generalError_->text() : QString();
+    return {};
+}
+
+void PropertyEditor::showError(QLabel* error, const QString& message)
+{
+    error->setText(message);
+    error->setVisible(!message.isEmpty());
+}
+
+bool PropertyEditor::applyToNode(const QString& text, const std::function<void(Node&)>& change, QLabel* error,
+                                 const QString& mergeKey)
+{
+    const std::string id = nodeId_;
+    QString why;
+    const bool ok = session_->apply(
+        text,
+        [&](Document& d) {
+            Node* n = d.root.find(id);
+            if (!n) throw std::invalid_argument("the node is gone");
+            change(*n);
+        },
+        &why, mergeKey);
+    if (error) showError(error, ok ? QString() : why);
+    return ok;
+}
+
+void PropertyEditor::commit(Field& f, double value)
+{
+    if (refreshing_) return;
+    const Node* n = session_->document().root.find(nodeId_);
+    if (!n) return;
+    const QString label = tr("Set %1 of %2").arg(f.key, displayName(*n));
+    auto set = f.set;
+    if (!applyToNode(label, [&](Node& m) { set(m, value); }, f.error, QString::fromStdString(nodeId_) + "/" + f.key)) {
+        // Refused: the field shows the document's value again, the reason stays.
+        if (const Node* now = session_->document().root.find(nodeId_)) f.edit->showValue(f.get(*now));
+    }
+}
+
+void PropertyEditor::addQuantity(const QString& label, const QString& key, int unit,
+                                 std::function<double(const Node&)> get, std::function<void(Node&, double)> set,
+                                 int decimals)
+{
+    auto* row = new QWidget(this);
+    auto* v = new QVBoxLayout(row);
+    v->setContentsMargins(0, 0, 0, 0);
+    v->setSpacing(1);
+    auto* edit = new QuantityEdit(QuantityEdit::Unit(unit), row);
+    edit->setObjectName("field." + key);
+    edit->setDecimals(decimals);
+    auto* error = errorLabel(row);
+    error->setObjectName("error." + key);
+    v->addWidget(edit);
+    v->addWidget(error);
+    form_->addRow(label, row);
+    fields_.push_back({key, edit, error, std::move(get), std::move(set)});
+    const std::size_t index = fields_.size() - 1;
+    connect(edit, &QuantityEdit::valueChanged, this, [this, index](double value) { commit(fields_[index], value); });
+    connect(edit, &QuantityEdit::unreadable, this, [this, index](const QString& why) {
+        showError(fields_[index].error, why);
+    });
+}
+
+void PropertyEditor::addVector(const QString& label, const QString& key, int unit,
+                               std::function<glm::dvec3(const Node&)> get, std::function<void(Node&, int, double)> set,
+                               int decimals)
+{
+    for (int a = 0; a < 3; ++a)
+        addQuantity(QStringLiteral("%1 %2").arg(label, QString(kAxes[a]).toUpper()), key + "." + kAxes[a], unit,
+                    [get, a](const Node& n) { return get(n)[a]; },
+                    [set, a](Node& n, double v) { set(n, a, v); }, decimals);
+}
+
+void PropertyEditor::rebuild()
+{
+    // Remove the old rows.
+    while (form_->rowCount() > 0) form_->removeRow(0);
+    fields_.clear();
+    name_ = nullptr;
+    visible_ = nullptr;
+    color_ = nullptr;
+    profile_ = nullptr;
+    profileError_ = nullptr;
+    generalError_ = nullptr;
+    const Node* n = session_->document().root.find(nodeId_);
+    if (!n) {
+        nodeId_.clear();
+        title_->setText(tr("Nothing selected"));
+        return;
+    }
+    shownType_ = n->type;
+    title_->setText(tr("%1 — %2").arg(nodeTypeLabel(n->type), QString::fromStdString(n->id)));
+
+    name_ = new QLineEdit(this);
+    name_->setObjectName("field.name");
+    name_->setPlaceholderText(QString::fromStdString(n->id));
+    form_->addRow(tr("Name"), name_);
+    generalError_ = errorLabel(this);
+    form_->addRow(QString(), generalError_);
+    connect(name_, &QLineEdit::editingFinished, this, [this] {
+        if (refreshing_) return;
+        const std::string text = name_->text().trimmed().toStdString();
+        applyToNode(tr("Rename"), [&](Node& m) {
+            if (text.empty() || text == m.id) m.name.reset();
+            else m.name = text;
+        }, generalError_);
+    });
+    visible_ = new QCheckBox(tr("Visible"), this);
+    visible_->setObjectName("field.visible");
+    form_->addRow(QString(), visible_);
+    connect(visible_, &QCheckBox::toggled, this, [this](bool on) {
+        if (refreshing_) return;
+        applyToNode(on ? tr("Show") : tr("Hide"), [&](Node& m) { m.visible = on; }, generalError_);
+    });
+    auto* colorRow = new QWidget(this);
+    auto* ch = new QHBoxLayout(colorRow);
+    ch->setContentsMargins(0, 0, 0, 0);
+    color_ = new QPushButton(colorRow);
+    color_->setObjectName("field.color");
+    auto* clear = new QPushButton(tr("Inherit"), colorRow);
+    clear->setToolTip(tr("Use the parent's colour (or the default wood tone)"));
+    ch->addWidget(color_, 1);
+    ch->addWidget(clear);
+    form_->addRow(tr("Colour"), colorRow);
+    connect(color_, &QPushButton::clicked, this, [this] {
+        const Node* m = session_->document().root.find(nodeId_);
+        if (!m) return;
+        const QColor start = m->color ? QColor(m->color->r, m->color->g, m->color->b) : QColor(181, 125, 77);
+        const QColor c = QColorDialog::getColor(start, this, tr("Colour of %1").arg(displayName(*m)));
+        if (!c.isValid()) return;
+        applyToNode(tr("Colour"), [&](Node& x) {
+            x.color = Color{std::uint8_t(c.red()), std::uint8_t(c.green()), std::uint8_t(c.blue())};
+        }, generalError_);
+    });
+    connect(clear, &QPushButton::clicked, this,
+            [this] { applyToNode(tr("Inherit colour"), [](Node& x) { x.color.reset(); }, generalError_); });
+
+    addVector(tr("Position"), "translate", kMm, [](const Node& m) { return m.transform.translate; },
+              [](Node& m, int a, double v) { m.transform.translate[a] = v; });
+    addVector(tr("Rotation"), "rotate", kDeg, [](const Node& m) { return m.transform.rotate; },
+              [](Node& m, int a, double v) { m.transform.rotate[a] = v; });
+
+    switch (n->type) {
+    case NodeType::Box:
+        addVector(tr("Size"), "size", kMm, [](const Node& m) { return m.as<BoxParams>().size; },
+                  [](Node& m, int a, double v) { m.as<BoxParams>().size[a] = v; });
+        addQuantity(tr("Round"), "round", kMm, [](const Node& m) { return m.as<BoxParams>().round; },
+                    [](Node& m, double v) { m.as<BoxParams>().round = v; });
+        break;
+    case NodeType::Sphere:
+        addQuantity(tr("Radius"), "radius", kMm, [](const Node& m) { return m.as<SphereParams>().radius; },
+                    [](Node& m, double v) { m.as<SphereParams>().radius = v; });
+        break;
+    case NodeType::Cylinder:
+        addQuantity(tr("Radius"), "radius", kMm, [](const Node& m) { return m.as<CylinderParams>().radius; },
+                    [](Node& m, double v) { m.as<CylinderParams>().radius = v; });
+        addQuantity(tr("Height"), "height", kMm, [](const Node& m) { return m.as<CylinderParams>().height; },
+                    [](Node& m, double v) { m.as<CylinderParams>().height = v; });
+        break;
+    case NodeType::Cone:
+        addQuantity(tr("Bottom radius"), "radius_bottom", kMm,
+                    [](const Node& m) { return m.as<ConeParams>().radiusBottom; },
+                    [](Node& m, double v) { m.as<ConeParams>().radiusBottom = v; });
+        addQuantity(tr("Top radius"), "radius_top", kMm, [](const Node& m) { return m.as<ConeParams>().radiusTop; },
+                    [](Node& m, double v) { m.as<ConeParams>().radiusTop = v; });
+        addQuantity(tr("Height"), "height", kMm, [](const Node& m) { return m.as<ConeParams>().height; },
+                    [](Node& m, double v) { m.as<ConeParams>().height = v; });
+        break;
+    case NodeType::Torus:
+        addQuantity(tr("Major radius"), "major_radius", kMm,
+                    [](const Node& m) { return m.as<TorusParams>().majorRadius; },
+                    [](Node& m, double v) { m.as<TorusParams>().majorRadius = v; });
+        addQuantity(tr("Minor radius"), "minor_radius", kMm,
+                    [](const Node& m) { return m.as<TorusParams>().minorRadius; },
+                    [](Node& m, double v) { m.as<TorusParams>().minorRadius = v; });
+        break;
+    case NodeType::Extrude:
+        addQuantity(tr("Height"), "height", kMm, [](const Node& m) { return m.as<ExtrudeParams>().height; },
+                    [](Node& m, double v) { m.as<ExtrudeParams>().height = v; });
+        addProfileTable();
+        break;
+    case NodeType::Halfspace:
+        addVector(tr("Normal"), "normal", kPlain, [](const Node& m) { return m.as<HalfspaceParams>().normal; },
+                  [](Node& m, int a, double v) { setNormalComponent(m.as<HalfspaceParams>().normal, a, v); });
+        addQuantity(tr("Offset"), "offset", kMm, [](const Node& m) { return m.as<HalfspaceParams>().offset; },
+                    [](Node& m, double v) { m.as<HalfspaceParams>().offset = v; });
+        break;
+    case NodeType::Union:
+    case NodeType::Intersection:
+    case NodeType::Difference:
+        addQuantity(tr("Blend"), "blend", kMm, [](const Node& m) { return m.as<BooleanParams>().blend; },
+                    [](Node& m, double v) { m.as<BooleanParams>().blend = v; });
+        break;
+    case NodeType::Offset:
+        addQuantity(tr("Distance"), "distance", kMm, [](const Node& m) { return m.as<OffsetParams>().distance; },
+                    [](Node& m, double v) { m.as<OffsetParams>().distance = v; });
+        break;
+    case NodeType::Shell:
+        addQuantity(tr("Thickness"), "thickness", kMm, [](const Node& m) { return m.as<ShellParams>().thickness; },
+                    [](Node& m, double v) { m.as<ShellParams>().thickness = v; });
+        break;
+    case NodeType::Array:
+        addVector(tr("Count"), "count", kPlain,
+                  [](const Node& m) {
+                      const auto& c = m.as<ArrayParams>().count;
+                      return glm::dvec3(double(c[0]), double(c[1]), double(c[2]));
+                  },
+                  [](Node& m, int a, double v) { m.as<ArrayParams>().count[std::size_t(a)] = std::llround(v); }, 0);
+        addVector(tr("Step"), "step", kMm, [](const Node& m) { return m.as<ArrayParams>().step; },
+                  [](Node& m, int a, double v) { m.as<ArrayParams>().step[a] = v; });
+        break;
+    case NodeType::Mirror:
+        addVector(tr("Normal"), "normal", kPlain, [](const Node& m) { return m.as<MirrorParams>().normal; },
+                  [](Node& m, int a, double v) { setNormalComponent(m.as<MirrorParams>().normal, a, v); });
+        addQuantity(tr("Offset"), "offset", kMm, [](const Node& m) { return m.as<MirrorParams>().offset; },
+                    [](Node& m, double v) { m.as<MirrorParams>().offset = v; });
+        break;
+    }
+    refresh();
+}
+
+void PropertyEditor::addProfileTable()
+{
+    profile_ = new QTableWidget(0, 2, this);
+    profile_->setObjectName("field.profile");
+    profile_->setHorizontalHeaderLabels({tr("X (mm)"), tr("Y (mm)")});
+    profile_->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
+    profile_->setMinimumHeight(140);
+    form_->addRow(tr("Profile"), profile_);
+    auto* buttons = new QWidget(this);
+    auto* h = new QHBoxLayout(buttons);
+    h->setContentsMargins(0, 0, 0, 0);
+    auto* add = new QPushButton(tr("Add point"), buttons);
+    auto* remove = new QPushButton(tr("Remove point"), buttons);
+    h->addWidget(add);
+    h->addWidget(remove);
+    form_->addRow(QString(), buttons);
+    profileError_ = errorLabel(this);
+    profileError_->setObjectName("error.profile");
+    form_->addRow(QString(), profileError_);
+    connect(profile_, &QTableWidget::cellChanged, this, [this] {
+        if (!refreshing_) commitProfile();
+    });
+    connect(add, &QPushButton::clicked, this, [this] {
+        // A new point halfway along the edge after the current row.
+        const int r = std::max(0, profile_->currentRow());
+        const int n = profile_->rowCount();
+        if (n < 2) return;
+        const int next = (r + 1) % n;
+        auto cell = [&](int row, int col) { return profile_->item(row, col)->text().toDouble(); };
+        const double x = 0.5 * (cell(r, 0) + cell(next, 0)), y = 0.5 * (cell(r, 1) + cell(next, 1));
+        {
+            const QSignalBlocker block(profile_);
+            profile_->insertRow(r + 1);
+            profile_->setItem(r + 1, 0, new QTableWidgetItem(QString::number(x)));
+            profile_->setItem(r + 1, 1, new QTableWidgetItem(QString::number(y)));
+        }
+        commitProfile();
+    });
+    connect(remove, &QPushButton::clicked, this, [this] {
+        const int r = profile_->currentRow();
+        if (r < 0) return;
+        {
+            const QSignalBlocker block(profile_);
+            profile_->removeRow(r);
+        }
+        commitProfile();
+    });
+}
+
+void PropertyEditor::commitProfile()
+{
+    std::vector<glm::dvec2> points;
+    for (int r = 0; r < profile_->rowCount(); ++r) {
+        bool okx = false, oky = false;
+        const double x = profile_->item(r, 0) ? profile_->item(r, 0)->text().toDouble(&okx) : 0.0;
+        const double y = profile_->item(r, 1) ? profile_->item(r, 1)->text().toDouble(&oky) : 0.0;
+        if (!okx || !oky) {
+            showError(profileError_, tr("point %1: not a number").arg(r + 1));
+            refresh();
+            return;
+        }
+        points.emplace_back(x, y);
+    }
+    if (!applyToNode(tr("Edit profile"), [&](Node& m) { m.as<ExtrudeParams>().profile = points; }, profileError_))
+        refresh(); // refused: the table shows the document's profile again
+}
+
+void PropertyEditor::refresh()
+{
+    const Node* n = session_->document().root.find(nodeId_);
+    if (!n) return;
+    refreshing_ = true;
+    if (name_ && !name_->hasFocus()) name_->setText(n->name ? QString::fromStdString(*n->name) : QString());
+    if (visible_) visible_->setChecked(n->visible);
+    if (color_) {
+        if (n->color) {
+            const QColor c(n->color->r, n->color->g, n->color->b);
+            color_->setText(c.name());
+            color_->setStyleSheet(QStringLiteral("background: %1; color: %2;")
+                                      .arg(c.name(), c.lightness() > 128 ? "black" : "white"));
+        } else {
+            color_->setText(tr("Inherited"));
+            color_->setStyleSheet({});
+        }
+    }
+    for (Field& f : fields_)
+        if (!f.edit->hasFocus()) f.edit->showValue(f.get(*n));
+    if (profile_ && n->type == NodeType::Extrude) {
+        const auto& pts = n->as<ExtrudeParams>().profile;
+        const QSignalBlocker block(profile_);
+        profile_->setRowCount(int(pts.size()));
+        for (int r = 0; r < int(pts.size()); ++r) {
+            profile_->setItem(r, 0, new QTableWidgetItem(QString::number(pts[std::size_t(r)].x, 'g', 12)));
+            profile_->setItem(r, 1, new QTableWidgetItem(QString::number(pts[std::size_t(r)].y, 'g', 12)));
+        }
+    }
+    refreshing_ = false;
+}
+
+} // namespace kerf::ui

@@ -1,0 +1,80 @@
+#pragma once
+// The property editor: typed fields for the selected node (its name,
+// visibility, colour, transform and the parameters of its type), in
+// millimetres and degrees, taking expressions. A value is committed as an
+// undoable edit when it is entered (Enter, leaving the field, an arrow
+// step, the wheel); steps of one field in a row merge into one undo step.
+// A value the document refuses (a negative radius, a round larger than the
+// box) is not applied: the reason appears under the field and the field
+// shows the document's value again.
+//
+// Fields are named for tests and scripts: objectName "field.<spec name>"
+// ("field.radius", "field.size.x", "field.translate.z", "field.name").
+
+#include "DocumentSession.hpp"
+
+#include <QWidget>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+class QFormLayout;
+class QLabel;
+class QLineEdit;
+class QCheckBox;
+class QTableWidget;
+class QPushButton;
+
+namespace kerf::ui {
+
+class QuantityEdit;
+
+class PropertyEditor : public QWidget {
+    Q_OBJECT
+public:
+    explicit PropertyEditor(DocumentSession* session, QWidget* parent = nullptr);
+
+    /// Shows the node with this id (none: an empty editor).
+    void setNode(const std::string& nodeId);
+    const std::string& nodeId() const { return nodeId_; }
+    /// The message shown under a field ("" when none), by spec name.
+    QString errorFor(const QString& field) const;
+
+private:
+    struct Field {
+        QString key; // spec name: "radius", "size.x"
+        QuantityEdit* edit = nullptr;
+        QLabel* error = nullptr;
+        std::function<double(const Node&)> get;
+        std::function<void(Node&, double)> set;
+    };
+    void rebuild();
+    void refresh();
+    void addQuantity(const QString& label, const QString& key, int unit, std::function<double(const Node&)> get,
+                     std::function<void(Node&, double)> set, int decimals = 6);
+    void addVector(const QString& label, const QString& key, int unit, std::function<glm::dvec3(const Node&)> get,
+                   std::function<void(Node&, int, double)> set, int decimals = 6);
+    void commit(Field& f, double value);
+    bool applyToNode(const QString& text, const std::function<void(Node&)>& change, QLabel* error,
+                     const QString& mergeKey = {});
+    void showError(QLabel* error, const QString& message);
+    void addProfileTable();
+    void commitProfile();
+
+    DocumentSession* session_;
+    std::string nodeId_;
+    NodeType shownType_ = NodeType::Union;
+    QFormLayout* form_ = nullptr;
+    QLabel* title_ = nullptr;
+    QLineEdit* name_ = nullptr;
+    QCheckBox* visible_ = nullptr;
+    QPushButton* color_ = nullptr;
+    QLabel* generalError_ = nullptr;
+    QTableWidget* profile_ = nullptr;
+    QLabel* profileError_ = nullptr;
+    std::vector<Field> fields_;
+    bool refreshing_ = false;
+};
+
+} // namespace kerf::ui

@@ -1,0 +1,74 @@
+#include "QuantityEdit.hpp"
+
+#include "Expression.hpp"
+
+#include <QLineEdit>
+#include <QSignalBlocker>
+
+#include <cmath>
+
+namespace kerf::ui {
+
+QuantityEdit::QuantityEdit(Unit unit, QWidget* parent) : QDoubleSpinBox(parent), unit_(unit)
+{
+    // Wide ranges: the document's validation, not the widget, says what is
+    // allowed, and says why.
+    setRange(-1e9, 1e9);
+    setDecimals(6);
+    setSingleStep(unit == Unit::Degrees ? 1.0 : 1.0);
+    setKeyboardTracking(false); // typed text commits on Enter or leaving the field
+    setAccelerated(true);
+    if (unit == Unit::Millimetres) setSuffix(QStringLiteral(" mm"));
+    if (unit == Unit::Degrees) setSuffix(QStringLiteral(" °"));
+    setCorrectionMode(QAbstractSpinBox::CorrectToPreviousValue);
+    connect(lineEdit(), &QLineEdit::editingFinished, this, [this] {
+        const ExpressionResult r = evaluateExpression(lineEdit()->text().toStdString(), unitText().toStdString());
+        if (!r.value) emit unreadable(QString::fromStdString(r.error));
+    });
+}
+
+QString QuantityEdit::unitText() const
+{
+    switch (unit_) {
+    case Unit::Millimetres: return QStringLiteral("mm");
+    case Unit::Degrees: return QStringLiteral("°");
+    case Unit::None: return {};
+    }
+    return {};
+}
+
+void QuantityEdit::showValue(double v)
+{
+    const QSignalBlocker block(this);
+    setValue(v);
+}
+
+QValidator::State QuantityEdit::validate(QString& text, int&) const
+{
+    // Anything may be on its way to an expression; only what reads as a
+    // number is acceptable.
+    const ExpressionResult r = evaluateExpression(text.toStdString(), unitText().toStdString());
+    return r.value ? QValidator::Acceptable : QValidator::Intermediate;
+}
+
+double QuantityEdit::valueFromText(const QString& text) const
+{
+    const ExpressionResult r = evaluateExpression(text.toStdString(), unitText().toStdString());
+    return r.value.value_or(value());
+}
+
+QString QuantityEdit::textFromValue(double v) const
+{
+    // Up to six decimals, without trailing zeros: 18, 2.5, 0.001.
+    QString s = QString::number(v, 'f', 6);
+    if (s.contains('.')) {
+        while (s.endsWith('0')) s.chop(1);
+        if (s.endsWith('.')) s.chop(1);
+    }
+    if (s == "-0") s = "0";
+    return s;
+}
+
+void QuantityEdit::fixup(QString& input) const { input = textFromValue(value()) + suffix(); }
+
+} // namespace kerf::ui

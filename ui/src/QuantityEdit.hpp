@@ -1,0 +1,35 @@
+#pragma once
+// A numeric field with a unit ("mm", "°" or none) that takes arithmetic
+// ("18*2", "450 - 2*18"), steps with the arrows and the wheel, and reports
+// text it cannot read instead of silently dropping it. A spin box, so a
+// value dragged with the arrows or the wheel arrives as a stream of
+// valueChanged() (merged into one undo step by the editor).
+
+#include <QDoubleSpinBox>
+
+namespace kerf::ui {
+
+class QuantityEdit : public QDoubleSpinBox {
+    Q_OBJECT
+public:
+    enum class Unit { Millimetres, Degrees, None };
+    explicit QuantityEdit(Unit unit, QWidget* parent = nullptr);
+
+    /// Shows `v` without emitting valueChanged (a refresh from the document).
+    void showValue(double v);
+
+    QValidator::State validate(QString& text, int& pos) const override;
+    double valueFromText(const QString& text) const override;
+    QString textFromValue(double value) const override;
+    void fixup(QString& input) const override;
+
+signals:
+    /// The text typed could not be read as a number (the reason).
+    void unreadable(const QString& reason);
+
+private:
+    QString unitText() const;
+    Unit unit_;
+};
+
+} // namespace kerf::ui

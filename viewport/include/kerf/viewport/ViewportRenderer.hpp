@@ -1,0 +1,84 @@
+#pragma once
+// The frames of a viewport in a window: each frame streams the newest voxel
+// snapshot a step further under the upload budget, traces when the view,
+// the size, the section or the resident voxels changed, shades, draws the
+// meshes, the grid and the gizmo, and copies the picture to the window's
+// swapchain. Until a snapshot is wholly resident the previous one stays on
+// screen (VoxelStreamer), so a frame never waits for voxelization or for a
+// large upload: at most one budget's worth of copying per frame.
+//
+// While the camera moves on a slow device the trace can run at a fraction
+// of the window's resolution (ViewportScene::resolutionScale), scaled up by
+// the copy to the window; still frames are traced at full resolution.
+//
+// Threading: one thread (the render thread) uses a renderer; the scene is a
+// value copied in for every frame. One frame in flight: drawFrame() waits
+// for its own frame's commands before it returns.
+
+#include "kerf/tracer/Section.hpp"
+#include "kerf/tracer/ViewController.hpp"
+#include "kerf/viewport/ComputeTracer.hpp"
+#include "kerf/viewport/SceneRenderer.hpp"
+#include "kerf/viewport/Swapchain.hpp"
+#include "kerf/viewport/VoxelStreamer.hpp"
+
+#include <memory>
+#include <string>
+#include <unordered_set>
+
+namespace kerf::vk {
+
+/// What a frame shows. Cheap to copy: the heavy parts are shared.
+struct ViewportScene {
+    ViewController view;
+    std::shared_ptr<const VoxelSnapshot> snapshot; // the newest publication, streamed towards
+    Section section;
+    /// Features whose node ids are here are drawn as selected.
+    std::shared_ptr<const std::unordered_set<std::string>> selectedFeatureNodes;
+    bool grid = true;
+    bool axes = true;
+    bool edges = true;
+    /// Fraction of the window's resolution the part is traced at (0 < s <= 1).
+    double resolutionScale = 1.0;
+    /// Reference meshes and markers: replaced when their version changes.
+    std::shared_ptr<const std::vector<PlacedMesh>> meshes;
+    std::shared_ptr<const std::vector<PlacedMesh>> markers;
+};
+
+struct FrameStats {
+    bool presented = false;       // a picture reached the window
+    bool traced = false;          // the part was traced (else the last trace was reshaded)
+    double traceGpuMs = -1.0;     // the trace dispatch, from GPU timestamps (when traced)
+    double frameMs = 0.0;         // wall time of the frame on the render thread
+    FrameUpload upload;           // this frame's streaming
+    bool upToDate = true;         // the newest snapshot is wholly resident
+    std::uint64_t shownVersion = 0;   // the snapshot version on screen
+    std::uint64_t shownRevision = 0;  // the document revision it describes
+    bool shownComplete = false;       // ... at full depth everywhere
+    std::size_t residentBytes = 0;    // voxel bytes of the resident set
+    std::size_t heapBytes = 0;        // device memory held for voxels
+    int width = 0, height = 0;        // window pixels
+    int traceWidth = 0, traceHeight = 0;
+};
+
+class ViewportRenderer {
+public:
+    /// Throws VulkanError when the device cannot present to `surface`.
+    ViewportRenderer(const Context& ctx, VkSurfaceKHR surface, StreamingOptions streaming = {});
+    ~ViewportRenderer();
+    ViewportRenderer(const ViewportRenderer&) = delete;
+    ViewportRenderer& operator=(const ViewportRenderer&) = delete;
+
+    /// Draws and presents one frame at the window's size (pixels).
+    FrameStats drawFrame(const ViewportScene& scene, int width, int height);
+    /// The last frame's picture (at the trace's resolution), read back.
+    RgbaImage lastPicture();
+    /// Lets go of the swapchain before the window system destroys the surface.
+    void releaseSurface();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace kerf::vk

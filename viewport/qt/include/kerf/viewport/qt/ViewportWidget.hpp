@@ -1,0 +1,158 @@
+#pragma once
+// The viewport of the desktop application: the Vulkan engine in a window
+// of the widget layout (a QWindow with a Vulkan surface, rendered on its
+// own thread), or, when there is no usable Vulkan device, the CPU
+// reference tracer painting into an ordinary widget, saying so.
+//
+// Input: left drag orbits about the point under the cursor, middle drag (or
+// shift + left drag) pans, the wheel zooms towards the point under the
+// cursor; a click picks the feature under the cursor (exact ray against the
+// part's field). Standard views, fit all and the projection are commands.
+//
+// Threading: every function is for the GUI thread. Frames are drawn on a
+// render thread (Vulkan) or a worker (CPU), from a copy of the scene made
+// when something changes; the GUI thread never waits for a frame, except
+// in grabFrame(), which is for tests and screenshots.
+//
+// No Vulkan type appears here: Vulkan stays inside the viewport module.
+
+#include "kerf/evaluator/Tape.hpp"
+#include "kerf/tracer/Section.hpp"
+#include "kerf/tracer/ViewController.hpp"
+#include "kerf/viewport/ReferenceMesh.hpp"
+#include "kerf/voxelizer/VoxelSnapshot.hpp"
+
+#include <QImage>
+#include <QPointF>
+#include <QWidget>
+
+#include <glm/vec3.hpp>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+class QMouseEvent;
+class QWheelEvent;
+class QKeyEvent;
+
+namespace kerf::qt {
+
+class ViewportBackend;
+
+/// What the status bar shows about the viewport.
+struct ViewportStatus {
+    bool vulkan = false;
+    QString device;          // "NVIDIA ... (discrete GPU, Vulkan 1.3)" or "CPU reference tracer"
+    QString fallbackReason;  // why the CPU tracer is used, if it is
+    double frameMs = 0.0;    // the last frame, on the render thread
+    double traceMs = -1.0;   // the last trace (GPU timestamps or CPU wall time)
+    std::size_t voxelBytes = 0;   // voxel memory on the device (or in the CPU buffers)
+    std::uint64_t shownVersion = 0;   // snapshot version on screen
+    std::uint64_t shownRevision = 0;  // the document revision it shows
+    bool shownComplete = false;       // ... at full depth
+    bool streaming = false;           // a newer snapshot is still being uploaded
+    std::uint64_t frames = 0;         // frames drawn so far
+};
+
+/// A click on the viewport: what is under the cursor (nothing when the
+/// click hit no surface).
+struct ViewportPick {
+    bool hit = false;
+    glm::dvec3 point{0.0};    // world, mm
+    glm::dvec3 normal{0.0};
+    std::string nodeId;       // the feature's node ("" when none)
+    Qt::KeyboardModifiers modifiers;
+};
+
+class ViewportWidget : public QWidget {
+    Q_OBJECT
+public:
+    explicit ViewportWidget(QWidget* parent = nullptr);
+    ~ViewportWidget() override;
+
+    /// The newest voxel publication (the viewport streams towards it and
+    /// keeps showing what it has until all of it is resident).
+    void setSnapshot(std::shared_ptr<const VoxelSnapshot> snapshot);
+    /// The part's field, for picking (exact rays).
+    void setPickTape(std::shared_ptr<const Tape> tape);
+    void setMeshes(std::vector<PlacedMesh> meshes);
+    /// Points drawn as markers (measured points).
+    void setMarkers(const std::vector<glm::dvec3>& points);
+    /// Features of these (primitive) node ids are drawn selected.
+    void setSelectedFeatureNodes(std::unordered_set<std::string> nodeIds);
+    void setSection(const Section& section);
+    const Section& section() const { return section_; }
+    void setGridVisible(bool on);
+    void setAxesVisible(bool on);
+
+    /// Standard views by name (iso, front, back, left, right, top, bottom),
+    /// framing the part.
+    void setStandardView(const QString& name);
+    void fitAll();
+    void setOrthographic(bool on);
+    bool orthographic() const;
+    const ViewController& view() const { return view_; }
+    void setView(const ViewController& view);
+
+    ViewportStatus status() const { return status_; }
+    /// The next frame's picture, as drawn (waits for it, at most timeoutMs).
+    QImage grabFrame(int timeoutMs = 10000);
+    /// Casts the exact ray under a widget position (logical pixels).
+    ViewportPick pickAt(QPointF position) const;
+
+signals:
+    /// A click (press and release without a drag) on the viewport.
+    void clicked(const kerf::qt::ViewportPick& pick);
+    /// A frame was drawn; status() has its figures.
+    void frameDrawn();
+    /// The viewport fell back to the CPU tracer (the reason in status()).
+    void backendChanged();
+
+public:
+    // For the drawing surfaces (VulkanViewWindow, CpuViewWidget): input
+    // they receive, and what they report.
+    void onPress(QMouseEvent* e);
+    void onMove(QMouseEvent* e);
+    void onRelease(QMouseEvent* e);
+    void onWheel(QWheelEvent* e);
+    void onKey(QKeyEvent* e);
+    void onBackendFailed(const QString& reason);
+    void onFrame(const ViewportStatus& status);
+    void sceneChanged();
+
+private:
+    void interacting();
+    QSize pixelSize() const;
+    Aabb partBounds() const;
+    std::optional<glm::dvec3> surfacePointAt(QPointF position) const;
+    void useCpu(const QString& reason);
+
+    ViewController view_;
+    bool viewFramed_ = false;
+    std::shared_ptr<const VoxelSnapshot> snapshot_;
+    std::shared_ptr<const Tape> pickTape_;
+    std::shared_ptr<const std::vector<PlacedMesh>> meshes_, markers_;
+    std::shared_ptr<const std::unordered_set<std::string>> selected_;
+    Section section_;
+    bool grid_ = true, axes_ = true;
+
+    // Mouse state.
+    enum class Drag { None, Pending, Orbit, Pan };
+    Drag drag_ = Drag::None;
+    QPointF pressAt_, lastAt_;
+    Qt::MouseButton pressButton_ = Qt::NoButton;
+    std::optional<glm::dvec3> pivot_;
+    class QTimer* settle_ = nullptr; // ends the interactive (reduced resolution) phase
+    bool interactive_ = false;
+
+    std::unique_ptr<ViewportBackend> backend_;
+    ViewportStatus status_;
+};
+
+} // namespace kerf::qt
+
+Q_DECLARE_METATYPE(kerf::qt::ViewportPick)
+Q_DECLARE_METATYPE(kerf::qt::ViewportStatus)

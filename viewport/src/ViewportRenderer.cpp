@@ -1,0 +1,222 @@
+#include "kerf/viewport/ViewportRenderer.hpp"
+
+#include "kerf/viewport/VulkanError.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+namespace kerf::vk {
+
+namespace {
+
+Semaphore makeSemaphore(VkDevice dev)
+{
+    VkSemaphoreCreateInfo ci{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+    VkSemaphore s;
+    check(vkCreateSemaphore(dev, &ci, nullptr, &s), "vkCreateSemaphore");
+    return Semaphore(dev, s);
+}
+
+void imageBarrier(VkCommandBuffer cb, VkImage image, VkImageLayout from, VkImageLayout to, VkAccessFlags srcAccess,
+                  VkAccessFlags dstAccess, VkPipelineStageFlags srcStage, VkPipelineStageFlags dstStage)
+{
+    VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcAccessMask = srcAccess;
+    b.dstAccessMask = dstAccess;
+    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdPipelineBarrier(cb, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &b);
+}
+
+} // namespace
+
+struct ViewportRenderer::Impl {
+    const Context& ctx;
+    Swapchain swapchain;
+    ComputeTracer tracer;
+    SceneRenderer scene;
+    VoxelStreamer streamer;
+    CommandPool pool;
+    VkCommandBuffer cb = VK_NULL_HANDLE;
+    Fence fence;
+    Semaphore acquired;
+    std::vector<Semaphore> rendered; // one per swapchain image: presentation may still wait on the last one
+    std::shared_ptr<const VoxelSnapshot> target;
+    std::shared_ptr<const std::vector<PlacedMesh>> meshes, markers;
+    int pictureWidth = 0, pictureHeight = 0;
+
+    Impl(const Context& c, VkSurfaceKHR surface, StreamingOptions streaming)
+        : ctx(c), swapchain(c, surface), tracer(c), scene(c), streamer(c, streaming)
+    {
+        VkDevice dev = c.device();
+        VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+        pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+        pci.queueFamilyIndex = c.queueFamily();
+        VkCommandPool p;
+        check(vkCreateCommandPool(dev, &pci, nullptr, &p), "vkCreateCommandPool (viewport)");
+        pool = CommandPool(dev, p);
+        VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+        ai.commandPool = pool;
+        ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+        ai.commandBufferCount = 1;
+        check(vkAllocateCommandBuffers(dev, &ai, &cb), "vkAllocateCommandBuffers (viewport)");
+        VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        VkFence f;
+        check(vkCreateFence(dev, &fi, nullptr, &f), "vkCreateFence (viewport)");
+        fence = Fence(dev, f);
+        acquired = makeSemaphore(dev);
+    }
+};
+
+ViewportRenderer::ViewportRenderer(const Context& ctx, VkSurfaceKHR surface, StreamingOptions streaming)
+    : impl_(std::make_unique<Impl>(ctx, surface, streaming))
+{
+}
+
+ViewportRenderer::~ViewportRenderer()
+{
+    if (impl_) vkDeviceWaitIdle(impl_->ctx.device());
+}
+
+void ViewportRenderer::releaseSurface()
+{
+    vkDeviceWaitIdle(impl_->ctx.device());
+    impl_->swapchain.release();
+    impl_->rendered.clear();
+}
+
+FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, int height)
+{
+    const auto start = std::chrono::steady_clock::now();
+    Impl& m = *impl_;
+    FrameStats st;
+    if (scene.snapshot != m.target) {
+        m.target = scene.snapshot;
+        m.streamer.setTarget(m.target);
+    }
+    if (scene.meshes != m.meshes) {
+        m.meshes = scene.meshes;
+        m.scene.setMeshes(m.meshes ? *m.meshes : std::vector<PlacedMesh>{});
+    }
+    if (scene.markers != m.markers) {
+        m.markers = scene.markers;
+        m.scene.setMarkers(m.markers ? *m.markers : std::vector<PlacedMesh>{});
+    }
+    if (!m.swapchain.ensure(width, height)) return st;
+    std::optional<std::uint32_t> index = m.swapchain.acquire(m.acquired);
+    if (!index) {
+        if (!m.swapchain.ensure(width, height)) return st;
+        index = m.swapchain.acquire(m.acquired);
+        if (!index) return st;
+    }
+    while (m.rendered.size() <= *index) m.rendered.push_back(makeSemaphore(m.ctx.device()));
+    const int w = m.swapchain.width(), h = m.swapchain.height();
+    const double scale = std::clamp(scene.resolutionScale, 0.05, 1.0);
+    const int tw = std::max(1, int(std::lround(w * scale))), th = std::max(1, int(std::lround(h * scale)));
+
+    check(vkResetCommandBuffer(m.cb, 0), "vkResetCommandBuffer");
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    check(vkBeginCommandBuffer(m.cb, &bi), "vkBeginCommandBuffer (viewport)");
+    st.upload = m.streamer.recordFrame(m.cb);
+
+    const ResidentSet& resident = m.streamer.resident();
+    const auto& shown = m.streamer.residentSnapshot();
+    static const std::vector<Feature> kNoFeatures;
+    const std::vector<Feature>& features = shown && shown->features ? *shown->features : kNoFeatures;
+    const Aabb bounds = resident.valid() ? resident.layout.bounds() : Aabb::empty();
+    const Camera camera = scene.view.camera(tw, th, bounds);
+    SceneOptions options;
+    options.lights = ShadeOptions::forCamera(camera);
+    options.grid = scene.grid;
+    options.axes = scene.axes;
+    options.edges = scene.edges;
+    if (scene.selectedFeatureNodes && !scene.selectedFeatureNodes->empty())
+        for (std::uint32_t i = 0; i < features.size(); ++i)
+            if (scene.selectedFeatureNodes->count(features[i].nodeId)) options.selectedFeatures.push_back(i);
+    const VoxelAddresses voxels = resident.valid() ? VoxelAddresses::of(resident) : VoxelAddresses{};
+    m.scene.record(m.cb, m.tracer, voxels, camera, features, options, scene.section);
+    st.traced = m.scene.lastFrameTraced();
+
+    // Copy (and scale) the picture into the window's image.
+    const VkImage target = m.swapchain.image(*index);
+    imageBarrier(m.cb, target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+                 VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+    VkImageBlit blit{};
+    blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    blit.srcOffsets[1] = {tw, th, 1};
+    blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    blit.dstOffsets[1] = {w, h, 1};
+    vkCmdBlitImage(m.cb, m.scene.colorImage(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target,
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit,
+                   tw == w && th == h ? VK_FILTER_NEAREST : VK_FILTER_LINEAR);
+    imageBarrier(m.cb, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+                 VK_ACCESS_TRANSFER_WRITE_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+    check(vkEndCommandBuffer(m.cb), "vkEndCommandBuffer (viewport)");
+
+    const VkSemaphore wait = m.acquired, signal = m.rendered[*index];
+    const VkPipelineStageFlags waitStage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.waitSemaphoreCount = 1;
+    si.pWaitSemaphores = &wait;
+    si.pWaitDstStageMask = &waitStage;
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &m.cb;
+    si.signalSemaphoreCount = 1;
+    si.pSignalSemaphores = &signal;
+    const VkFence f = m.fence;
+    check(vkQueueSubmit(m.ctx.queue(), 1, &si, f), "vkQueueSubmit (viewport)");
+    st.presented = m.swapchain.present(*index, signal);
+    check(vkWaitForFences(m.ctx.device(), 1, &f, VK_TRUE, UINT64_MAX), "vkWaitForFences (viewport)");
+    check(vkResetFences(m.ctx.device(), 1, &f), "vkResetFences (viewport)");
+
+    if (st.traced) st.traceGpuMs = m.tracer.lastTiming().gpuMilliseconds;
+    m.pictureWidth = tw;
+    m.pictureHeight = th;
+    st.upToDate = m.streamer.upToDate();
+    st.shownVersion = shown ? shown->version : 0;
+    st.shownRevision = shown ? shown->documentRevision : 0;
+    st.shownComplete = shown && shown->complete;
+    st.residentBytes = resident.bytes;
+    st.heapBytes = m.streamer.heapCapacity();
+    st.width = w;
+    st.height = h;
+    st.traceWidth = tw;
+    st.traceHeight = th;
+    st.frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return st;
+}
+
+RgbaImage ViewportRenderer::lastPicture()
+{
+    Impl& m = *impl_;
+    RgbaImage out;
+    if (m.pictureWidth == 0) return out;
+    const int w = m.pictureWidth, h = m.pictureHeight;
+    GpuBuffer readback(m.ctx, std::size_t(w) * std::size_t(h) * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                       GpuBuffer::Kind::Readback, "picture readback");
+    m.ctx.submitAndWait([&](VkCommandBuffer cb) {
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {std::uint32_t(w), std::uint32_t(h), 1};
+        vkCmdCopyImageToBuffer(cb, m.scene.colorImage(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer(), 1,
+                               &region);
+        VkMemoryBarrier host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &host, 0, nullptr, 0,
+                             nullptr);
+    });
+    out.width = w;
+    out.height = h;
+    out.pixels.resize(std::size_t(w) * std::size_t(h) * 4);
+    std::memcpy(out.pixels.data(), readback.mapped(), out.pixels.size());
+    return out;
+}
+
+} // namespace kerf::vk
