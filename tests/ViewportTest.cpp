@@ -226,6 +226,71 @@ TEST_F(VulkanTracer, StreamsUnderTheBudgetAndSwitchesOnlyWhenEveryTileIsResident
     EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
 }
 
+// Streaming a snapshot that outgrows the voxel heap moves every tile into a
+// larger one over many frames; until the switch the old heap must stay
+// alive and untouched, because the resident set still reads it.
+TEST_F(VulkanTracer, AnOutgrownHeapStaysReadableUntilTheSwitch)
+{
+    const Document doc = Document::load(std::filesystem::path(KERF_EXAMPLES_DIR) / "stool.kerf");
+    const Tape tape = compileTape(doc);
+    auto snapshotAt = [&](double featureSize) {
+        return std::make_shared<const VoxelSnapshot>(voxelize(tape, GridLayout::choose(tape.bounds(), featureSize)));
+    };
+    const auto coarse = snapshotAt(4.0), fine = snapshotAt(1.0);
+    const Camera camera = Camera::standardView(tape.bounds(), "iso", 160, 120);
+    const TraceImage expected = traceVoxels(FlatVoxelBuffers::flatten(*coarse), camera);
+
+    const std::size_t budget = 1u << 20;
+    vk::VoxelStreamer streamer(*context, {.budgetBytesPerFrame = budget, .framesInFlight = 2, .initialHeapBytes = 1u << 20});
+    vk::ComputeTracer tracer(*context);
+    auto frame = [&] {
+        vk::FrameUpload up;
+        context->submitAndWait([&](VkCommandBuffer cb) { up = streamer.recordFrame(cb); });
+        return up;
+    };
+    streamer.setTarget(coarse);
+    for (int i = 0; i < 1000 && !frame().switched; ++i) {
+    }
+    ASSERT_TRUE(streamer.resident().valid());
+    const std::size_t heapBefore = streamer.heapCapacity();
+    streamer.setTarget(fine);
+    ASSERT_GT(streamer.heapCapacity(), heapBefore) << "the fine snapshot should need a larger heap";
+    int frames = 0;
+    for (;; ++frames) {
+        const vk::FrameUpload up = frame();
+        if (up.switched) break;
+        ASSERT_LT(frames, 10000);
+        // Every frame until the switch still shows the coarse snapshot, intact.
+        const TraceImage now = tracer.trace(camera, streamer.resident());
+        const Comparison c = compare(now, expected, 1e-3 * glm::length(tape.bounds().size()));
+        ASSERT_EQ(c.holes + c.extra, 0u) << "frame " << frames;
+        ASSERT_EQ(c.depthClose, c.bothHit) << "frame " << frames;
+    }
+    EXPECT_GT(frames, 4) << "the upload should span more frames than are in flight";
+    EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
+}
+
+// An empty part (everything hidden) publishes a grid of no tiles: it
+// streams and traces as nothing, with no zero-sized copy.
+TEST_F(VulkanTracer, AnEmptyPartStreamsAsNothing)
+{
+    const Document doc = Document::parse(
+        R"({"format":"kerf","version":1,"root":{"id":"u","type":"union","children":[{"id":"s","type":"sphere","radius":5,"visible":false}]}})",
+        "empty.kerf");
+    Voxelizer vox({.limits = {}, .coarseLevelDrop = 0, .threads = 2, .featureSize = 0.0, .onPublish = {}});
+    ASSERT_TRUE(vox.waitFor(vox.setDocument(doc), true, std::chrono::seconds(60)));
+    vk::VoxelStreamer streamer(*context);
+    streamer.setTarget(vox.snapshot());
+    vk::FrameUpload up;
+    context->submitAndWait([&](VkCommandBuffer cb) { up = streamer.recordFrame(cb); });
+    EXPECT_TRUE(up.switched);
+    vk::ComputeTracer tracer(*context);
+    const TraceImage image = tracer.trace(Camera::standardView(Aabb{glm::dvec3(-10), glm::dvec3(10)}, "iso", 32, 24),
+                                          streamer.resident());
+    for (std::size_t i = 0; i < image.depth.size(); ++i) EXPECT_FALSE(image.hit(i));
+    EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
+}
+
 TEST_F(VulkanTracer, ScenesLargerThanABindingStillTrace)
 {
     // lavapipe caps a storage-buffer binding at 128 MiB; the tracer reaches

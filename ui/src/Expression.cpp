@@ -28,11 +28,14 @@ ExpressionResult evaluateExpression(std::string_view text, std::string_view unit
     ExpressionResult r;
     std::string expr = trimmed(text);
     // The field's unit may be typed (or left from the displayed value).
-    for (std::string_view u : {unit, std::string_view(unit == "°" ? "deg" : "")}) {
-        if (!u.empty() && endsWith(expr, u)) {
-            expr = trimmed(std::string_view(expr).substr(0, expr.size() - u.size()));
-            break;
-        }
+    // Typed after the number shown with its unit, a unit may come twice ("151 mm mm").
+    for (bool again = true; again;) {
+        again = false;
+        for (std::string_view u : {unit, std::string_view(unit == "°" ? "deg" : "")})
+            if (!u.empty() && endsWith(expr, u)) {
+                expr = trimmed(std::string_view(expr).substr(0, expr.size() - u.size()));
+                again = true;
+            }
     }
     // A decimal comma, as typed on many European keyboards, when it cannot
     // be a separator (muparser's functions take several arguments).

@@ -127,8 +127,10 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
         };
         walk({});
         selectionBeforeReset_ = selectedNodeIds();
+        resettingTree_ = true; // the selection the view clears now is not the person's
     });
     connect(model_, &QAbstractItemModel::modelReset, this, [this] {
+        resettingTree_ = false;
         for (const auto& id : expanded_) tree_->setExpanded(model_->indexOf(id), true);
         tree_->setExpanded(model_->index(0, 0), true);
         std::vector<std::string> keep;
@@ -500,6 +502,7 @@ void MainWindow::selectNodes(const std::vector<std::string>& ids)
 
 void MainWindow::onSelectionChanged()
 {
+    if (resettingTree_) return;
     const std::vector<std::string> ids = selectedNodeIds();
     properties_->setNode(ids.size() == 1 ? ids.front() : std::string());
     std::unordered_set<std::string> features;
@@ -716,6 +719,12 @@ void MainWindow::addMeshFiles(const QStringList& files)
 // ---------------------------------------------------------------------------
 // Files
 
+void MainWindow::reportError(const QString& title, const QString& message)
+{
+    if (options_.reportError) options_.reportError(title, message);
+    else QMessageBox::warning(this, title, message);
+}
+
 QString MainWindow::askFile(bool saving, const QString& suggested)
 {
     if (options_.askFile) return options_.askFile(saving, suggested);
@@ -765,7 +774,7 @@ bool MainWindow::openFile(const fs::path& file)
         return true;
     } catch (const DocumentError& e) {
         showMessage(QString::fromUtf8(e.what()), 0);
-        if (!options_.askFile) QMessageBox::warning(this, tr("Cannot open"), QString::fromUtf8(e.what()));
+        reportError(tr("Cannot open"), QString::fromUtf8(e.what()));
         return false;
     }
 }
@@ -797,7 +806,7 @@ bool MainWindow::saveAs(const std::optional<fs::path>& file)
         return true;
     } catch (const std::exception& e) {
         showMessage(tr("Not saved: %1").arg(QString::fromUtf8(e.what())), 0);
-        if (!options_.askFile) QMessageBox::warning(this, tr("Cannot save"), QString::fromUtf8(e.what()));
+        reportError(tr("Cannot save"), QString::fromUtf8(e.what()));
         return false;
     }
 }

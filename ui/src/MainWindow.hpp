@@ -54,6 +54,9 @@ struct MainWindowOptions {
     std::function<QMessageBox::StandardButton(const QString& documentName)> askSave;
     /// Asked for a file name (Save As, Open): empty cancels. Default: file dialogs.
     std::function<QString(bool save, const QString& suggested)> askFile;
+    /// Tells of a refused open or save (the message also goes to the status
+    /// bar). Default: a warning box.
+    std::function<void(const QString& title, const QString& message)> reportError;
 };
 
 class MainWindow : public QMainWindow {
@@ -119,6 +122,7 @@ private:
     void updateSection();
     void showBoundingBox();
     QString askFile(bool save, const QString& suggested);
+    void reportError(const QString& title, const QString& message);
 
     MainWindowOptions options_;
     DocumentSession* session_;
@@ -135,6 +139,7 @@ private:
     std::vector<MeshReference> loadedMeshes_;
     std::vector<std::string> expanded_;
     std::vector<std::string> selectionBeforeReset_;
+    bool resettingTree_ = false;
 
     // Measure.
     QAction* measureAction_ = nullptr;

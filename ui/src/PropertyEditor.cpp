@@ -9,6 +9,7 @@
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QLabel>
+#include <QPointer>
 #include <QLineEdit>
 #include <QPushButton>
 #include <QSignalBlocker>
@@ -78,9 +79,9 @@ void PropertyEditor::setNode(const std::string& nodeId)
 QString PropertyEditor::errorFor(const QString& field) const
 {
     for (const Field& f : fields_)
-        if (f.key == field) return f.error->isVisible() ? f.error->text() : QString();
-    if (field == "profile" && profileError_) return profileError_->isVisible() ? profileError_->text() : QString();
-    if (field == "name" && generalError_) return generalError_->isVisible() ? generalError_->text() : QString();
+        if (f.key == field) return f.error->isHidden() ? QString() : f.error->text();
+    if (field == "profile" && profileError_) return profileError_->isHidden() ? QString() : profileError_->text();
+    if (field == "name" && generalError_) return generalError_->isHidden() ? QString() : generalError_->text();
     return {};
 }
 
@@ -107,17 +108,32 @@ bool PropertyEditor::applyToNode(const QString& text, const std::function<void(N
     return ok;
 }
 
-void PropertyEditor::commit(Field& f, double value)
+void PropertyEditor::commit(std::size_t index, double value)
 {
-    if (refreshing_) return;
+    if (refreshing_ || index >= fields_.size()) return;
     const Node* n = session_->document().root.find(nodeId_);
     if (!n) return;
-    const QString label = tr("Set %1 of %2").arg(f.key, displayName(*n));
-    auto set = f.set;
-    if (!applyToNode(label, [&](Node& m) { set(m, value); }, f.error, QString::fromStdString(nodeId_) + "/" + f.key)) {
-        // Refused: the field shows the document's value again, the reason stays.
-        if (const Node* now = session_->document().root.find(nodeId_)) f.edit->showValue(f.get(*now));
-    }
+    // Copies: the edit's signals may rebuild the fields.
+    const QString key = fields_[index].key;
+    const auto set = fields_[index].set;
+    const auto get = fields_[index].get;
+    QPointer<QuantityEdit> edit = fields_[index].edit;
+    QPointer<QLabel> error = fields_[index].error;
+    const QString label = tr("Set %1 of %2").arg(key, displayName(*n));
+    QString why;
+    const std::string id = nodeId_;
+    const bool ok = session_->apply(
+        label,
+        [&](Document& d) {
+            Node* m = d.root.find(id);
+            if (!m) throw std::invalid_argument("the node is gone");
+            set(*m, value);
+        },
+        &why, QString::fromStdString(id) + "/" + key);
+    if (error) showError(error, ok ? QString() : why);
+    // Refused: the field shows the document's value again, the reason stays.
+    if (!ok && edit)
+        if (const Node* now = session_->document().root.find(id)) edit->showValue(get(*now));
 }
 
 void PropertyEditor::addQuantity(const QString& label, const QString& key, int unit,
@@ -138,7 +154,7 @@ void PropertyEditor::addQuantity(const QString& label, const QString& key, int u
     form_->addRow(label, row);
     fields_.push_back({key, edit, error, std::move(get), std::move(set)});
     const std::size_t index = fields_.size() - 1;
-    connect(edit, &QuantityEdit::valueChanged, this, [this, index](double value) { commit(fields_[index], value); });
+    connect(edit, &QuantityEdit::valueChanged, this, [this, index](double value) { commit(index, value); });
     connect(edit, &QuantityEdit::unreadable, this, [this, index](const QString& why) {
         showError(fields_[index].error, why);
     });
@@ -156,8 +172,19 @@ void PropertyEditor::addVector(const QString& label, const QString& key, int uni
 
 void PropertyEditor::rebuild()
 {
-    // Remove the old rows.
-    while (form_->rowCount() > 0) form_->removeRow(0);
+    // Remove the old rows. Later, not now: this may run inside a signal of
+    // one of their own widgets (an edit that changed the node's type).
+    while (form_->rowCount() > 0) {
+        const QFormLayout::TakeRowResult row = form_->takeRow(0);
+        for (QLayoutItem* item : {row.labelItem, row.fieldItem}) {
+            if (!item) continue;
+            if (QWidget* w = item->widget()) {
+                w->hide();
+                w->deleteLater();
+            }
+            delete item;
+        }
+    }
     fields_.clear();
     name_ = nullptr;
     visible_ = nullptr;

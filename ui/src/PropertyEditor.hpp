@@ -55,7 +55,7 @@ private:
                      std::function<void(Node&, double)> set, int decimals = 6);
     void addVector(const QString& label, const QString& key, int unit, std::function<glm::dvec3(const Node&)> get,
                    std::function<void(Node&, int, double)> set, int decimals = 6);
-    void commit(Field& f, double value);
+    void commit(std::size_t index, double value);
     bool applyToNode(const QString& text, const std::function<void(Node&)>& change, QLabel* error,
                      const QString& mergeKey = {});
     void showError(QLabel* error, const QString& message);

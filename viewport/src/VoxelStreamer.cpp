@@ -54,10 +54,10 @@ void VoxelStreamer::growHeap(std::size_t needed)
         throw VulkanError("voxel heap: the scene needs " + std::to_string(needed >> 20) +
                               " MiB, more than the device allocates at once (" + std::to_string(limit >> 20) + " MiB)",
                           VK_ERROR_OUT_OF_DEVICE_MEMORY);
-    if (heapBuffer_) {
-        auto old = heapBuffer_;
-        retired_.push_back({frame_ + std::uint64_t(options_.framesInFlight) + 1, [old] {}});
-    }
+    // The resident set may read the old heap until the next switch, however
+    // many frames the new target takes to arrive: it is retired then.
+    if (heapBuffer_) replacedHeaps_.push_back(heapBuffer_);
+    ++heapGeneration_;
     heapBuffer_ = std::make_shared<GpuBuffer>(ctx_, capacity,
                                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                               GpuBuffer::Kind::DeviceLocal, "voxel heap");
@@ -109,6 +109,7 @@ void VoxelStreamer::beginTarget()
 std::size_t VoxelStreamer::stage(VkCommandBuffer cb, const void* data, std::size_t bytes, VkBuffer dst,
                                  std::size_t dstOffset)
 {
+    if (bytes == 0) return 0; // an empty part's tables: nothing to copy (a zero-size copy is invalid)
     if (stagingHead_ + bytes > staging_.size()) stagingHead_ = 0; // wrap: that space is frames old
     std::memcpy(static_cast<std::uint8_t*>(staging_.mapped()) + stagingHead_, data, bytes);
     VkBufferCopy region{stagingHead_, dstOffset, bytes};
@@ -192,7 +193,7 @@ FrameUpload VoxelStreamer::recordFrame(VkCommandBuffer cb)
                 std::memcpy(static_cast<std::uint8_t*>(extra->mapped()) + tiles.size() * 4, entries.data(),
                             entries.size() * sizeof(TileEntry));
                 VkBufferCopy a{0, 0, tiles.size() * 4};
-                vkCmdCopyBuffer(cb, extra->buffer(), tileBuf->buffer(), 1, &a);
+                if (!tiles.empty()) vkCmdCopyBuffer(cb, extra->buffer(), tileBuf->buffer(), 1, &a);
                 if (!entries.empty()) {
                     VkBufferCopy b{tiles.size() * 4, 0, entries.size() * sizeof(TileEntry)};
                     vkCmdCopyBuffer(cb, extra->buffer(), entryBuf->buffer(), 1, &b);
@@ -222,7 +223,13 @@ FrameUpload VoxelStreamer::recordFrame(VkCommandBuffer cb)
                     placed_.erase(it);
                 }
             auto oldSnapshot = residentSnapshot_;
-            retired_.push_back({frame_ + std::uint64_t(options_.framesInFlight) + 1, [this, oldTables, freed, oldSnapshot] {
+            const std::uint64_t generation = heapGeneration_;
+            auto oldHeaps = std::move(replacedHeaps_);
+            replacedHeaps_.clear();
+            retired_.push_back({frame_ + std::uint64_t(options_.framesInFlight) + 1,
+                                [this, oldTables, freed, oldSnapshot, oldHeaps, generation] {
+                                    // Ranges of a heap since replaced are not this allocator's.
+                                    if (generation != heapGeneration_) return;
                                     for (auto [offset, size] : freed) heap_.release(offset, size);
                                 }});
             tables_ = {tileBuf, entryBuf};

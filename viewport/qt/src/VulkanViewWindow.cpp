@@ -155,6 +155,11 @@ void VulkanViewWindow::renderLoop()
             s.shownRevision = f.shownRevision;
             s.shownComplete = f.shownComplete;
             s.streaming = !f.upToDate;
+            s.validationErrors = context_->validationErrors();
+            if (s.validationErrors > 0) {
+                const auto messages = context_->validationMessages();
+                if (!messages.empty()) s.lastValidationMessage = QString::fromStdString(messages.back());
+            }
             {
                 std::lock_guard lock(mutex_);
                 s.frames = ++frames_;

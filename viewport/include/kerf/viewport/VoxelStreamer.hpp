@@ -86,6 +86,8 @@ private:
     std::uint64_t frame_ = 0;
 
     std::shared_ptr<GpuBuffer> heapBuffer_;
+    std::vector<std::shared_ptr<GpuBuffer>> replacedHeaps_; // outgrown heaps the resident set may still read
+    std::uint64_t heapGeneration_ = 0;                      // counts heaps: freed ranges name theirs
     HeapAllocator heap_;
     std::unordered_map<const TileData*, Placement> placed_; // tiles in heapBuffer_
     std::shared_ptr<const VoxelSnapshot> residentSnapshot_, target_;

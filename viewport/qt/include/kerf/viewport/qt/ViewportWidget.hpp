@@ -55,6 +55,8 @@ struct ViewportStatus {
     bool shownComplete = false;       // ... at full depth
     bool streaming = false;           // a newer snapshot is still being uploaded
     std::uint64_t frames = 0;         // frames drawn so far
+    int validationErrors = 0;         // Vulkan validation errors seen (with KERF_VULKAN_VALIDATION set)
+    QString lastValidationMessage;    // the newest validation message, if any
 };
 
 /// A click on the viewport: what is under the cursor (nothing when the

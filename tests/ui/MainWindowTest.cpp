@@ -1,0 +1,538 @@
+// Scripted UI tests of the desktop application (QtTest), run under Xvfb with
+// the xcb platform, the real main window and the Vulkan viewport on
+// lavapipe: a part built from nothing through the UI, undo and redo of every
+// step, save and reopen, refused values, crash recovery, tile-exact
+// re-voxelization after an edit, viewport pictures, export, cut list,
+// measure, section, and the CPU fallback.
+
+#include "CutListDialog.hpp"
+#include "ExportDialog.hpp"
+#include "FeatureTreeModel.hpp"
+#include "MainWindow.hpp"
+#include "PropertyEditor.hpp"
+#include "QuantityEdit.hpp"
+#include "kerf/document/DocumentError.hpp"
+#include "kerf/document/NodeBounds.hpp"
+#include "kerf/mesher/MeshCheck.hpp"
+#include "kerf/mesher/OpenMeshAdapter.hpp"
+#include "kerf/viewport/qt/ViewportWidget.hpp"
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+
+#include <QAction>
+#include <QCheckBox>
+#include <QFile>
+#include <QMimeData>
+#include <QPainter>
+#include <QPushButton>
+#include <QComboBox>
+#include <QLabel>
+#include <QLineEdit>
+#include <QSignalSpy>
+#include <QStandardPaths>
+#include <QTemporaryDir>
+#include <QTest>
+#include <QTreeView>
+
+#include <glm/glm.hpp>
+
+#include <filesystem>
+#include <memory>
+
+// Under AddressSanitizer, llvmpipe's JIT-compiled pipelines leak by
+// design (not Kerf's code): leak detection is off in this binary only.
+extern "C" const char* __asan_default_options() { return "detect_leaks=0"; }
+
+using namespace kerf;
+using namespace kerf::ui;
+
+namespace {
+
+constexpr int kVoxelTimeoutMs = 60000;
+
+std::unique_ptr<MainWindow> makeWindow(const QString& recoveryDir, MainWindowOptions options = {})
+{
+    options.recoveryFolder = recoveryDir.toStdString();
+    options.autosaveMs = 3600 * 1000; // the tests autosave by hand
+    if (!options.askSave) options.askSave = [](const QString&) { return QMessageBox::Discard; };
+    if (!options.askRestore) options.askRestore = [](const RecoveryCandidate&) { return false; };
+    if (!options.reportError) options.reportError = [](const QString&, const QString&) {}; // no modal boxes
+    auto w = std::make_unique<MainWindow>(std::move(options));
+    w->resize(1280, 800);
+    w->show();
+    return w;
+}
+
+QAction* action(QWidget* w, const QString& name)
+{
+    QAction* a = w->findChild<QAction*>(name);
+    if (!a) qFatal("no action %s", qPrintable(name));
+    return a;
+}
+
+QuantityEdit* field(MainWindow& w, const QString& key)
+{
+    return w.propertyEditor()->findChild<QuantityEdit*>("field." + key);
+}
+
+// Types an expression into a field and presses Enter, as a person would.
+void typeInto(QuantityEdit* edit, const QString& text)
+{
+    QVERIFY(edit);
+    edit->setFocus();
+    edit->selectAll();
+    QTest::keyClicks(edit, text);
+    QTest::keyClick(edit, Qt::Key_Return);
+}
+
+// Clicks a row of the feature tree (ctrl-click adds to the selection).
+void clickRow(MainWindow& w, const std::string& id, Qt::KeyboardModifiers mods = {})
+{
+    const QModelIndex i = w.featureModel()->indexOf(id);
+    QVERIFY2(i.isValid(), id.c_str());
+    w.featureTree()->scrollTo(i);
+    const QRect r = w.featureTree()->visualRect(i);
+    // Right of the check box and the decoration.
+    QTest::mouseClick(w.featureTree()->viewport(), Qt::LeftButton, mods, QPoint(r.right() - 8, r.center().y()));
+}
+
+// Waits until the voxelizer has published, at full depth, the document as it is now.
+bool waitForVoxels(MainWindow& w)
+{
+    const std::uint64_t revision = w.voxelizer()->lastSubmitted();
+    return QTest::qWaitFor(
+        [&] {
+            const auto s = w.voxelizer()->latest();
+            return s && s->documentRevision >= revision && s->complete;
+        },
+        kVoxelTimeoutMs);
+}
+
+// Waits until the viewport shows that publication.
+bool waitForViewport(MainWindow& w)
+{
+    if (!waitForVoxels(w)) return false;
+    const std::uint64_t version = w.voxelizer()->latest()->version;
+    return QTest::qWaitFor(
+        [&] {
+            const auto s = w.viewport()->status();
+            return s.shownVersion >= version && !s.streaming;
+        },
+        kVoxelTimeoutMs);
+}
+
+// Fraction of pixels that are not the background (the part, the grid lines
+// excluded by comparing against a picture of the empty scene's colours:
+// background pixels are grey-blue, the wood tone is orange).
+double woodFraction(const QImage& image)
+{
+    std::size_t wood = 0;
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x) {
+            const QColor c = image.pixelColor(x, y);
+            if (c.red() > c.blue() + 30) ++wood;
+        }
+    return double(wood) / double(image.width() * image.height());
+}
+
+double pictureDifference(const QImage& a, const QImage& b)
+{
+    if (a.size() != b.size()) return 1.0;
+    std::size_t differ = 0;
+    for (int y = 0; y < a.height(); ++y)
+        for (int x = 0; x < a.width(); ++x) {
+            const QColor p = a.pixelColor(x, y), q = b.pixelColor(x, y);
+            if (std::abs(p.red() - q.red()) + std::abs(p.green() - q.green()) + std::abs(p.blue() - q.blue()) > 24)
+                ++differ;
+        }
+    return double(differ) / double(a.width() * a.height());
+}
+
+void saveScreenshot(MainWindow& w, const QString& name)
+{
+    const QString dir = qEnvironmentVariable("KERF_SCREENSHOT_DIR");
+    if (dir.isEmpty()) return;
+    const QImage frame = w.viewport()->grabFrame();
+    QPixmap shot = w.grab(); // the widgets; the Vulkan child is painted in from its own frame
+    QPainter p(&shot);
+    p.drawImage(QRect(w.viewport()->mapTo(&w, QPoint(0, 0)), w.viewport()->size()), frame);
+    p.end();
+    shot.save(dir + "/" + name + ".png");
+}
+
+} // namespace
+
+class MainWindowTest : public QObject {
+    Q_OBJECT
+
+private slots:
+    void initTestCase()
+    {
+        QStandardPaths::setTestModeEnabled(true); // settings and data in test folders
+        QVERIFY(recovery_.isValid());
+        QVERIFY(files_.isValid());
+    }
+
+    void buildsAPartFromNothingWithUndoRedoAndSaves();
+    void refusesBadValuesBesideTheFieldAndChangesNothing();
+    void expressionsAndMergedSteps();
+    void restoresTheAutosaveAfterACrash();
+    void reVoxelizesOnlyTheTilesTheEditReaches();
+    void viewportShowsThePartAndChangesAfterAnEdit();
+    void exportDialogWritesAClosedMesh();
+    void cutListMeasureAndSection();
+    void refusedFilesChangeNothing();
+    void dragAndDropRegroupsInTheTree();
+
+private:
+    QTemporaryDir recovery_, files_;
+};
+
+void MainWindowTest::buildsAPartFromNothingWithUndoRedoAndSaves()
+{
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    QVERIFY(w->session()->document().root.children.empty());
+
+    // Add a box and size it through the property editor.
+    action(w.get(), "action.add.box")->trigger();
+    QCOMPARE(w->selectedNodeIds(), std::vector<std::string>{"box"});
+    typeInto(field(*w, "size.x"), "600");
+    typeInto(field(*w, "size.y"), "300");
+    typeInto(field(*w, "size.z"), "18");
+    // Add a cylinder (it goes beside the box: a box takes no children).
+    action(w.get(), "action.add.cylinder")->trigger();
+    QCOMPARE(w->selectedNodeIds(), std::vector<std::string>{"cylinder"});
+    typeInto(field(*w, "radius"), "4");
+    typeInto(field(*w, "height"), "40");
+    typeInto(field(*w, "translate.x"), "100");
+    // Both under a difference: click the box, ctrl-click the cylinder, group.
+    clickRow(*w, "box");
+    clickRow(*w, "cylinder", Qt::ControlModifier);
+    QCOMPARE(w->selectedNodeIds(), (std::vector<std::string>{"box", "cylinder"}));
+    action(w.get(), "action.group.difference")->trigger();
+
+    const Document built = w->session()->document();
+    const Document expected = Document::parse(R"({"format":"kerf","version":1,"root":
+        {"id":"root","type":"union","name":"Part","children":[
+          {"id":"difference","type":"difference","children":[
+            {"id":"box","type":"box","size":[600,300,18]},
+            {"id":"cylinder","type":"cylinder","radius":4,"height":40,"transform":{"translate":[100,0,0]}}]}]}})",
+                                              "expected.kerf");
+    QCOMPARE(QString::fromStdString(built.serialize()), QString::fromStdString(expected.serialize()));
+    QVERIFY(w->isWindowModified());
+
+    // Undo every step back to the empty part, then redo them all.
+    QUndoStack* stack = w->session()->undoStack();
+    const int steps = stack->count();
+    QCOMPARE(steps, 9); // add, 3 sizes, add, radius, height, x, group
+    std::vector<std::string> states;
+    for (int i = 0; i < steps; ++i) {
+        states.push_back(w->session()->document().serialize());
+        action(w.get(), "action.undo")->trigger();
+    }
+    QVERIFY(w->session()->document().root.children.empty());
+    for (int i = steps - 1; i >= 0; --i) {
+        action(w.get(), "action.redo")->trigger();
+        QCOMPARE(QString::fromStdString(w->session()->document().serialize()),
+                 QString::fromStdString(states[std::size_t(i)]));
+    }
+    QVERIFY(w->session()->document() == built);
+
+    // Save, reopen in a new window, compare.
+    const std::filesystem::path file = (files_.path() + "/built.kerf").toStdString();
+    QVERIFY(w->saveAs(file));
+    QVERIFY(!w->isWindowModified());
+    auto other = makeWindow(recovery_.path());
+    QVERIFY(other->openFile(file));
+    QVERIFY(other->session()->document() == built);
+    QCOMPARE(other->windowTitle(), QString("built.kerf[*] — Kerf"));
+}
+
+void MainWindowTest::refusesBadValuesBesideTheFieldAndChangesNothing()
+{
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    action(w.get(), "action.add.cylinder")->trigger();
+    const Document before = w->session()->document();
+    const int undoBefore = w->session()->undoStack()->count();
+
+    typeInto(field(*w, "radius"), "-5");
+    QVERIFY(w->session()->document() == before);
+    QCOMPARE(w->session()->undoStack()->count(), undoBefore);
+    const QString why = w->propertyEditor()->errorFor("radius");
+    QVERIFY2(why.contains("radius") && why.contains("cylinder"), qPrintable(why));
+    QCOMPARE(field(*w, "radius")->value(), 10.0); // the document's value again
+
+    // A round larger than half the box: refused, and said why.
+    action(w.get(), "action.add.box")->trigger();
+    typeInto(field(*w, "round"), "15");
+    QVERIFY2(w->propertyEditor()->errorFor("round").contains("round"), qPrintable(w->propertyEditor()->errorFor("round")));
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().round, 0.0);
+
+    // Text that is no number at all: said so, nothing changes.
+    const Document now = w->session()->document();
+    typeInto(field(*w, "round"), "18*");
+    QVERIFY(w->session()->document() == now);
+    QVERIFY2(!w->propertyEditor()->errorFor("round").isEmpty(), "an unreadable value is reported");
+
+    // A valid value clears the message.
+    typeInto(field(*w, "round"), "2");
+    QCOMPARE(w->propertyEditor()->errorFor("round"), QString());
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().round, 2.0);
+}
+
+void MainWindowTest::expressionsAndMergedSteps()
+{
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    action(w.get(), "action.add.box")->trigger();
+    typeInto(field(*w, "size.x"), "18*2");
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.x, 36.0);
+    typeInto(field(*w, "size.y"), "(300 + 2) / 2 mm");
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.y, 151.0);
+    // Stepping a value with the arrow keys (as dragging does) merges into one undo step.
+    const int count = w->session()->undoStack()->count();
+    QuantityEdit* z = field(*w, "size.z");
+    z->setFocus();
+    for (int i = 0; i < 5; ++i) QTest::keyClick(z, Qt::Key_Up);
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.z, 25.0);
+    QCOMPARE(w->session()->undoStack()->count(), count + 1);
+    action(w.get(), "action.undo")->trigger();
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.z, 20.0);
+}
+
+void MainWindowTest::restoresTheAutosaveAfterACrash()
+{
+    QTemporaryDir folder;
+    Document left;
+    {
+        auto w = makeWindow(folder.path());
+        action(w.get(), "action.new")->trigger();
+        action(w.get(), "action.add.sphere")->trigger();
+        typeInto(field(*w, "radius"), "42");
+        w->autosaveNow();
+        typeInto(field(*w, "radius"), "43"); // after the last autosave: lost with the crash
+        left = w->session()->document();
+        w->recovery().abandon(); // the process "dies": no clean shutdown
+    }
+    QCOMPARE(left.root.find("sphere")->as<SphereParams>().radius, 43.0);
+
+    MainWindowOptions options;
+    int asked = 0;
+    options.askRestore = [&](const RecoveryCandidate& c) {
+        ++asked;
+        return !c.original; // an unsaved part
+    };
+    auto w = makeWindow(folder.path(), options);
+    w->offerRecovery();
+    QCOMPARE(asked, 1);
+    const Node* sphere = w->session()->document().root.find("sphere");
+    QVERIFY(sphere);
+    QCOMPARE(sphere->as<SphereParams>().radius, 42.0); // the last autosave
+    QVERIFY(w->session()->isModified());
+    // Offered once: the files are gone.
+    w->offerRecovery();
+    QCOMPARE(asked, 1);
+}
+
+void MainWindowTest::reVoxelizesOnlyTheTilesTheEditReaches()
+{
+    auto w = makeWindow(recovery_.path());
+    const std::filesystem::path file = std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side.kerf";
+    QVERIFY(w->openFile(file));
+    QVERIFY(waitForVoxels(*w));
+    const auto before = w->voxelizer()->latest();
+    const Document oldDoc = w->session()->document();
+
+    // Move the toe-kick notch 10 mm along Y through the property editor.
+    w->selectNodes({"toe-kick"});
+    QuantityEdit* y = field(*w, "translate.y");
+    typeInto(y, QString::number(y->value() + 10.0));
+    const Document newDoc = w->session()->document();
+    QVERIFY(!(newDoc == oldDoc));
+    QVERIFY(waitForVoxels(*w));
+    const auto after = w->voxelizer()->latest();
+    QVERIFY(after->layout == before->layout);
+
+    // Every tile the notch's old or new place cannot reach (grown by two
+    // voxel diagonals) keeps its very data; the rebuilt ones are few.
+    const GridLayout& g = after->layout;
+    const double margin = 2.0 * std::sqrt(3.0) * g.voxelSize + 1e-6;
+    const Aabb oldBox = worldBoundsOfNodes(oldDoc).at("toe-kick").grown(margin);
+    const Aabb newBox = worldBoundsOfNodes(newDoc).at("toe-kick").grown(margin);
+    std::size_t changed = 0, reachable = 0;
+    for (long i = 0; i < g.tileCount(); ++i) {
+        const Aabb tile = g.tileBox(g.tileCoord(i));
+        const bool reached = tile.overlaps(oldBox) || tile.overlaps(newBox);
+        reachable += reached;
+        if (before->tiles[std::size_t(i)] != after->tiles[std::size_t(i)]) {
+            ++changed;
+            QVERIFY2(reached, qPrintable(QString("tile %1 was rebuilt outside the edit's reach").arg(i)));
+        }
+    }
+    QVERIFY(changed > 0);
+    QVERIFY(reachable < std::size_t(g.tileCount()) / 4);
+    QCOMPARE(w->voxelizer()->lastStats().dirtyTiles <= reachable, true);
+}
+
+void MainWindowTest::viewportShowsThePartAndChangesAfterAnEdit()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "side-chair.kerf"));
+    QVERIFY(waitForViewport(*w));
+    const QImage first = w->viewport()->grabFrame();
+    QVERIFY(!first.isNull());
+    QVERIFY2(woodFraction(first) > 0.05, "the chair fills part of the picture");
+    saveScreenshot(*w, "app-side-chair");
+
+    // Make the seat 200 mm deeper: the picture changes once the new voxels are shown.
+    w->selectNodes({"seat"});
+    QuantityEdit* x = field(*w, "size.x");
+    typeInto(x, QString::number(x->value() + 200.0));
+    QVERIFY(waitForViewport(*w));
+    const QImage second = w->viewport()->grabFrame();
+    QVERIFY2(pictureDifference(first, second) > 0.01, "the picture shows the edit");
+
+    // A standard view, with the selection highlighted.
+    action(w.get(), "action.view.front")->trigger();
+    const QImage front = w->viewport()->grabFrame();
+    QVERIFY(pictureDifference(second, front) > 0.05);
+    const auto status = w->viewport()->status();
+    QVERIFY(status.frames > 0);
+    QVERIFY(!status.device.isEmpty());
+    QVERIFY2(status.validationErrors == 0, qPrintable(status.lastValidationMessage));
+    if (qEnvironmentVariableIsSet("KERF_NO_VULKAN")) {
+        QVERIFY(!status.vulkan);
+        QVERIFY(status.fallbackReason.contains("KERF_NO_VULKAN"));
+        QVERIFY(w->findChild<QLabel*>("status.device")->text().contains("CPU reference tracer"));
+    } else {
+        QVERIFY2(status.vulkan, qPrintable(status.fallbackReason));
+    }
+}
+
+void MainWindowTest::exportDialogWritesAClosedMesh()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "stool.kerf"));
+    action(w.get(), "action.export")->trigger();
+    auto* dialog = w->findChild<ExportDialog*>("exportDialog");
+    QVERIFY(dialog);
+    const QString out = files_.path() + "/stool.stl";
+    dialog->findChild<QLineEdit*>("export.path")->setText(out);
+    dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(4.0);
+    QSignalSpy done(dialog, &ExportDialog::finished);
+    QTest::mouseClick(dialog->findChild<QPushButton*>("export.start"), Qt::LeftButton);
+    QVERIFY(done.wait(120000));
+    QVERIFY2(dialog->outcome().written, qPrintable(dialog->outcome().message));
+    QVERIFY(dialog->outcome().closed);
+
+    // The file itself: read back with OpenMesh, every edge between two faces.
+    OpenTriMesh mesh;
+    OpenMesh::IO::Options opt = OpenMesh::IO::Options::Binary;
+    QVERIFY(OpenMesh::IO::read_mesh(mesh, out.toStdString(), opt));
+    QCOMPARE(std::size_t(mesh.n_faces()), dialog->outcome().triangles);
+    const MeshReport report = checkMesh(fromOpenMesh(mesh));
+    QCOMPARE(report.boundaryEdges, std::size_t(0));
+    QCOMPARE(report.nonManifoldEdges, std::size_t(0));
+    QVERIFY(report.volume > 0.0);
+
+    // Cancelled: nothing is written.
+    const QString cancelled = files_.path() + "/cancelled.stl";
+    dialog->findChild<QLineEdit*>("export.path")->setText(cancelled);
+    dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(0.25);
+    dialog->start();
+    dialog->cancel();
+    QVERIFY(done.wait(120000));
+    QVERIFY(dialog->outcome().cancelled);
+    QVERIFY(!QFile::exists(cancelled));
+}
+
+void MainWindowTest::cutListMeasureAndSection()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side.kerf"));
+    action(w.get(), "action.cutList")->trigger();
+    auto* cut = w->findChild<CutListDialog*>("cutListDialog");
+    QVERIFY(cut);
+    QTRY_VERIFY_WITH_TIMEOUT(cut->ready(), 30000);
+    QCOMPARE(cut->rows().size(), std::size_t(1));
+    QCOMPARE(cut->rows()[0].length, 1800.0);
+    const QString csv = files_.path() + "/cut.csv";
+    QVERIFY(cut->exportCsv(csv));
+    QFile f(csv);
+    QVERIFY(f.open(QIODevice::ReadOnly));
+    QVERIFY(f.readAll().contains("1800.00,300.00,18.00"));
+
+    action(w.get(), "action.boundingBox")->trigger();
+    QTRY_VERIFY_WITH_TIMEOUT(w->measureText().contains("Bounding box: 18.00 x 300.00 x 1800.00 mm"), 30000);
+
+    // Measure: two clicks on the part give their distance.
+    QVERIFY(waitForViewport(*w));
+    action(w.get(), "action.view.right")->trigger(); // the panel's 300 x 1800 face
+    action(w.get(), "action.measure")->trigger();
+    qt::ViewportWidget* v = w->viewport();
+    const QPoint a(v->width() / 2, v->height() / 3), b(v->width() / 2, 2 * v->height() / 3);
+    const qt::ViewportPick pa = v->pickAt(a), pb = v->pickAt(b);
+    QVERIFY(pa.hit && pb.hit);
+    emit v->clicked(pa);
+    emit v->clicked(pb);
+    const QString expected = QString::number(glm::length(pb.point - pa.point), 'f', 2);
+    QVERIFY2(w->measureText().contains("Distance: " + expected + " mm"), qPrintable(w->measureText()));
+
+    // Section: across Y through the middle; the viewport traces with it.
+    w->findChild<QCheckBox*>("section.enabled")->setChecked(true);
+    w->findChild<QComboBox*>("section.axis")->setCurrentIndex(1);
+    QVERIFY(v->section().enabled);
+    QCOMPARE(v->section().normal, glm::dvec3(0, 1, 0));
+    const QImage cutPicture = v->grabFrame();
+    QVERIFY(!cutPicture.isNull());
+}
+
+void MainWindowTest::refusedFilesChangeNothing()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "stool.kerf"));
+    const Document before = w->session()->document();
+    const QString broken = files_.path() + "/broken.kerf";
+    QFile f(broken);
+    QVERIFY(f.open(QIODevice::WriteOnly));
+    f.write(R"({"format":"kerf","version":1,"root":{"id":"s","type":"sphere","radius":-1}})");
+    f.close();
+    QVERIFY(!w->openFile(broken.toStdString()));
+    QVERIFY(w->session()->document() == before);
+    QVERIFY2(w->lastMessage().contains("broken.kerf") && w->lastMessage().contains("radius"),
+             qPrintable(w->lastMessage()));
+    // Saving into a folder that does not exist: refused, the document keeps its file.
+    QVERIFY(!w->saveAs(std::filesystem::path((files_.path() + "/no/such/folder/x.kerf").toStdString())));
+    QCOMPARE(w->session()->path().value().filename().string(), std::string("stool.kerf"));
+}
+
+void MainWindowTest::dragAndDropRegroupsInTheTree()
+{
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    action(w.get(), "action.add.box")->trigger();
+    action(w.get(), "action.add.union")->trigger(); // a union with a box of its own
+    FeatureTreeModel* m = w->featureModel();
+    // Drop the first box onto the union: it moves inside, as a drag does.
+    QMimeData* data = m->mimeData({m->indexOf("box")});
+    m->dropMimeData(data, Qt::MoveAction, -1, 0, m->indexOf("union"));
+    delete data;
+    const Node* u = w->session()->document().root.find("union");
+    QVERIFY(u);
+    QCOMPARE(u->children.size(), std::size_t(2));
+    QCOMPARE(u->children.back().id, std::string("box"));
+    // Dropping onto a primitive is refused by the model.
+    QMimeData* again = m->mimeData({m->indexOf("union")});
+    QVERIFY(!m->canDropMimeData(again, Qt::MoveAction, -1, 0, m->indexOf("box")));
+    delete again;
+    // Visibility through the check box.
+    QVERIFY(m->setData(m->indexOf("box"), Qt::Unchecked, Qt::CheckStateRole));
+    QVERIFY(!w->session()->document().root.find("box")->visible);
+    action(w.get(), "action.undo")->trigger();
+    QVERIFY(w->session()->document().root.find("box")->visible);
+}
+
+QTEST_MAIN(MainWindowTest)
+#include "MainWindowTest.moc"
