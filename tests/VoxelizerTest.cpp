@@ -14,6 +14,8 @@
 
 #include <gtest/gtest.h>
 
+#include <thread>
+
 #include <glm/glm.hpp>
 
 #include <mutex>
@@ -331,6 +333,43 @@ TEST(Voxelizer, RandomEditSequencesEqualAFullRebuild)
     EXPECT_TRUE(snap->complete);
     EXPECT_EQ(snap->documentRevision, rev);
     expectEqualsFullRebuild(*snap, doc);
+}
+
+// Requests that change the grid (an emptied part, a grown one) cancelled in
+// quick succession, then back to the first: the unfinished tiles of a grid
+// that is gone must not leak into the next one (they once did: a division by
+// zero on the empty grid's dimensions, out-of-range tiles on others).
+TEST(Voxelizer, CancelledGridChangesEqualAFullRebuild)
+{
+    Voxelizer vox({.limits = {}, .coarseLevelDrop = 1, .threads = 2, .featureSize = 0.0, .onPublish = {}});
+    Document doc = editableDoc();
+    ASSERT_TRUE(vox.waitFor(vox.setDocument(doc), true, std::chrono::seconds(60)));
+    Document empty = doc;
+    for (auto& c : empty.root.children) c.visible = false;
+    Document grown = doc;
+    grown.root.find("knob")->transform.translate.z += 80.0;
+    // Each request is let start (its work under way, its unfinished tiles
+    // recorded) before the next one cancels it.
+    auto started = [&](std::uint64_t r) {
+        for (int i = 0; i < 60000 && vox.progress().revision < r; ++i)
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        ASSERT_GE(vox.progress().revision, r);
+    };
+    std::uint64_t rev = 0;
+    for (int round = 0; round < 4; ++round) {
+        started(vox.setDocument(grown));
+        started(vox.setDocument(empty));
+        started(vox.setDocument(grown));
+        rev = vox.setDocument(doc);
+        if (round % 2) {
+            ASSERT_TRUE(vox.waitFor(rev, false, std::chrono::seconds(60)));
+        }
+    }
+    ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(60)));
+    expectEqualsFullRebuild(*vox.snapshot(), doc);
+    rev = vox.setDocument(empty);
+    ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(60)));
+    EXPECT_EQ(vox.snapshot()->layout.tileCount(), 0);
 }
 
 TEST(Voxelizer, AnEditRebuildsOnlyTheTilesItReaches)

@@ -126,11 +126,16 @@ void Voxelizer::process(Request request)
 
     // Which tiles to rebuild: everything when the grid changed; otherwise the
     // tiles still unfinished for the previous version plus those this edit reaches.
-    std::set<long> dirty(unfinishedTiles_.begin(), unfinishedTiles_.end());
-    const bool sameGrid = base && builtDocument_ && base->layout == layout;
+    // The unfinished tiles are indices into the grid of the last request; a
+    // request cancelled with a grid of its own leaves them meaningless here.
+    const bool sameGrid = base && builtDocument_ && base->layout == layout && builtLayout_ == layout;
+    std::set<long> dirty;
     if (!sameGrid) {
+        // A new grid: every tile of it (the unfinished tiles of the old grid
+        // are indices into a grid that is gone).
         for (long i = 0; i < layout.tileCount(); ++i) dirty.insert(i);
     } else {
+        dirty.insert(unfinishedTiles_.begin(), unfinishedTiles_.end());
         // Tiles outside unfinishedTiles_ are at full depth: a fine voxel's
         // diagonal (doubled for safety) is as far as a stored sample reaches.
         const double margin = 2.0 * std::sqrt(3.0) * layout.voxelSize;
@@ -152,6 +157,7 @@ void Voxelizer::process(Request request)
         }
     }
     builtDocument_ = request.doc;
+    builtLayout_ = layout;
     unfinishedTiles_.assign(dirty.begin(), dirty.end());
 
     // Nearest tiles first.

@@ -106,6 +106,7 @@ private:
 
     // Owned by the coordinating thread.
     std::optional<Document> builtDocument_;   // the document the last processed request described
+    GridLayout builtLayout_;                  // ... and its grid
     std::vector<long> unfinishedTiles_;       // tiles not yet at full depth for builtDocument_
     FeatureRegistry features_;
 
