@@ -103,7 +103,9 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
     tree_->setEditTriggers(QAbstractItemView::EditKeyPressed | QAbstractItemView::SelectedClicked);
     tree_->setContextMenuPolicy(Qt::CustomContextMenu);
     tree_->header()->setSectionResizeMode(0, QHeaderView::Stretch);
+    tree_->header()->setSectionResizeMode(1, QHeaderView::ResizeToContents);
     tree_->header()->setStretchLastSection(false);
+    tree_->setMinimumWidth(280);
     tree_->expandAll();
 
     properties_ = new PropertyEditor(session_, this);
@@ -421,6 +423,10 @@ void MainWindow::buildDocks()
     measureDock->setObjectName("dock.measure");
     measureDock->setWidget(measureLabel_);
     addDockWidget(Qt::RightDockWidgetArea, measureDock);
+    // Section and measure share a tabbed area under the properties.
+    tabifyDockWidget(sectionDock, measureDock);
+    sectionDock->raise();
+    propDock->setMinimumWidth(300);
 
     // The docks' toggles go in the View menu.
     for (QAction* a : menuBar()->actions())
