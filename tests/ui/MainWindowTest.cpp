@@ -13,6 +13,8 @@
 #include "QuantityEdit.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/NodeBounds.hpp"
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/voxelizer/Voxelize.hpp"
 #include "kerf/mesher/MeshCheck.hpp"
 #include "kerf/mesher/OpenMeshAdapter.hpp"
 #include "kerf/viewport/qt/ViewportWidget.hpp"
@@ -183,6 +185,7 @@ private slots:
     void cutListMeasureAndSection();
     void refusedFilesChangeNothing();
     void dragAndDropRegroupsInTheTree();
+    void modelsOnlyWhatTheViewNeedsWithinTheBudget();
 
 private:
     QTemporaryDir recovery_, files_;
@@ -532,6 +535,50 @@ void MainWindowTest::dragAndDropRegroupsInTheTree()
     QVERIFY(!w->session()->document().root.find("box")->visible);
     action(w.get(), "action.undo")->trigger();
     QVERIFY(w->session()->document().root.find("box")->visible);
+}
+
+void MainWindowTest::modelsOnlyWhatTheViewNeedsWithinTheBudget()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "side-chair.kerf"));
+    QVERIFY(action(w.get(), "action.refineForView")->isChecked());
+    QVERIFY(waitForViewport(*w));
+    auto deepTilesNear = [&](const glm::dvec3& p, double radius) {
+        const auto s = w->voxelizer()->latest();
+        int deep = 0;
+        for (long i = 0; i < s->layout.tileCount(); ++i) {
+            const auto& t = s->tiles[std::size_t(i)];
+            if (t && t->state == TileState::Surface && t->levels == s->layout.levels &&
+                glm::length(s->layout.tileBox(s->layout.tileCoord(i)).center() - p) < radius)
+                ++deep;
+        }
+        return deep;
+    };
+    const auto whole = w->voxelizer()->latest();
+    // Close up on a corner of the seat: the tiles there refine to full depth,
+    // the chair as a whole takes less memory than at full depth everywhere.
+    qt::ViewportWidget* v = w->viewport();
+    const QPoint centre(v->width() / 2, v->height() / 2);
+    const qt::ViewportPick seat = v->pickAt(centre);
+    QVERIFY(seat.hit);
+    ViewController close = v->view();
+    close.zoom(0.08, seat.point);
+    v->setView(close);
+    QVERIFY(QTest::qWaitFor([&] { return w->voxelizer()->latest()->documentRevision > whole->documentRevision; }, 60000));
+    QVERIFY(waitForVoxels(*w));
+    const auto near = w->voxelizer()->latest();
+    QVERIFY(deepTilesNear(seat.point, 40.0) > 0);
+    QVERIFY(near->outsideView > 0);
+    const VoxelSnapshot full = voxelize(compileTape(w->session()->document()), near->layout);
+    QVERIFY2(near->bytes() < full.bytes(), "the close-up keeps most of the chair coarse");
+
+    // A budget far below the chair at full depth: distant tiles coarsen, the status bar says so.
+    w->voxelizer()->voxelizer().setMemoryBudget(8u << 20);
+    w->voxelizer()->submit(w->session()->document());
+    QVERIFY(waitForVoxels(*w));
+    QVERIFY(w->voxelizer()->latest()->coarsenedForBudget > 0);
+    QVERIFY(w->voxelizer()->latest()->bytes() < (12u << 20));
+    QTRY_VERIFY_WITH_TIMEOUT(w->findChild<QLabel*>("status.memory")->text().contains("coarsened"), 10000);
 }
 
 QTEST_MAIN(MainWindowTest)
