@@ -20,6 +20,7 @@
 #include <glm/glm.hpp>
 
 #include <mutex>
+#include <set>
 
 namespace kerf {
 namespace {
@@ -403,16 +404,22 @@ ViewRequirement closeUpView(const Aabb& bounds, bool rightEnd = false)
     return v;
 }
 
-// The snapshot's tiles are exactly buildTile's at the depth each has.
+// The snapshot's tiles are exactly buildTile's at the depth each has, and
+// tiles without records are empty or full as a fresh build says.
 void expectTilesMatchTheirDepth(const VoxelSnapshot& snap, const Tape& tape)
 {
     TileBuildScratch scratch;
     long checked = 0;
     for (long i = 0; i < snap.layout.tileCount(); ++i) {
         const auto& t = snap.tiles[std::size_t(i)];
-        if (!t || t->state != TileState::Surface) continue;
-        auto again = buildTile(tape, snap.layout, snap.layout.tileCoord(i), t->levels, scratch);
+        const int levels = t && t->state == TileState::Surface ? t->levels : snap.layout.levels;
+        auto again = buildTile(tape, snap.layout, snap.layout.tileCoord(i), levels, scratch);
         ASSERT_TRUE(again);
+        if (!t || t->state != TileState::Surface) {
+            const TileState was = t ? t->state : TileState::Empty;
+            ASSERT_EQ(int(again->state), int(was)) << "tile " << i << " should have been rebuilt";
+            continue;
+        }
         ASSERT_TRUE(sameTile(t.get(), &*again, *snap.features, tape.features())) << "tile " << i;
         ++checked;
     }
@@ -527,6 +534,38 @@ TEST(Voxelizer, RefinesWhatTheViewNeedsAndFollowsTheView)
             ++deepRight;
     }
     EXPECT_GT(deepRight, 0) << "the right end, now near the eye, is at full depth";
+}
+
+// Edits while tiles of several depths coexist (a view keeps far tiles
+// coarse): every tile still equals a fresh build of the final document at
+// its depth (the dirty region of each depth reaches as far as its samples).
+TEST(Voxelizer, EditsAmongTilesOfMixedDepthsEqualFreshBuilds)
+{
+    Document doc = editableDoc();
+    doc.settings.featureSize = 0.1;
+    GridLimits limits;
+    limits.maxTiles = 512;
+    Voxelizer vox({.limits = limits, .coarseLevelDrop = 2, .threads = 2, .featureSize = 0.0, .onPublish = {}});
+    vox.setView(closeUpView(compileTape(doc).bounds()));
+    std::uint64_t rev = vox.setDocument(doc);
+    ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(120)));
+    test::RandomShapes r(7);
+    for (int step = 0; step < 6; ++step) {
+        Node* n = doc.root.find(r.chance(0.5) ? "hole1" : "knob");
+        n->transform.translate.x = r.uniform(-30, 30);
+        n->transform.translate.y = r.uniform(-5, 5);
+        rev = vox.setDocument(doc);
+        if (r.chance(0.5)) {
+            ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(120)));
+        }
+    }
+    ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(120)));
+    const auto snap = vox.snapshot();
+    std::set<int> depths;
+    for (const auto& t : snap->tiles)
+        if (t && t->state == TileState::Surface) depths.insert(t->levels);
+    EXPECT_GT(depths.size(), 1u) << "the view should leave tiles of several depths";
+    expectTilesMatchTheirDepth(*snap, compileTape(doc));
 }
 
 TEST(Voxelizer, StaysWithinTheMemoryBudgetAndSaysSo)

@@ -159,15 +159,27 @@ void Voxelizer::process(Request request)
         for (long i = 0; i < layout.tileCount(); ++i) dirty.insert(i);
     } else {
         dirty.insert(unfinishedTiles_.begin(), unfinishedTiles_.end());
-        // A stored distance saturates at two voxel edges of its tile's depth:
-        // twice the diagonal of the coarsest voxels present is as far as an
-        // edit can change what a tile stores.
-        const int shallowest = std::clamp(base->shallowestLevels(), 1, layout.levels);
-        const double margin = 2.0 * std::sqrt(3.0) * layout.voxelSizeAt(shallowest);
-        const DirtyRegion region = dirtyRegion(*builtDocument_, request.doc, margin);
-        if (region.everything) {
-            for (long i = 0; i < layout.tileCount(); ++i) dirty.insert(i);
-        } else {
+        // A stored distance saturates at two voxel edges of its tile's depth,
+        // so twice a voxel diagonal at that depth is as far as an edit can
+        // change what a tile stores: each depth present gets its own region,
+        // and a tile is dirty when the region of its own depth reaches it
+        // (tiles with no records, at the finest depth's).
+        std::vector<int> depthOf(std::size_t(layout.tileCount()), layout.levels);
+        std::set<int> depths = {layout.levels};
+        for (long i = 0; i < layout.tileCount(); ++i) {
+            const auto& t = base->tiles[std::size_t(i)];
+            if (t && t->state == TileState::Surface) {
+                depthOf[std::size_t(i)] = std::clamp(t->levels, 1, layout.levels);
+                depths.insert(depthOf[std::size_t(i)]);
+            }
+        }
+        for (int depth : depths) {
+            const double margin = 2.0 * std::sqrt(3.0) * layout.voxelSizeAt(depth);
+            const DirtyRegion region = dirtyRegion(*builtDocument_, request.doc, margin);
+            if (region.everything) {
+                for (long i = 0; i < layout.tileCount(); ++i) dirty.insert(i);
+                break;
+            }
             for (const Aabb& box : region.boxes) {
                 const Aabb clipped = box.intersected(layout.bounds());
                 if (clipped.isEmpty()) continue;
@@ -177,7 +189,10 @@ void Voxelizer::process(Request request)
                                                  glm::ivec3(0), layout.dims - 1);
                 for (int z = lo.z; z <= hi.z; ++z)
                     for (int y = lo.y; y <= hi.y; ++y)
-                        for (int x = lo.x; x <= hi.x; ++x) dirty.insert(layout.tileIndex({x, y, z}));
+                        for (int x = lo.x; x <= hi.x; ++x) {
+                            const long i = layout.tileIndex({x, y, z});
+                            if (depthOf[std::size_t(i)] == depth) dirty.insert(i);
+                        }
             }
         }
     }
