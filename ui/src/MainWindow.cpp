@@ -110,7 +110,7 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
     tree_->header()->setSectionResizeMode(0, QHeaderView::Stretch);
     tree_->header()->setSectionResizeMode(1, QHeaderView::ResizeToContents);
     tree_->header()->setStretchLastSection(false);
-    tree_->setMinimumWidth(280);
+    tree_->setMinimumWidth(300);
     tree_->expandAll();
 
     properties_ = new PropertyEditor(session_, this);
@@ -465,7 +465,7 @@ void MainWindow::buildDocks()
     // Section and measure share a tabbed area under the properties.
     tabifyDockWidget(sectionDock, measureDock);
     sectionDock->raise();
-    propDock->setMinimumWidth(300);
+    propDock->setMinimumWidth(350);
 
     // The docks' toggles go in the View menu.
     for (QAction* a : menuBar()->actions())
