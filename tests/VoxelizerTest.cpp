@@ -457,8 +457,9 @@ TEST(RefinementPlan, FineNearTheEyeCoarseFarAndOutOfView)
         deepest = std::max(deepest, level);
         shallowest = std::min(shallowest, level);
         // Whatever depth, its voxels project to at most a pixel where it is seen.
-        if (ro.view->sees(box) && level < g.levels)
+        if (ro.view->sees(box) && level < g.levels) {
             EXPECT_LE(g.voxelSizeAt(level), ro.view->pixelSizeAt(ro.view->depthOf(box)) * 1.000001);
+        }
         if (level == g.levels) {
             nearestFull = std::min(nearestFull, box.min.x);
             farthestFull = std::max(farthestFull, box.min.x);

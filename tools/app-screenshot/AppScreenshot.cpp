@@ -3,7 +3,7 @@
 // full depth, and saves the window with the viewport's frame painted in
 // (a widget grab does not see the Vulkan window's pixels).
 //
-//   xvfb-run -a -s "-screen 0 1600x1000x24" build/tools/app-screenshot/kerf_app_screenshot \
+//   xvfb-run -a -s "-screen 0 1600x1000x24" build/ui/app-screenshot/kerf_app_screenshot
 //       FILE.kerf OUT.png [--select NODE_ID] [--view iso|front|...] [--section x|y|z] [--size WxH]
 
 #include "MainWindow.hpp"
