@@ -62,7 +62,7 @@ TEST(TightBounds, OuterBoundsEncloseEverySolidSampleOfRandomParts)
     // reached by solid points (sampled densely near each face).
     test::RandomShapes rs(20261123);
     PointEvaluator<double> eval;
-    for (int i = 0; i < 12; ++i) {
+    for (int i = 0; i < 8; ++i) {
         Document doc;
         doc.root = rs.tree(2);
         const Tape tape = compileTape(doc);
@@ -71,7 +71,7 @@ TEST(TightBounds, OuterBoundsEncloseEverySolidSampleOfRandomParts)
         if (!tb) continue;
         const Aabb box = tape.bounds();
         std::uniform_real_distribution<double> u(0.0, 1.0);
-        for (int k = 0; k < 20000; ++k) {
+        for (int k = 0; k < 5000; ++k) {
             const glm::dvec3 p = box.min + box.size() * glm::dvec3(u(rs.engine()), u(rs.engine()), u(rs.engine()));
             const glm::dvec3 q = p - tape.origin();
             if (eval.evaluate(tape, q.x, q.y, q.z) > 0.0) continue;

@@ -55,7 +55,8 @@ using namespace kerf::ui;
 
 namespace {
 
-constexpr int kVoxelTimeoutMs = 60000;
+// Generous: under AddressSanitizer on two shared cores, lavapipe frames take seconds.
+constexpr int kVoxelTimeoutMs = 300000;
 
 std::unique_ptr<MainWindow> makeWindow(const QString& recoveryDir, MainWindowOptions options = {})
 {

@@ -13,6 +13,13 @@ DocumentSession::DocumentSession(QObject* parent) : QObject(parent), document_(e
     connect(&undo_, &QUndoStack::cleanChanged, this, &DocumentSession::stateChanged);
 }
 
+DocumentSession::~DocumentSession()
+{
+    // The undo stack signals a change of its clean state as it is destroyed,
+    // after this object's own members are gone.
+    undo_.disconnect(this);
+}
+
 QString DocumentSession::displayName() const
 {
     return path_ ? QFileInfo(QString::fromStdString(path_->string())).fileName() : tr("Untitled");

@@ -25,6 +25,7 @@ class DocumentSession : public QObject {
     Q_OBJECT
 public:
     explicit DocumentSession(QObject* parent = nullptr);
+    ~DocumentSession() override;
 
     const Document& document() const { return document_; }
     /// Increases with every change of the document (edits, undo, redo, open).

@@ -178,7 +178,16 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
                     0);
 }
 
-MainWindow::~MainWindow() = default;
+MainWindow::~MainWindow()
+{
+    // The children go after this body, the session among them (its undo
+    // stack signals as it dies): none may call back into a window that is
+    // no longer one.
+    for (QObject* child : std::initializer_list<QObject*>{session_, voxelizer_, model_, viewport_, properties_})
+        child->disconnect(this);
+    autosave_->stop();
+    progressTimer_->stop();
+}
 
 std::size_t MainWindow::memoryBudgetBytes() const
 {

@@ -387,12 +387,20 @@ VkImage SceneRenderer::colorImage() const { return impl_->color.image; }
 RgbaImage SceneRenderer::render(ComputeTracer& tracer, const VoxelAddresses& voxels, const Camera& camera,
                                 const std::vector<Feature>& features, const SceneOptions& options, const Section& section)
 {
+    impl_->ctx.submitAndWait(
+        [&](VkCommandBuffer cb) { record(cb, tracer, voxels, camera, features, options, section); });
+    return readPicture();
+}
+
+RgbaImage SceneRenderer::readPicture() const
+{
     const Context& ctx = impl_->ctx;
-    const int w = camera.width(), h = camera.height();
+    RgbaImage out;
+    const int w = impl_->width, h = impl_->height;
+    if (w == 0 || h == 0) return out;
     GpuBuffer readback(ctx, std::size_t(w) * std::size_t(h) * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                        GpuBuffer::Kind::Readback, "colour readback");
     ctx.submitAndWait([&](VkCommandBuffer cb) {
-        record(cb, tracer, voxels, camera, features, options, section);
         VkBufferImageCopy region{};
         region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         region.imageExtent = {std::uint32_t(w), std::uint32_t(h), 1};
@@ -404,7 +412,6 @@ RgbaImage SceneRenderer::render(ComputeTracer& tracer, const VoxelAddresses& vox
         vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &host, 0, nullptr, 0,
                              nullptr);
     });
-    RgbaImage out;
     out.width = w;
     out.height = h;
     out.pixels.resize(std::size_t(w) * std::size_t(h) * 4);

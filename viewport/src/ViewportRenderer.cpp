@@ -48,7 +48,6 @@ struct ViewportRenderer::Impl {
     std::vector<Semaphore> rendered; // one per swapchain image: presentation may still wait on the last one
     std::shared_ptr<const VoxelSnapshot> target;
     std::shared_ptr<const std::vector<PlacedMesh>> meshes, markers;
-    int pictureWidth = 0, pictureHeight = 0;
 
     Impl(const Context& c, VkSurfaceKHR surface, StreamingOptions streaming)
         : ctx(c), swapchain(c, surface), tracer(c), scene(c), streamer(c, streaming)
@@ -176,8 +175,6 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
     check(vkResetFences(m.ctx.device(), 1, &f), "vkResetFences (viewport)");
 
     if (st.traced) st.traceGpuMs = m.tracer.lastTiming().gpuMilliseconds;
-    m.pictureWidth = tw;
-    m.pictureHeight = th;
     st.upToDate = m.streamer.upToDate();
     st.shownVersion = shown ? shown->version : 0;
     st.shownRevision = shown ? shown->documentRevision : 0;
@@ -192,31 +189,6 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
     return st;
 }
 
-RgbaImage ViewportRenderer::lastPicture()
-{
-    Impl& m = *impl_;
-    RgbaImage out;
-    if (m.pictureWidth == 0) return out;
-    const int w = m.pictureWidth, h = m.pictureHeight;
-    GpuBuffer readback(m.ctx, std::size_t(w) * std::size_t(h) * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                       GpuBuffer::Kind::Readback, "picture readback");
-    m.ctx.submitAndWait([&](VkCommandBuffer cb) {
-        VkBufferImageCopy region{};
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        region.imageExtent = {std::uint32_t(w), std::uint32_t(h), 1};
-        vkCmdCopyImageToBuffer(cb, m.scene.colorImage(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer(), 1,
-                               &region);
-        VkMemoryBarrier host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &host, 0, nullptr, 0,
-                             nullptr);
-    });
-    out.width = w;
-    out.height = h;
-    out.pixels.resize(std::size_t(w) * std::size_t(h) * 4);
-    std::memcpy(out.pixels.data(), readback.mapped(), out.pixels.size());
-    return out;
-}
+RgbaImage ViewportRenderer::lastPicture() { return impl_->scene.readPicture(); }
 
 } // namespace kerf::vk

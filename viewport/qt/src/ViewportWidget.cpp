@@ -120,9 +120,8 @@ Aabb ViewportWidget::partBounds() const
     return b;
 }
 
-void ViewportWidget::sceneChanged()
+vk::ViewportScene ViewportWidget::scene() const
 {
-    if (!backend_) return;
     vk::ViewportScene scene;
     scene.view = view_;
     scene.snapshot = snapshot_;
@@ -133,7 +132,13 @@ void ViewportWidget::sceneChanged()
     scene.meshes = meshes_;
     scene.markers = markers_;
     scene.resolutionScale = interactive_ && status_.traceMs > kInteractiveTraceBudgetMs ? 0.5 : 1.0;
-    backend_->show(scene);
+    return scene;
+}
+
+void ViewportWidget::sceneChanged()
+{
+    if (!backend_) return;
+    backend_->show(scene());
     // At rest, the voxelizer learns what this view needs.
     if (!interactive_) {
         const QSize px = pixelSize();
@@ -232,16 +237,9 @@ void ViewportWidget::setView(const ViewController& view)
 QImage ViewportWidget::grabFrame(int timeoutMs)
 {
     if (!backend_) return {};
-    vk::ViewportScene scene;
-    scene.view = view_;
-    scene.snapshot = snapshot_;
-    scene.section = section_;
-    scene.selectedFeatureNodes = selected_;
-    scene.grid = grid_;
-    scene.axes = axes_;
-    scene.meshes = meshes_;
-    scene.markers = markers_;
-    return backend_->grab(scene, timeoutMs);
+    vk::ViewportScene full = scene();
+    full.resolutionScale = 1.0; // a picture for a person: full resolution
+    return backend_->grab(full, timeoutMs);
 }
 
 ViewportPick ViewportWidget::pickAt(QPointF position) const

@@ -66,6 +66,9 @@ public:
     void record(VkCommandBuffer cb, ComputeTracer& tracer, const VoxelAddresses& voxels, const Camera& camera,
                 const std::vector<Feature>& features, const SceneOptions& options = {}, const Section& section = {});
     VkImage colorImage() const;
+    /// Reads the last recorded picture back (after its commands finished;
+    /// waits for the copy). Empty before the first frame.
+    RgbaImage readPicture() const;
 
     /// Whether the last frame traced (false: it reused the previous trace).
     bool lastFrameTraced() const;

@@ -38,6 +38,10 @@ class QMouseEvent;
 class QWheelEvent;
 class QKeyEvent;
 
+namespace kerf::vk {
+struct ViewportScene;
+}
+
 namespace kerf::qt {
 
 class ViewportBackend;
@@ -139,6 +143,7 @@ private:
     Aabb partBounds() const;
     std::optional<glm::dvec3> surfacePointAt(QPointF position) const;
     void useCpu(const QString& reason);
+    vk::ViewportScene scene() const; // what the next frame shows
 
     ViewController view_;
     bool viewFramed_ = false;
