@@ -7,6 +7,8 @@
 #extension GL_GOOGLE_include_directive : require
 
 #include "TraceShared.h"
+#include "kerf/tracer/ExactRefinement.h"
+#include "kerf/voxelizer/TileTapeFormat.h"
 
 layout(local_size_x = KERF_TRACE_LOCAL_SIZE, local_size_y = KERF_TRACE_LOCAL_SIZE) in;
 
@@ -169,7 +171,193 @@ float firstCrossing(vec4 c, float wEnd)
 
 float nonZero(float v) { return abs(v) < 1e-20 ? (v < 0.0 ? -1e-20 : 1e-20) : v; }
 
-bool traceTile(uint entry, ivec3 tile, vec3 origin, vec3 dir, vec3 invDir, float tileSize, float tEnter,
+// ---- A tile's exact tape (voxelizer/src/TileTape.cpp, evaluateTileTape) ----
+// t is the tape's first word in P.tapes; indices are relative to it.
+
+uint tapeWord(uint t, uint i) { return word(P.tapes, t + i); }
+float tapeFloat(uint t, uint i) { return uintBitsToFloat(word(P.tapes, t + i)); }
+
+float sq(float v) { return v * v; }
+
+float boxDistance(vec3 l, float bx, float by, float bz, float round)
+{
+    const float qx = abs(l.x) - bx, qy = abs(l.y) - by, qz = abs(l.z) - bz;
+    const float outside = sqrt(sq(max(qx, 0.0)) + sq(max(qy, 0.0)) + sq(max(qz, 0.0)));
+    const float inside = min(max(qx, max(qy, qz)), 0.0);
+    return outside + inside - round;
+}
+
+float cylinderDistance(vec3 l, float radius, float halfHeight)
+{
+    const float dr = sqrt(sq(l.x) + sq(l.y)) - radius;
+    const float dz = abs(l.z) - halfHeight;
+    return min(max(dr, dz), 0.0) + sqrt(sq(max(dr, 0.0)) + sq(max(dz, 0.0)));
+}
+
+float coneDistance(vec3 l, float r1, float r2, float h, float k2x, float k2y, float invK2)
+{
+    const float qx = sqrt(sq(l.x) + sq(l.y));
+    const float qy = l.z;
+    const float rr = qy < 0.0 ? r1 : r2;
+    const float cax = qx - min(qx, rr);
+    const float cay = abs(qy) - h;
+    const float t = clamp(((r2 - qx) * k2x + (h - qy) * k2y) * invK2, 0.0, 1.0);
+    const float cbx = qx - r2 + k2x * t;
+    const float cby = qy - h + k2y * t;
+    const float s = (cbx < 0.0 && cay < 0.0) ? -1.0 : 1.0;
+    return s * sqrt(min(sq(cax) + sq(cay), sq(cbx) + sq(cby)));
+}
+
+float polygonDistance(uint t, uint first, uint count, float x, float y)
+{
+    float d = sq(x - tapeFloat(t, first)) + sq(y - tapeFloat(t, first + 1u));
+    bool inside = false;
+    for (uint i = 0u, j = count - 1u; i < count; j = i++) {
+        const float vix = tapeFloat(t, first + 2u * i), viy = tapeFloat(t, first + 2u * i + 1u);
+        const float vjx = tapeFloat(t, first + 2u * j), vjy = tapeFloat(t, first + 2u * j + 1u);
+        const float ex = vjx - vix, ey = vjy - viy;
+        const float wx = x - vix, wy = y - viy;
+        const float s = clamp((wx * ex + wy * ey) / (ex * ex + ey * ey), 0.0, 1.0);
+        d = min(d, sq(wx - ex * s) + sq(wy - ey * s));
+        const bool c1 = y >= viy, c2 = y < vjy, c3 = ex * wy > ey * wx;
+        if ((c1 && c2 && c3) || (!c1 && !c2 && !c3)) inside = !inside;
+    }
+    const float dist = sqrt(d);
+    return inside ? -dist : dist;
+}
+
+float shapeDistance(uint t, uint s, vec3 p)
+{
+    const uint f = s + KERF_TAPE_SHAPE_FRAME;
+    const vec3 l = vec3(tapeFloat(t, f) * p.x + tapeFloat(t, f + 1u) * p.y + tapeFloat(t, f + 2u) * p.z + tapeFloat(t, f + 9u),
+                        tapeFloat(t, f + 3u) * p.x + tapeFloat(t, f + 4u) * p.y + tapeFloat(t, f + 5u) * p.z + tapeFloat(t, f + 10u),
+                        tapeFloat(t, f + 6u) * p.x + tapeFloat(t, f + 7u) * p.y + tapeFloat(t, f + 8u) * p.z + tapeFloat(t, f + 11u));
+    const uint a = s + KERF_TAPE_SHAPE_PARAMS;
+    const uint kind = tapeWord(t, s);
+    if (kind == KERF_SHAPE_BOX)
+        return boxDistance(l, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
+    if (kind == KERF_SHAPE_SPHERE) return sqrt(sq(l.x) + sq(l.y) + sq(l.z)) - tapeFloat(t, a);
+    if (kind == KERF_SHAPE_CYLINDER) return cylinderDistance(l, tapeFloat(t, a), tapeFloat(t, a + 1u));
+    if (kind == KERF_SHAPE_CONE)
+        return coneDistance(l, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u),
+                            tapeFloat(t, a + 4u), tapeFloat(t, a + 5u));
+    if (kind == KERF_SHAPE_TORUS) {
+        const float q = sqrt(sq(l.x) + sq(l.y)) - tapeFloat(t, a);
+        return sqrt(sq(q) + sq(l.z)) - tapeFloat(t, a + 1u);
+    }
+    if (kind == KERF_SHAPE_EXTRUDE) {
+        const float d2 = polygonDistance(t, tapeWord(t, a + 1u), tapeWord(t, a + 2u), l.x, l.y);
+        const float wz = abs(l.z) - tapeFloat(t, a);
+        return min(max(d2, wz), 0.0) + sqrt(sq(max(d2, 0.0)) + sq(max(wz, 0.0)));
+    }
+    return tapeFloat(t, a) * l.x + tapeFloat(t, a + 1u) * l.y + tapeFloat(t, a + 2u) * l.z - tapeFloat(t, a + 3u);
+}
+
+float evaluateTileTape(uint t, vec3 p, out uint feature)
+{
+    const uint count = tapeWord(t, 0u);
+    const uint shapes = KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * count;
+    float stack[KERF_TAPE_MAX_STACK];
+    uint features[KERF_TAPE_MAX_STACK];
+    int sp = 0;
+    for (uint i = 0u; i < count; ++i) {
+        const uint code = tapeWord(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i);
+        const float k = tapeFloat(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);
+        const uint op = code & 0xFFu;
+        if (op == KERF_TAPE_PRIMITIVE) {
+            const uint s = shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS;
+            stack[sp] = shapeDistance(t, s, p);
+            features[sp] = tapeWord(t, s + 1u);
+            ++sp;
+        } else if (op <= KERF_TAPE_SMOOTH_MAX) {
+            const float b = stack[sp - 1], a = stack[sp - 2];
+            const bool isMin = op == KERF_TAPE_MIN || op == KERF_TAPE_SMOOTH_MIN;
+            if (isMin ? b < a : a < b) features[sp - 2] = features[sp - 1];
+            float r;
+            if (op == KERF_TAPE_MIN) {
+                r = min(a, b);
+            } else if (op == KERF_TAPE_MAX) {
+                r = max(a, b);
+            } else {
+                const float h = max(k - abs(a - b), 0.0) * (1.0 / k);
+                r = op == KERF_TAPE_SMOOTH_MIN ? min(a, b) - h * h * (k * 0.25) : max(a, b) + h * h * (k * 0.25);
+            }
+            stack[sp - 2] = r;
+            --sp;
+        } else if (op == KERF_TAPE_NEGATE) {
+            stack[sp - 1] = -stack[sp - 1];
+        } else if (op == KERF_TAPE_OFFSET) {
+            stack[sp - 1] = stack[sp - 1] - k;
+        } else {
+            stack[sp - 1] = max(stack[sp - 1], -(stack[sp - 1] + k));
+        }
+    }
+    feature = features[0];
+    return stack[0];
+}
+
+// ---- The hybrid refinement (ReferenceTracer.cpp, exactCrossing) ----
+
+float exactAt(uint tape, vec3 e, vec3 dir, float tileSize, float s)
+{
+    uint feature;
+    return evaluateTileTape(tape, (e + s * dir) * tileSize, feature) / tileSize;
+}
+
+float exactCrossing(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float s1, float sTileEnd, float voxelEdge,
+                    float sTrilinear, inout float searched)
+{
+    const float margin = float(KERF_EXACT_MARGIN) * voxelEdge;
+    const float eps = float(KERF_EXACT_EPSILON) * voxelEdge;
+    const float a = max(searched, s0 - margin);
+    const float b = min(s1 + margin, sTileEnd);
+    if (!(a < b)) return -1.0;
+    float g = exactAt(tape, e, dir, tileSize, a);
+    if (g <= 0.0) {
+        float sBack = a;
+        for (int k = 0; k < KERF_EXACT_STEPS && g < -eps && sBack > searched; ++k) {
+            sBack = max(sBack + g, searched);
+            g = exactAt(tape, e, dir, tileSize, sBack);
+        }
+        return sBack;
+    }
+    float hi = -1.0;
+    if (sTrilinear > a && sTrilinear < b && exactAt(tape, e, dir, tileSize, sTrilinear) <= 0.0) hi = sTrilinear;
+    float lo = a;
+    for (int k = 0; k < KERF_EXACT_STEPS && g >= eps; ++k) {
+        lo += g;
+        if (hi >= 0.0 && lo >= hi) return hi;
+        if (lo >= b) {
+            searched = b;
+            return -1.0;
+        }
+        g = exactAt(tape, e, dir, tileSize, lo);
+    }
+    if (g < eps) return lo;
+    if (hi < 0.0 && exactAt(tape, e, dir, tileSize, b) <= 0.0) hi = b;
+    if (hi < 0.0) {
+        searched = lo;
+        return -1.0;
+    }
+    for (int k = 0; k < KERF_EXACT_BISECTIONS; ++k) {
+        const float mid = 0.5 * (lo + hi);
+        if (exactAt(tape, e, dir, tileSize, mid) <= 0.0) hi = mid;
+        else lo = mid;
+    }
+    return hi;
+}
+
+vec3 exactNormal(uint tape, vec3 p, float h, out uint feature)
+{
+    uint f;
+    const vec3 g = vec3(evaluateTileTape(tape, p + vec3(h, 0.0, 0.0), f) - evaluateTileTape(tape, p - vec3(h, 0.0, 0.0), f),
+                        evaluateTileTape(tape, p + vec3(0.0, h, 0.0), f) - evaluateTileTape(tape, p - vec3(0.0, h, 0.0), f),
+                        evaluateTileTape(tape, p + vec3(0.0, 0.0, h), f) - evaluateTileTape(tape, p - vec3(0.0, 0.0, h), f));
+    evaluateTileTape(tape, p, feature);
+    return g;
+}
+
+bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 invDir, float tileSize, float tEnter,
                inout Hit hit)
 {
     const uint eNode = word(P.entries, entry * 8u + 0u);
@@ -185,6 +373,9 @@ bool traceTile(uint entry, ivec3 tile, vec3 origin, vec3 dir, vec3 invDir, float
     const vec3 e = clamp((origin - vec3(tile) * tileSize + tEnter * dir) * invTile, 0.0, 1.0);
     ivec3 cell = clamp(ivec3(floor(e * fn)), ivec3(0), ivec3(n - 1));
     float s = 0.0;
+    const vec3 sFaces = (vec3(greaterThan(dir, vec3(0.0))) - e) * invDir;
+    const float sTileEnd = min(sFaces.x, min(sFaces.y, sFaces.z));
+    float searched = 0.0;
 
     const int maxIterations = 3 * n + 3;
     for (int iteration = 0; iteration < maxIterations; ++iteration) {
@@ -247,6 +438,21 @@ bool traceTile(uint entry, ivec3 tile, vec3 origin, vec3 dir, vec3 invDir, float
                 capPending = false;
             }
             const float w = firstCrossing(along, wEnd);
+            if (tape != KERF_NO_TAPE) {
+                const float voxelEdge = 1.0 / voxelScale;
+                const float sHit = exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
+                                                 w >= 0.0 ? s + w / voxelScale : -1.0, searched);
+                if (sHit >= 0.0) {
+                    uint feature = kNoFeature;
+                    const vec3 g = exactNormal(tape, (e + sHit * dir) * tileSize,
+                                               float(KERF_EXACT_GRADIENT_STEP) * voxelMm, feature);
+                    const float len = length(g);
+                    hit.normal = len > 0.0 ? g / len : -dir;
+                    hit.feature = feature;
+                    hit.depth = tEnter + sHit * tileSize;
+                    return true;
+                }
+            }
             if (w >= 0.0) {
                 const vec3 u = clamp(o + w * dir, 0.0, 1.0);
                 vec3 nrm = vec3(0.0);
@@ -350,7 +556,8 @@ Hit traceRay(vec3 origin, vec3 direction)
             hit.feature = kNoFeature;
             return hit;
         }
-        if (value != kEmptyTile && traceTile(value, tile, origin, dir, invDir, tileSize, tEnter, hit)) {
+        const uint tape = value != kEmptyTile && P.options.x == 1u ? word(P.entries, value * 8u + 5u) : KERF_NO_TAPE;
+        if (value != kEmptyTile && traceTile(value, tape, tile, origin, dir, invDir, tileSize, tEnter, hit)) {
             if (hit.depth > tLeave) { // past the section plane: in the part cut away
                 hit.depth = kInf;
                 hit.normal = vec3(0.0);

@@ -1,5 +1,8 @@
 #include "kerf/tracer/ReferenceTracer.hpp"
 
+#include "kerf/tracer/ExactRefinement.h"
+#include "kerf/voxelizer/TileTape.hpp"
+
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -140,6 +143,98 @@ float firstCrossing(const Cubic& c, float wEnd)
 // and the slab and cell exits need no special case (1e-20 bends nothing).
 float nonZero(float v) { return std::fabs(v) < 1e-20f ? (v < 0.0f ? -1e-20f : 1e-20f) : v; }
 
+// The hybrid refinement (TraceQuality::Exact). The ray inside a tile is
+// e + s * dir in tile units; the tile's exact tape takes tile-relative
+// millimetres.
+
+// The exact field at ray parameter s, in tile edges.
+float exactAt(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& dir, float tileSize, float s,
+              std::uint32_t& evaluations)
+{
+    ++evaluations;
+    std::uint32_t feature = 0;
+    return voxel::evaluateTileTape(tape, (e + s * dir) * tileSize, feature) / tileSize;
+}
+
+// The ray's first crossing of the exact surface around a populated voxel
+// whose segment is [s0, s1]: searched on [s0 - margin, s1 + margin] within
+// the tile, and not before `searched` (up to where an earlier search found
+// the field positive, moved on when this one finds nothing). `sTrilinear`
+// is the trilinear crossing in the voxel (or -1): where the exact field is
+// inside there, it brackets the crossing. Returns the crossing's parameter,
+// or -1 when the window holds none.
+//
+// Sphere tracing never passes a crossing (the field is 1-Lipschitz);
+// bisection takes over from it when a bracket is known and the steps run
+// out (rays grazing the surface).
+float exactCrossing(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& dir, float tileSize, float s0,
+                    float s1, float sTileEnd, float voxelEdge, float sTrilinear, float& searched,
+                    std::uint32_t& evaluations)
+{
+    const float margin = float(KERF_EXACT_MARGIN) * voxelEdge;
+    const float eps = float(KERF_EXACT_EPSILON) * voxelEdge;
+    const float a = glm::max(searched, s0 - margin);
+    const float b = glm::min(s1 + margin, sTileEnd);
+    if (!(a < b)) return -1.0f;
+    float g = exactAt(tape, e, dir, tileSize, a, evaluations);
+    if (g <= 0.0f) {
+        // Inside at the window's start: the surface was crossed before,
+        // where no voxel is populated (an edge sharper than the voxels).
+        // Walk back towards it: |g| is at most the distance to it, so the
+        // walk never passes it, nor goes back before what is known outside.
+        float sBack = a;
+        for (int k = 0; k < KERF_EXACT_STEPS && g < -eps && sBack > searched; ++k) {
+            sBack = glm::max(sBack + g, searched);
+            g = exactAt(tape, e, dir, tileSize, sBack, evaluations);
+        }
+        return sBack;
+    }
+    float hi = -1.0f; // ahead, inside: a bracket
+    if (sTrilinear > a && sTrilinear < b && exactAt(tape, e, dir, tileSize, sTrilinear, evaluations) <= 0.0f)
+        hi = sTrilinear;
+    float lo = a;
+    for (int k = 0; k < KERF_EXACT_STEPS && g >= eps; ++k) {
+        lo += g;
+        if (hi >= 0.0f && lo >= hi) return hi;
+        if (lo >= b) {
+            searched = b;
+            return -1.0f;
+        }
+        g = exactAt(tape, e, dir, tileSize, lo, evaluations);
+    }
+    if (g < eps) return lo;
+    if (hi < 0.0f && exactAt(tape, e, dir, tileSize, b, evaluations) <= 0.0f) hi = b;
+    if (hi < 0.0f) {
+        searched = lo;
+        return -1.0f;
+    }
+    for (int k = 0; k < KERF_EXACT_BISECTIONS; ++k) {
+        const float mid = 0.5f * (lo + hi);
+        if (exactAt(tape, e, dir, tileSize, mid, evaluations) <= 0.0f)
+            hi = mid;
+        else
+            lo = mid;
+    }
+    return hi;
+}
+
+// The exact field's normal (central differences, in tile-relative
+// millimetres) and deciding feature at tile-relative point p (mm).
+glm::vec3 exactNormal(const std::uint32_t* tape, const glm::vec3& p, float h, std::uint32_t& feature,
+                      std::uint32_t& evaluations)
+{
+    evaluations += 7;
+    std::uint32_t f = 0;
+    const glm::vec3 g(voxel::evaluateTileTape(tape, p + glm::vec3(h, 0.0f, 0.0f), f) -
+                          voxel::evaluateTileTape(tape, p - glm::vec3(h, 0.0f, 0.0f), f),
+                      voxel::evaluateTileTape(tape, p + glm::vec3(0.0f, h, 0.0f), f) -
+                          voxel::evaluateTileTape(tape, p - glm::vec3(0.0f, h, 0.0f), f),
+                      voxel::evaluateTileTape(tape, p + glm::vec3(0.0f, 0.0f, h), f) -
+                          voxel::evaluateTileTape(tape, p - glm::vec3(0.0f, 0.0f, h), f));
+    voxel::evaluateTileTape(tape, p, feature);
+    return g;
+}
+
 // A section's cap, pending while the ray, started on the section plane, has
 // met no populated voxel yet: until then no surface was crossed, so the
 // first voxel's value at the ray's entry says whether the plane point was
@@ -160,8 +255,10 @@ struct CapState {
 // Traces inside one surface tile, from ray parameter tEnter (where the ray is
 // in the tile) until it leaves the tile. Returns true with `hit` filled when
 // it finds the surface (or a section's cap).
-bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const glm::ivec3& tile, const glm::vec3& origin,
-               const glm::vec3& dir, const glm::vec3& invDir, float tileSize, float tEnter, RayHit& hit, CapState& cap)
+// `tape`: the tile's exact tape when the hybrid refinement is on, else null.
+bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uint32_t* tape, const glm::ivec3& tile,
+               const glm::vec3& origin, const glm::vec3& dir, const glm::vec3& invDir, float tileSize, float tEnter,
+               RayHit& hit, CapState& cap)
 {
     const int levels = int(entry.levels);
     const int n = 1 << (2 * levels); // finest cells per tile edge
@@ -174,6 +271,11 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const glm::ive
     const glm::vec3 e = glm::clamp((origin - glm::vec3(tile) * tileSize + tEnter * dir) * invTile, 0.0f, 1.0f);
     glm::ivec3 cell = glm::clamp(glm::ivec3(glm::floor(e * fn)), glm::ivec3(0), glm::ivec3(n - 1));
     float s = 0.0f;
+    // Hybrid refinement: where the ray leaves the tile, and up to where the
+    // exact field is known to be outside.
+    const glm::vec3 sFaces = (glm::vec3(glm::greaterThan(dir, glm::vec3(0.0f))) - e) * invDir;
+    const float sTileEnd = glm::min(sFaces.x, glm::min(sFaces.y, sFaces.z));
+    float searched = 0.0f;
 
     // Each iteration moves at least one cell coordinate one step along the
     // ray, so 3n iterations cross the whole tile.
@@ -233,6 +335,26 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const glm::ive
                 cap.pending = false;
             }
             const float w = firstCrossing(along, wEnd);
+            if (tape) {
+                // Near the surface: the exact field decides, the trilinear
+                // crossing only brackets it; where the exact field has no
+                // crossing nearby, the voxels' stands (never a hole where
+                // the voxels show surface).
+                const float voxelEdge = 1.0f / voxelScale;
+                const float sHit = exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
+                                                 w >= 0.0f ? s + w / voxelScale : -1.0f, searched, hit.evaluations);
+                if (sHit >= 0.0f) {
+                    std::uint32_t feature = kNoFeature;
+                    const glm::vec3 g = exactNormal(tape, (e + sHit * dir) * tileSize,
+                                                    float(KERF_EXACT_GRADIENT_STEP) * voxelMm, feature,
+                                                    hit.evaluations);
+                    const float len = glm::length(g);
+                    hit.normal = len > 0.0f ? g / len : -dir;
+                    hit.feature = feature;
+                    hit.depth = tEnter + sHit * tileSize;
+                    return true;
+                }
+            }
             if (w >= 0.0f) {
                 const glm::vec3 u = glm::clamp(o + w * dir, 0.0f, 1.0f);
                 glm::vec3 nrm(0.0f);
@@ -280,7 +402,7 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const glm::ive
 } // namespace
 
 RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction,
-                const glm::vec4& plane)
+                const glm::vec4& plane, TraceQuality quality)
 {
     RayHit hit;
     const GridLayout& layout = b.layout;
@@ -349,7 +471,11 @@ RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::v
             return hit;
         }
         if (value != voxel::kEmptyTile &&
-            traceTile(b, b.entries[value], tile, origin, dir, invDir, tileSize, tEnter, hit, cap)) {
+            traceTile(b, b.entries[value],
+                      quality == TraceQuality::Exact && b.entries[value].tape != voxel::kNoTape
+                          ? b.tapes.data() + b.entries[value].tape
+                          : nullptr,
+                      tile, origin, dir, invDir, tileSize, tEnter, hit, cap)) {
             // A hit past the section plane is in the part cut away.
             if (hit.depth > tLeave) hit = RayHit{};
             return hit;
@@ -371,13 +497,14 @@ glm::vec4 localPlane(const GridLayout& layout, const Section& section)
     return glm::vec4(glm::vec3(section.normal), float(section.offset - glm::dot(section.normal, layout.origin)));
 }
 
-RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray, const Section& section)
+RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray, const Section& section, TraceQuality quality)
 {
     return traceRay(buffers, glm::vec3(ray.origin - buffers.layout.origin), glm::vec3(ray.direction),
-                    localPlane(buffers.layout, section));
+                    localPlane(buffers.layout, section), quality);
 }
 
-TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, int threads, const Section& section)
+TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, int threads, const Section& section,
+                       TraceQuality quality)
 {
     TraceImage image(camera.width(), camera.height());
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
@@ -385,7 +512,7 @@ TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, in
         tbb::parallel_for(tbb::blocked_range<int>(0, image.height), [&](const tbb::blocked_range<int>& rows) {
             for (int y = rows.begin(); y != rows.end(); ++y)
                 for (int x = 0; x < image.width; ++x) {
-                    const RayHit h = traceRay(buffers, camera.ray(x, y), section);
+                    const RayHit h = traceRay(buffers, camera.ray(x, y), section, quality);
                     const std::size_t i = image.index(x, y);
                     image.depth[i] = h.depth;
                     image.normal[i] = h.normal;

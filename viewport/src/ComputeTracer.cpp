@@ -16,7 +16,7 @@ VoxelAddresses VoxelAddresses::of(const ResidentSet& r)
     a.grid = r.layout;
     a.tiles = r.tiles;
     a.entries = r.entries;
-    a.nodes = a.leafIndirections = a.leafData = a.vertices = r.heap;
+    a.nodes = a.leafIndirections = a.leafData = a.vertices = a.tapes = r.heap;
     a.version = r.snapshotVersion;
     return a;
 }
@@ -28,7 +28,7 @@ struct ComputeTracer::Impl {
     Pipeline pipeline;
     QueryPool timestamps;
     GridLayout grid;
-    GpuBuffer tiles, entries, nodes, leafIndirections, leafData, vertices;
+    GpuBuffer tiles, entries, nodes, leafIndirections, leafData, vertices, tapes;
     std::size_t resident = 0;
     std::uint64_t uploads = 0; // setVoxels() calls: the version of its voxels
     TraceTargets targets;
@@ -108,6 +108,7 @@ void ComputeTracer::setVoxels(const FlatVoxelBuffers& b)
     impl_->leafIndirections = up(b.leafIndirections, "leaf indirections");
     impl_->leafData = up(b.leafData, "leaf data");
     impl_->vertices = up(b.vertices, "vertices");
+    impl_->tapes = up(b.tapes, "tile tapes");
     impl_->grid = b.layout;
     impl_->resident = b.bytes();
     ++impl_->uploads;
@@ -124,12 +125,13 @@ VoxelAddresses ComputeTracer::voxels() const
     a.leafIndirections = impl_->leafIndirections.address();
     a.leafData = impl_->leafData.address();
     a.vertices = impl_->vertices.address();
+    a.tapes = impl_->tapes.address();
     a.version = impl_->uploads;
     return a;
 }
 
 void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const VoxelAddresses& addr,
-                           const Section& section)
+                           const Section& section, TraceQuality quality)
 {
     const int w = camera.width(), h = camera.height();
     impl_->ensureTargets(w, h);
@@ -141,6 +143,7 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
     p.leafIndirections = addr.leafIndirections;
     p.leafData = addr.leafData;
     p.vertices = addr.vertices;
+    p.tapes = addr.tapes;
     p.outDepth = t.depth.address();
     p.outNormal = t.normal.address();
     p.outFeature = t.feature.address();
@@ -158,6 +161,8 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
     p.image = {std::uint32_t(w), std::uint32_t(h), 0, 0};
     const glm::vec4 plane = localPlane(addr.grid, section);
     p.section = {plane.x, plane.y, plane.z, plane.w};
+    // Without tapes (none built, none uploaded) the hybrid has nothing to refine with.
+    p.options = {quality == TraceQuality::Exact && addr.tapes ? 1u : 0u, 0, 0, 0};
     vkCmdUpdateBuffer(cb, impl_->params.buffer(), 0, sizeof p, &p);
     VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     before.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
@@ -192,13 +197,14 @@ TraceTiming ComputeTracer::lastTiming() const
     return t;
 }
 
-TraceImage ComputeTracer::trace(const Camera& camera, TraceTiming* timing, const Section& section)
+TraceImage ComputeTracer::trace(const Camera& camera, TraceTiming* timing, const Section& section,
+                                TraceQuality quality)
 {
-    return trace(camera, ResidentSet{}, timing, section);
+    return trace(camera, ResidentSet{}, timing, section, quality);
 }
 
 TraceImage ComputeTracer::trace(const Camera& camera, const ResidentSet& voxels, TraceTiming* timing,
-                                const Section& section)
+                                const Section& section, TraceQuality quality)
 {
     const Context& ctx = impl_->ctx;
     const VoxelAddresses addr = voxels.valid() ? VoxelAddresses::of(voxels) : this->voxels();
@@ -208,7 +214,7 @@ TraceImage ComputeTracer::trace(const Camera& camera, const ResidentSet& voxels,
     GpuBuffer normal(ctx, pixels * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback, "normal");
     GpuBuffer feature(ctx, pixels * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback, "feature");
     ctx.submitAndWait([&](VkCommandBuffer cb) {
-        record(cb, camera, addr, section);
+        record(cb, camera, addr, section, quality);
         const TraceTargets& t = impl_->targets;
         VkBufferCopy d{0, 0, pixels * sizeof(float)}, n{0, 0, pixels * 16}, f{0, 0, pixels * 4};
         vkCmdCopyBuffer(cb, t.depth.buffer(), depth.buffer(), 1, &d);

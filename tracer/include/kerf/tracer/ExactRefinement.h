@@ -1,0 +1,22 @@
+// Tuning of the hybrid refinement (TraceQuality::Exact), shared by the CPU
+// reference tracer (tracer/src/ReferenceTracer.cpp) and the GPU one
+// (shaders/trace.comp) so that the two cannot drift. Preprocessor
+// definitions only: C++ and GLSL both read it. Lengths are in voxel edges
+// of the voxel being searched; docs/benchmarks.md has what they cost.
+#ifndef KERF_EXACT_REFINEMENT_H
+#define KERF_EXACT_REFINEMENT_H
+
+// How far beyond a populated voxel's segment, both ways, the exact field is
+// searched: the exact surface departs from the trilinear one by a fraction
+// of a voxel (sharp edges rounded off, creases filled in).
+#define KERF_EXACT_MARGIN 1.0
+// Sphere-tracing steps per populated voxel before bisection takes over.
+#define KERF_EXACT_STEPS 8
+// Bisection steps of a bracketed crossing (2^-14 of about a voxel).
+#define KERF_EXACT_BISECTIONS 14
+// The ray hits where the exact field drops below this.
+#define KERF_EXACT_EPSILON 0.001
+// Central differences for the normal: half the step.
+#define KERF_EXACT_GRADIENT_STEP 0.0625
+
+#endif
