@@ -296,6 +296,142 @@ float evaluateTileTape(uint t, vec3 p, out uint feature)
     return stack[0];
 }
 
+// ---- Its gradient (TileTape.cpp, evaluateTileTapeGradient): dual numbers
+// as vec4, x the value, yzw the gradient ----
+
+vec4 dConst(float c) { return vec4(c, 0.0, 0.0, 0.0); }
+vec4 dMul(vec4 a, vec4 b) { return vec4(a.x * b.x, a.y * b.x + a.x * b.y, a.z * b.x + a.x * b.z, a.w * b.x + a.x * b.w); }
+vec4 dSq(vec4 a) { return dMul(a, a); }
+vec4 dSqrt(vec4 a)
+{
+    const float s = sqrt(a.x);
+    const float k = s > 0.0 ? 0.5 / s : 0.0;
+    return vec4(s, a.y * k, a.z * k, a.w * k);
+}
+vec4 dAbs(vec4 a) { return a.x < 0.0 ? -a : a; }
+vec4 dMin(vec4 a, vec4 b) { return b.x < a.x ? b : a; }
+vec4 dMax(vec4 a, vec4 b) { return a.x < b.x ? b : a; }
+
+vec4 boxGradient(vec4 lx, vec4 ly, vec4 lz, float bx, float by, float bz, float round)
+{
+    const vec4 qx = dAbs(lx) - dConst(bx), qy = dAbs(ly) - dConst(by), qz = dAbs(lz) - dConst(bz);
+    const vec4 outside = dSqrt(dSq(dMax(qx, dConst(0.0))) + dSq(dMax(qy, dConst(0.0))) + dSq(dMax(qz, dConst(0.0))));
+    const vec4 inside = dMin(dMax(qx, dMax(qy, qz)), dConst(0.0));
+    return outside + inside - dConst(round);
+}
+
+vec4 cylinderGradient(vec4 lx, vec4 ly, vec4 lz, float radius, float halfHeight)
+{
+    const vec4 dr = dSqrt(dSq(lx) + dSq(ly)) - dConst(radius);
+    const vec4 dz = dAbs(lz) - dConst(halfHeight);
+    return dMin(dMax(dr, dz), dConst(0.0)) + dSqrt(dSq(dMax(dr, dConst(0.0))) + dSq(dMax(dz, dConst(0.0))));
+}
+
+vec4 coneGradient(vec4 lx, vec4 ly, vec4 lz, float r1, float r2, float h, float k2x, float k2y, float invK2)
+{
+    const vec4 qx = dSqrt(dSq(lx) + dSq(ly));
+    const vec4 qy = lz;
+    const float rr = qy.x < 0.0 ? r1 : r2;
+    const vec4 cax = qx - dMin(qx, dConst(rr));
+    const vec4 cay = dAbs(qy) - dConst(h);
+    const vec4 t = dMin(dMax(((dConst(r2) - qx) * k2x + (dConst(h) - qy) * k2y) * invK2, dConst(0.0)), dConst(1.0));
+    const vec4 cbx = qx - dConst(r2) + t * k2x;
+    const vec4 cby = qy - dConst(h) + t * k2y;
+    const float s = (cbx.x < 0.0 && cay.x < 0.0) ? -1.0 : 1.0;
+    return dSqrt(dMin(dSq(cax) + dSq(cay), dSq(cbx) + dSq(cby))) * s;
+}
+
+vec4 polygonGradient(uint t, uint first, uint count, vec4 x, vec4 y)
+{
+    vec4 d = dSq(x - dConst(tapeFloat(t, first))) + dSq(y - dConst(tapeFloat(t, first + 1u)));
+    bool inside = false;
+    for (uint i = 0u, j = count - 1u; i < count; j = i++) {
+        const float vix = tapeFloat(t, first + 2u * i), viy = tapeFloat(t, first + 2u * i + 1u);
+        const float vjx = tapeFloat(t, first + 2u * j), vjy = tapeFloat(t, first + 2u * j + 1u);
+        const float ex = vjx - vix, ey = vjy - viy;
+        const vec4 wx = x - dConst(vix), wy = y - dConst(viy);
+        const vec4 s = dMin(dMax((wx * ex + wy * ey) * (1.0 / (ex * ex + ey * ey)), dConst(0.0)), dConst(1.0));
+        d = dMin(d, dSq(wx - s * ex) + dSq(wy - s * ey));
+        const bool c1 = y.x >= viy, c2 = y.x < vjy, c3 = ex * wy.x > ey * wx.x;
+        if ((c1 && c2 && c3) || (!c1 && !c2 && !c3)) inside = !inside;
+    }
+    const vec4 dist = dSqrt(d);
+    return inside ? -dist : dist;
+}
+
+vec4 shapeGradient(uint t, uint s, vec3 p)
+{
+    const uint f = s + KERF_TAPE_SHAPE_FRAME;
+    const vec4 lx = vec4(tapeFloat(t, f) * p.x + tapeFloat(t, f + 1u) * p.y + tapeFloat(t, f + 2u) * p.z + tapeFloat(t, f + 9u),
+                         tapeFloat(t, f), tapeFloat(t, f + 1u), tapeFloat(t, f + 2u));
+    const vec4 ly = vec4(tapeFloat(t, f + 3u) * p.x + tapeFloat(t, f + 4u) * p.y + tapeFloat(t, f + 5u) * p.z + tapeFloat(t, f + 10u),
+                         tapeFloat(t, f + 3u), tapeFloat(t, f + 4u), tapeFloat(t, f + 5u));
+    const vec4 lz = vec4(tapeFloat(t, f + 6u) * p.x + tapeFloat(t, f + 7u) * p.y + tapeFloat(t, f + 8u) * p.z + tapeFloat(t, f + 11u),
+                         tapeFloat(t, f + 6u), tapeFloat(t, f + 7u), tapeFloat(t, f + 8u));
+    const uint a = s + KERF_TAPE_SHAPE_PARAMS;
+    const uint kind = tapeWord(t, s);
+    if (kind == KERF_SHAPE_BOX)
+        return boxGradient(lx, ly, lz, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
+    if (kind == KERF_SHAPE_SPHERE) return dSqrt(dSq(lx) + dSq(ly) + dSq(lz)) - dConst(tapeFloat(t, a));
+    if (kind == KERF_SHAPE_CYLINDER) return cylinderGradient(lx, ly, lz, tapeFloat(t, a), tapeFloat(t, a + 1u));
+    if (kind == KERF_SHAPE_CONE)
+        return coneGradient(lx, ly, lz, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u),
+                            tapeFloat(t, a + 4u), tapeFloat(t, a + 5u));
+    if (kind == KERF_SHAPE_TORUS) {
+        const vec4 q = dSqrt(dSq(lx) + dSq(ly)) - dConst(tapeFloat(t, a));
+        return dSqrt(dSq(q) + dSq(lz)) - dConst(tapeFloat(t, a + 1u));
+    }
+    if (kind == KERF_SHAPE_EXTRUDE) {
+        const vec4 d2 = polygonGradient(t, tapeWord(t, a + 1u), tapeWord(t, a + 2u), lx, ly);
+        const vec4 wz = dAbs(lz) - dConst(tapeFloat(t, a));
+        return dMin(dMax(d2, wz), dConst(0.0)) + dSqrt(dSq(dMax(d2, dConst(0.0))) + dSq(dMax(wz, dConst(0.0))));
+    }
+    return lx * tapeFloat(t, a) + ly * tapeFloat(t, a + 1u) + lz * tapeFloat(t, a + 2u) - dConst(tapeFloat(t, a + 3u));
+}
+
+vec4 evaluateTileTapeGradient(uint t, vec3 p, out uint feature)
+{
+    const uint count = tapeWord(t, 0u);
+    const uint shapes = KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * count;
+    vec4 stack[KERF_TAPE_MAX_STACK];
+    uint features[KERF_TAPE_MAX_STACK];
+    int sp = 0;
+    for (uint i = 0u; i < count; ++i) {
+        const uint code = tapeWord(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i);
+        const float k = tapeFloat(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);
+        const uint op = code & 0xFFu;
+        if (op == KERF_TAPE_PRIMITIVE) {
+            const uint s = shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS;
+            stack[sp] = shapeGradient(t, s, p);
+            features[sp] = tapeWord(t, s + 1u);
+            ++sp;
+        } else if (op <= KERF_TAPE_SMOOTH_MAX) {
+            const vec4 b = stack[sp - 1], a = stack[sp - 2];
+            const bool isMin = op == KERF_TAPE_MIN || op == KERF_TAPE_SMOOTH_MIN;
+            if (isMin ? b.x < a.x : a.x < b.x) features[sp - 2] = features[sp - 1];
+            vec4 r;
+            if (op == KERF_TAPE_MIN) {
+                r = dMin(a, b);
+            } else if (op == KERF_TAPE_MAX) {
+                r = dMax(a, b);
+            } else {
+                const vec4 h = dMax(dConst(k) - dAbs(a - b), dConst(0.0)) * (1.0 / k);
+                r = op == KERF_TAPE_SMOOTH_MIN ? dMin(a, b) - dSq(h) * (k * 0.25) : dMax(a, b) + dSq(h) * (k * 0.25);
+            }
+            stack[sp - 2] = r;
+            --sp;
+        } else if (op == KERF_TAPE_NEGATE) {
+            stack[sp - 1] = -stack[sp - 1];
+        } else if (op == KERF_TAPE_OFFSET) {
+            stack[sp - 1] = stack[sp - 1] - dConst(k);
+        } else {
+            stack[sp - 1] = dMax(stack[sp - 1], -(stack[sp - 1] + dConst(k)));
+        }
+    }
+    feature = features[0];
+    return stack[0];
+}
+
 // ---- The hybrid refinement (ReferenceTracer.cpp, exactCrossing) ----
 
 float exactAt(uint tape, vec3 e, vec3 dir, float tileSize, float s)
@@ -345,16 +481,6 @@ float exactCrossing(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float
         else lo = mid;
     }
     return hi;
-}
-
-vec3 exactNormal(uint tape, vec3 p, float h, out uint feature)
-{
-    uint f;
-    const vec3 g = vec3(evaluateTileTape(tape, p + vec3(h, 0.0, 0.0), f) - evaluateTileTape(tape, p - vec3(h, 0.0, 0.0), f),
-                        evaluateTileTape(tape, p + vec3(0.0, h, 0.0), f) - evaluateTileTape(tape, p - vec3(0.0, h, 0.0), f),
-                        evaluateTileTape(tape, p + vec3(0.0, 0.0, h), f) - evaluateTileTape(tape, p - vec3(0.0, 0.0, h), f));
-    evaluateTileTape(tape, p, feature);
-    return g;
 }
 
 bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 invDir, float tileSize, float tEnter,
@@ -444,8 +570,8 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
                                                  w >= 0.0 ? s + w / voxelScale : -1.0, searched);
                 if (sHit >= 0.0) {
                     uint feature = kNoFeature;
-                    const vec3 g = exactNormal(tape, (e + sHit * dir) * tileSize,
-                                               float(KERF_EXACT_GRADIENT_STEP) * voxelMm, feature);
+                    const vec4 fg = evaluateTileTapeGradient(tape, (e + sHit * dir) * tileSize, feature);
+                    const vec3 g = fg.yzw;
                     const float len = length(g);
                     hit.normal = len > 0.0 ? g / len : -dir;
                     hit.feature = feature;

@@ -218,23 +218,6 @@ float exactCrossing(const std::uint32_t* tape, const glm::vec3& e, const glm::ve
     return hi;
 }
 
-// The exact field's normal (central differences, in tile-relative
-// millimetres) and deciding feature at tile-relative point p (mm).
-glm::vec3 exactNormal(const std::uint32_t* tape, const glm::vec3& p, float h, std::uint32_t& feature,
-                      std::uint32_t& evaluations)
-{
-    evaluations += 7;
-    std::uint32_t f = 0;
-    const glm::vec3 g(voxel::evaluateTileTape(tape, p + glm::vec3(h, 0.0f, 0.0f), f) -
-                          voxel::evaluateTileTape(tape, p - glm::vec3(h, 0.0f, 0.0f), f),
-                      voxel::evaluateTileTape(tape, p + glm::vec3(0.0f, h, 0.0f), f) -
-                          voxel::evaluateTileTape(tape, p - glm::vec3(0.0f, h, 0.0f), f),
-                      voxel::evaluateTileTape(tape, p + glm::vec3(0.0f, 0.0f, h), f) -
-                          voxel::evaluateTileTape(tape, p - glm::vec3(0.0f, 0.0f, h), f));
-    voxel::evaluateTileTape(tape, p, feature);
-    return g;
-}
-
 // A section's cap, pending while the ray, started on the section plane, has
 // met no populated voxel yet: until then no surface was crossed, so the
 // first voxel's value at the ray's entry says whether the plane point was
@@ -344,10 +327,11 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
                 const float sHit = exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
                                                  w >= 0.0f ? s + w / voxelScale : -1.0f, searched, hit.evaluations);
                 if (sHit >= 0.0f) {
+                    // The exact field's gradient there, by forward differentiation.
                     std::uint32_t feature = kNoFeature;
-                    const glm::vec3 g = exactNormal(tape, (e + sHit * dir) * tileSize,
-                                                    float(KERF_EXACT_GRADIENT_STEP) * voxelMm, feature,
-                                                    hit.evaluations);
+                    const glm::vec4 fg = voxel::evaluateTileTapeGradient(tape, (e + sHit * dir) * tileSize, feature);
+                    ++hit.evaluations;
+                    const glm::vec3 g(fg.y, fg.z, fg.w);
                     const float len = glm::length(g);
                     hit.normal = len > 0.0f ? g / len : -dir;
                     hit.feature = feature;

@@ -152,7 +152,151 @@ float shapeDistance(const std::uint32_t* t, std::uint32_t s, const glm::vec3& p)
     return word(t, a) * l.x + word(t, a + 1u) * l.y + word(t, a + 2u) * l.z - word(t, a + 3u); // halfspace
 }
 
+// Dual numbers as vec4: x the value, yzw the gradient (Dual.hpp's rules).
+glm::vec4 dConst(float c) { return glm::vec4(c, 0.0f, 0.0f, 0.0f); }
+glm::vec4 dMul(const glm::vec4& a, const glm::vec4& b)
+{
+    return glm::vec4(a.x * b.x, a.y * b.x + a.x * b.y, a.z * b.x + a.x * b.z, a.w * b.x + a.x * b.w);
+}
+glm::vec4 dSq(const glm::vec4& a) { return dMul(a, a); }
+glm::vec4 dSqrt(const glm::vec4& a)
+{
+    const float s = glm::sqrt(a.x);
+    const float k = s > 0.0f ? 0.5f / s : 0.0f;
+    return glm::vec4(s, a.y * k, a.z * k, a.w * k);
+}
+glm::vec4 dAbs(const glm::vec4& a) { return a.x < 0.0f ? -a : a; }
+glm::vec4 dMin(const glm::vec4& a, const glm::vec4& b) { return b.x < a.x ? b : a; }
+glm::vec4 dMax(const glm::vec4& a, const glm::vec4& b) { return a.x < b.x ? b : a; }
+
+glm::vec4 boxGradient(const glm::vec4& lx, const glm::vec4& ly, const glm::vec4& lz, float bx, float by, float bz,
+                      float round)
+{
+    const glm::vec4 qx = dAbs(lx) - dConst(bx), qy = dAbs(ly) - dConst(by), qz = dAbs(lz) - dConst(bz);
+    const glm::vec4 outside =
+        dSqrt(dSq(dMax(qx, dConst(0.0f))) + dSq(dMax(qy, dConst(0.0f))) + dSq(dMax(qz, dConst(0.0f))));
+    const glm::vec4 inside = dMin(dMax(qx, dMax(qy, qz)), dConst(0.0f));
+    return outside + inside - dConst(round);
+}
+
+glm::vec4 cylinderGradient(const glm::vec4& lx, const glm::vec4& ly, const glm::vec4& lz, float radius,
+                           float halfHeight)
+{
+    const glm::vec4 dr = dSqrt(dSq(lx) + dSq(ly)) - dConst(radius);
+    const glm::vec4 dz = dAbs(lz) - dConst(halfHeight);
+    return dMin(dMax(dr, dz), dConst(0.0f)) + dSqrt(dSq(dMax(dr, dConst(0.0f))) + dSq(dMax(dz, dConst(0.0f))));
+}
+
+glm::vec4 coneGradient(const glm::vec4& lx, const glm::vec4& ly, const glm::vec4& lz, float r1, float r2, float h,
+                       float k2x, float k2y, float invK2)
+{
+    const glm::vec4 qx = dSqrt(dSq(lx) + dSq(ly));
+    const glm::vec4 qy = lz;
+    const float rr = qy.x < 0.0f ? r1 : r2;
+    const glm::vec4 cax = qx - dMin(qx, dConst(rr));
+    const glm::vec4 cay = dAbs(qy) - dConst(h);
+    const glm::vec4 t =
+        dMin(dMax(((dConst(r2) - qx) * k2x + (dConst(h) - qy) * k2y) * invK2, dConst(0.0f)), dConst(1.0f));
+    const glm::vec4 cbx = qx - dConst(r2) + t * k2x;
+    const glm::vec4 cby = qy - dConst(h) + t * k2y;
+    const float s = (cbx.x < 0.0f && cay.x < 0.0f) ? -1.0f : 1.0f;
+    return dSqrt(dMin(dSq(cax) + dSq(cay), dSq(cbx) + dSq(cby))) * s;
+}
+
+glm::vec4 polygonGradient(const std::uint32_t* t, std::uint32_t first, std::uint32_t count, const glm::vec4& x,
+                          const glm::vec4& y)
+{
+    glm::vec4 d = dSq(x - dConst(word(t, first))) + dSq(y - dConst(word(t, first + 1u)));
+    bool inside = false;
+    for (std::uint32_t i = 0u, j = count - 1u; i < count; j = i++) {
+        const float vix = word(t, first + 2u * i), viy = word(t, first + 2u * i + 1u);
+        const float vjx = word(t, first + 2u * j), vjy = word(t, first + 2u * j + 1u);
+        const float ex = vjx - vix, ey = vjy - viy;
+        const glm::vec4 wx = x - dConst(vix), wy = y - dConst(viy);
+        const glm::vec4 s = dMin(dMax((wx * ex + wy * ey) * (1.0f / (ex * ex + ey * ey)), dConst(0.0f)), dConst(1.0f));
+        d = dMin(d, dSq(wx - s * ex) + dSq(wy - s * ey));
+        const bool c1 = y.x >= viy, c2 = y.x < vjy, c3 = ex * wy.x > ey * wx.x;
+        if ((c1 && c2 && c3) || (!c1 && !c2 && !c3)) inside = !inside;
+    }
+    const glm::vec4 dist = dSqrt(d);
+    return inside ? -dist : dist;
+}
+
+glm::vec4 shapeGradient(const std::uint32_t* t, std::uint32_t s, const glm::vec3& p)
+{
+    // Each local coordinate's gradient is its row of the frame.
+    const std::uint32_t f = s + KERF_TAPE_SHAPE_FRAME;
+    const glm::vec4 lx(word(t, f) * p.x + word(t, f + 1u) * p.y + word(t, f + 2u) * p.z + word(t, f + 9u), word(t, f),
+                       word(t, f + 1u), word(t, f + 2u));
+    const glm::vec4 ly(word(t, f + 3u) * p.x + word(t, f + 4u) * p.y + word(t, f + 5u) * p.z + word(t, f + 10u),
+                       word(t, f + 3u), word(t, f + 4u), word(t, f + 5u));
+    const glm::vec4 lz(word(t, f + 6u) * p.x + word(t, f + 7u) * p.y + word(t, f + 8u) * p.z + word(t, f + 11u),
+                       word(t, f + 6u), word(t, f + 7u), word(t, f + 8u));
+    const std::uint32_t a = s + KERF_TAPE_SHAPE_PARAMS;
+    const std::uint32_t kind = t[s];
+    if (kind == KERF_SHAPE_BOX)
+        return boxGradient(lx, ly, lz, word(t, a), word(t, a + 1u), word(t, a + 2u), word(t, a + 3u));
+    if (kind == KERF_SHAPE_SPHERE) return dSqrt(dSq(lx) + dSq(ly) + dSq(lz)) - dConst(word(t, a));
+    if (kind == KERF_SHAPE_CYLINDER) return cylinderGradient(lx, ly, lz, word(t, a), word(t, a + 1u));
+    if (kind == KERF_SHAPE_CONE)
+        return coneGradient(lx, ly, lz, word(t, a), word(t, a + 1u), word(t, a + 2u), word(t, a + 3u),
+                            word(t, a + 4u), word(t, a + 5u));
+    if (kind == KERF_SHAPE_TORUS) {
+        const glm::vec4 q = dSqrt(dSq(lx) + dSq(ly)) - dConst(word(t, a));
+        return dSqrt(dSq(q) + dSq(lz)) - dConst(word(t, a + 1u));
+    }
+    if (kind == KERF_SHAPE_EXTRUDE) {
+        const glm::vec4 d2 = polygonGradient(t, t[a + 1u], t[a + 2u], lx, ly);
+        const glm::vec4 wz = dAbs(lz) - dConst(word(t, a));
+        return dMin(dMax(d2, wz), dConst(0.0f)) + dSqrt(dSq(dMax(d2, dConst(0.0f))) + dSq(dMax(wz, dConst(0.0f))));
+    }
+    return lx * word(t, a) + ly * word(t, a + 1u) + lz * word(t, a + 2u) - dConst(word(t, a + 3u));
+}
+
 } // namespace
+
+glm::vec4 evaluateTileTapeGradient(const std::uint32_t* t, const glm::vec3& p, std::uint32_t& feature)
+{
+    const std::uint32_t count = t[0];
+    const std::uint32_t shapes = KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * count;
+    glm::vec4 stack[KERF_TAPE_MAX_STACK];
+    std::uint32_t features[KERF_TAPE_MAX_STACK];
+    int sp = 0;
+    for (std::uint32_t i = 0u; i < count; ++i) {
+        const std::uint32_t code = t[KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i];
+        const float k = word(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);
+        const std::uint32_t op = code & 0xFFu;
+        if (op == KERF_TAPE_PRIMITIVE) {
+            const std::uint32_t s = shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS;
+            stack[sp] = shapeGradient(t, s, p);
+            features[sp] = t[s + 1u];
+            ++sp;
+        } else if (op <= KERF_TAPE_SMOOTH_MAX) {
+            const glm::vec4 b = stack[sp - 1], a = stack[sp - 2];
+            const bool isMin = op == KERF_TAPE_MIN || op == KERF_TAPE_SMOOTH_MIN;
+            if (isMin ? b.x < a.x : a.x < b.x) features[sp - 2] = features[sp - 1];
+            glm::vec4 r;
+            if (op == KERF_TAPE_MIN) {
+                r = dMin(a, b);
+            } else if (op == KERF_TAPE_MAX) {
+                r = dMax(a, b);
+            } else {
+                const glm::vec4 h = dMax(dConst(k) - dAbs(a - b), dConst(0.0f)) * (1.0f / k);
+                r = op == KERF_TAPE_SMOOTH_MIN ? dMin(a, b) - dSq(h) * (k * 0.25f) : dMax(a, b) + dSq(h) * (k * 0.25f);
+            }
+            stack[sp - 2] = r;
+            --sp;
+        } else if (op == KERF_TAPE_NEGATE) {
+            stack[sp - 1] = -stack[sp - 1];
+        } else if (op == KERF_TAPE_OFFSET) {
+            stack[sp - 1] = stack[sp - 1] - dConst(k);
+        } else {
+            stack[sp - 1] = dMax(stack[sp - 1], -(stack[sp - 1] + dConst(k)));
+        }
+    }
+    feature = features[0];
+    return stack[0];
+}
 
 float evaluateTileTape(const std::uint32_t* t, const glm::vec3& p, std::uint32_t& feature)
 {

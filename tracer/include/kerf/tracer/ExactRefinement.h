@@ -16,7 +16,5 @@
 #define KERF_EXACT_BISECTIONS 14
 // The ray hits where the exact field drops below this.
 #define KERF_EXACT_EPSILON 0.001
-// Central differences for the normal: half the step.
-#define KERF_EXACT_GRADIENT_STEP 0.0625
 
 #endif

@@ -41,8 +41,8 @@
 //     steps run out, a walk back when the window starts inside (the surface
 //     crossed where no voxel is populated: an edge sharper than the
 //     voxels). A crossing found is the hit, with the exact field's normal
-//     (central differences in tile-relative millimetres) and deciding
-//     feature. Where the window holds no exact crossing, the trilinear one
+//     (its gradient by forward differentiation, in tile-relative
+//     millimetres) and deciding feature. Where the window holds no exact crossing, the trilinear one
 //     stands (the voxels never show a hole that the hybrid would open);
 //     where neither exists, the ray moves on. ExactRefinement.h has the
 //     constants. Tiles without a tape are traced on their voxels.

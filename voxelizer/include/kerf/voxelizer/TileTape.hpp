@@ -13,6 +13,7 @@
 #include "kerf/voxelizer/TileTapeFormat.h"
 
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include <cstdint>
 #include <vector>
@@ -32,5 +33,12 @@ std::vector<std::uint32_t> encodeTileTape(const Tape& tape);
 /// deciding feature (an index into the part's features). `tape` points at
 /// the tape's first word.
 float evaluateTileTape(const std::uint32_t* tape, const glm::vec3& p, std::uint32_t& feature);
+
+/// As evaluateTileTape(), with the gradient by forward-mode differentiation
+/// (the evaluator's Dual semantics: comparisons look at values, the
+/// derivative of sqrt at 0 is taken as 0): x the field, yzw its gradient in
+/// the tape's frame. The normal of the hybrid refinement: exact on either
+/// side of a crease, where central differences would blur it.
+glm::vec4 evaluateTileTapeGradient(const std::uint32_t* tape, const glm::vec3& p, std::uint32_t& feature);
 
 } // namespace kerf::voxel
