@@ -6,10 +6,15 @@
 // links, so it can be carried to a machine without Qt or a package registry.
 //
 //   kerf_gpu_bench [--quick] [--frames N] [--quality voxels|exact|both]
+//                  [--scene chair|showcase] [--feature-size MM]
 //                  [--json OUT.json] [--examples DIR]
+//
+// --scene and --feature-size keep only that scene and that feature size (for
+// slow devices, where the whole run would take hours).
 
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/Camera.hpp"
+#include "kerf/tracer/ExactRefinement.h"
 #include "kerf/viewport/ComputeTracer.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
 
@@ -66,17 +71,21 @@ int main(int argc, char** argv)
     int frames = 20;
     std::string jsonPath, examples = KERF_EXAMPLES_DIR;
     std::vector<TraceQuality> qualities{TraceQuality::Voxels, TraceQuality::Exact};
+    std::string onlyScene;
+    double onlyFeatureSize = 0.0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--quick") quick = true;
         else if (a == "--frames" && i + 1 < argc) frames = std::max(1, std::atoi(argv[++i]));
         else if (a == "--json" && i + 1 < argc) jsonPath = argv[++i];
         else if (a == "--examples" && i + 1 < argc) examples = argv[++i];
+        else if (a == "--scene" && i + 1 < argc) onlyScene = argv[++i];
+        else if (a == "--feature-size" && i + 1 < argc) onlyFeatureSize = std::atof(argv[++i]);
         else if (a == "--quality" && i + 1 < argc && std::string(argv[i + 1]) == "both") ++i;
         else if (a == "--quality" && i + 1 < argc && parseTraceQuality(argv[i + 1])) qualities = {*parseTraceQuality(argv[++i])};
         else {
-            std::cerr << "usage: kerf_gpu_bench [--quick] [--frames N] [--quality voxels|exact|both] [--json OUT.json] "
-                         "[--examples DIR]\n";
+            std::cerr << "usage: kerf_gpu_bench [--quick] [--frames N] [--quality voxels|exact|both] "
+                         "[--scene chair|showcase] [--feature-size MM] [--json OUT.json] [--examples DIR]\n";
             return 2;
         }
     }
@@ -99,7 +108,9 @@ int main(int argc, char** argv)
         std::printf("%-9s %8s %11s %10s %9s %11s %10s %8s %12s %12s\n", "scene", "fs", "voxels", "MB", "tape MB",
                     "upload ms", "size", "quality", "trace ms", "Mrays/s");
         for (auto& scene : scenes) {
+            if (!onlyScene.empty() && scene.name != onlyScene) continue;
             const Tape tape = compileTape(scene.doc);
+            if (onlyFeatureSize > 0.0) scene.featureSizes = {onlyFeatureSize};
             for (double fs : scene.featureSizes) {
                 const auto t0 = std::chrono::steady_clock::now();
                 const GridLayout layout = GridLayout::choose(tape.bounds(), fs);
@@ -148,6 +159,10 @@ int main(int argc, char** argv)
             nlohmann::ordered_json j;
             j["device"] = ctx.deviceDescription();
             j["frames"] = frames;
+            j["exact_refinement"] = {{"margin_voxels", KERF_EXACT_MARGIN},
+                                     {"sphere_steps", KERF_EXACT_STEPS},
+                                     {"bisections", KERF_EXACT_BISECTIONS},
+                                     {"epsilon_voxels", KERF_EXACT_EPSILON}};
             j["results"] = results;
             std::ofstream(jsonPath) << j.dump(2) << "\n";
         }

@@ -12,6 +12,11 @@
 
 layout(local_size_x = KERF_TRACE_LOCAL_SIZE, local_size_y = KERF_TRACE_LOCAL_SIZE) in;
 
+// Two pipelines of this shader (ComputeTracer.cpp): without the hybrid
+// refinement its code is compiled out, so that the voxel path keeps its
+// registers and occupancy; with it, TraceParams.options.x still decides.
+layout(constant_id = 0) const bool kHybrid = false;
+
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Words { uint w[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) writeonly buffer Floats { float f[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) writeonly buffer Vec4s { vec4 v[]; };
@@ -253,26 +258,21 @@ float shapeDistance(uint t, uint s, vec3 p)
     return tapeFloat(t, a) * l.x + tapeFloat(t, a + 1u) * l.y + tapeFloat(t, a + 2u) * l.z - tapeFloat(t, a + 3u);
 }
 
-float evaluateTileTape(uint t, vec3 p, out uint feature)
+float evaluateTileTape(uint t, vec3 p)
 {
     const uint count = tapeWord(t, 0u);
     const uint shapes = KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * count;
     float stack[KERF_TAPE_MAX_STACK];
-    uint features[KERF_TAPE_MAX_STACK];
     int sp = 0;
     for (uint i = 0u; i < count; ++i) {
         const uint code = tapeWord(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i);
         const float k = tapeFloat(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);
         const uint op = code & 0xFFu;
         if (op == KERF_TAPE_PRIMITIVE) {
-            const uint s = shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS;
-            stack[sp] = shapeDistance(t, s, p);
-            features[sp] = tapeWord(t, s + 1u);
+            stack[sp] = shapeDistance(t, shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS, p);
             ++sp;
         } else if (op <= KERF_TAPE_SMOOTH_MAX) {
             const float b = stack[sp - 1], a = stack[sp - 2];
-            const bool isMin = op == KERF_TAPE_MIN || op == KERF_TAPE_SMOOTH_MIN;
-            if (isMin ? b < a : a < b) features[sp - 2] = features[sp - 1];
             float r;
             if (op == KERF_TAPE_MIN) {
                 r = min(a, b);
@@ -292,7 +292,6 @@ float evaluateTileTape(uint t, vec3 p, out uint feature)
             stack[sp - 1] = max(stack[sp - 1], -(stack[sp - 1] + k));
         }
     }
-    feature = features[0];
     return stack[0];
 }
 
@@ -436,9 +435,11 @@ vec4 evaluateTileTapeGradient(uint t, vec3 p, out uint feature)
 
 float exactAt(uint tape, vec3 e, vec3 dir, float tileSize, float s)
 {
-    uint feature;
-    return evaluateTileTape(tape, (e + s * dir) * tileSize, feature) / tileSize;
+    return evaluateTileTape(tape, (e + s * dir) * tileSize) / tileSize;
 }
+
+const int kStart = 0, kBack = 1, kProbe = 2, kMarch = 3, kEnd = 4, kBisect = 5;
+const int kMaxEvaluations = 3 + KERF_EXACT_STEPS + KERF_EXACT_BISECTIONS;
 
 float exactCrossing(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float s1, float sTileEnd, float voxelEdge,
                     float sTrilinear, inout float searched)
@@ -448,37 +449,75 @@ float exactCrossing(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float
     const float a = max(searched, s0 - margin);
     const float b = min(s1 + margin, sTileEnd);
     if (!(a < b)) return -1.0;
-    float g = exactAt(tape, e, dir, tileSize, a);
-    if (g <= 0.0) {
-        float sBack = a;
-        for (int k = 0; k < KERF_EXACT_STEPS && g < -eps && sBack > searched; ++k) {
-            sBack = max(sBack + g, searched);
-            g = exactAt(tape, e, dir, tileSize, sBack);
-        }
-        return sBack;
-    }
+    int phase = kStart, count = 0;
+    float at = a;
+    float lo = a, gLo = 0.0;
     float hi = -1.0;
-    if (sTrilinear > a && sTrilinear < b && exactAt(tape, e, dir, tileSize, sTrilinear) <= 0.0) hi = sTrilinear;
-    float lo = a;
-    for (int k = 0; k < KERF_EXACT_STEPS && g >= eps; ++k) {
-        lo += g;
-        if (hi >= 0.0 && lo >= hi) return hi;
-        if (lo >= b) {
-            searched = b;
-            return -1.0;
+    for (int k = 0; k < kMaxEvaluations; ++k) {
+        const float g = exactAt(tape, e, dir, tileSize, at);
+        if (phase == kStart) {
+            if (g <= 0.0) {
+                phase = kBack;
+            } else {
+                gLo = g;
+                phase = sTrilinear > a && sTrilinear < b ? kProbe : kMarch;
+                if (phase == kProbe) {
+                    at = sTrilinear;
+                    continue;
+                }
+            }
+        } else if (phase == kProbe) {
+            if (g <= 0.0) hi = sTrilinear;
+            phase = kMarch;
+        } else if (phase == kMarch) {
+            gLo = g;
+        } else if (phase == kEnd) {
+            if (g <= 0.0) hi = b;
+            if (hi < 0.0) {
+                searched = lo;
+                return -1.0;
+            }
+            phase = kBisect;
+            count = 0;
+        } else if (phase == kBisect) {
+            if (g <= 0.0) hi = at;
+            else lo = at;
+            ++count;
         }
-        g = exactAt(tape, e, dir, tileSize, lo);
-    }
-    if (g < eps) return lo;
-    if (hi < 0.0 && exactAt(tape, e, dir, tileSize, b) <= 0.0) hi = b;
-    if (hi < 0.0) {
-        searched = lo;
-        return -1.0;
-    }
-    for (int k = 0; k < KERF_EXACT_BISECTIONS; ++k) {
-        const float mid = 0.5 * (lo + hi);
-        if (exactAt(tape, e, dir, tileSize, mid) <= 0.0) hi = mid;
-        else lo = mid;
+        if (phase == kBack) {
+            if (count < KERF_EXACT_STEPS && g < -eps && at > searched) {
+                at = max(at + g, searched);
+                ++count;
+                continue;
+            }
+            return at;
+        }
+        if (phase == kMarch) {
+            if (count < KERF_EXACT_STEPS && gLo >= eps) {
+                lo += gLo;
+                ++count;
+                if (hi >= 0.0 && lo >= hi) return hi;
+                if (lo >= b) {
+                    searched = b;
+                    return -1.0;
+                }
+                at = lo;
+                continue;
+            }
+            if (gLo < eps) return lo;
+            if (hi < 0.0) {
+                phase = kEnd;
+                at = b;
+                continue;
+            }
+            phase = kBisect;
+            count = 0;
+        }
+        if (count < KERF_EXACT_BISECTIONS) {
+            at = 0.5 * (lo + hi);
+            continue;
+        }
+        return hi;
     }
     return hi;
 }
@@ -564,7 +603,7 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
                 capPending = false;
             }
             const float w = firstCrossing(along, wEnd);
-            if (tape != KERF_NO_TAPE) {
+            if (kHybrid && tape != KERF_NO_TAPE) {
                 const float voxelEdge = 1.0 / voxelScale;
                 const float sHit = exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
                                                  w >= 0.0 ? s + w / voxelScale : -1.0, searched);
@@ -682,7 +721,8 @@ Hit traceRay(vec3 origin, vec3 direction)
             hit.feature = kNoFeature;
             return hit;
         }
-        const uint tape = value != kEmptyTile && P.options.x == 1u ? word(P.entries, value * 8u + 5u) : KERF_NO_TAPE;
+        const uint tape =
+            kHybrid && value != kEmptyTile && P.options.x == 1u ? word(P.entries, value * 8u + 5u) : KERF_NO_TAPE;
         if (value != kEmptyTile && traceTile(value, tape, tile, origin, dir, invDir, tileSize, tEnter, hit)) {
             if (hit.depth > tLeave) { // past the section plane: in the part cut away
                 hit.depth = kInf;

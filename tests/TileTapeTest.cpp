@@ -51,22 +51,20 @@ TEST(TileTape, EvaluatesAsTheEvaluatorDoes)
                 const glm::dvec3 rel = glm::dvec3(size) * r.vec(0.0, 1.0);
                 const glm::vec3 p(rel);
                 std::uint32_t gpuFeature = 0, cpuFeature = 0;
-                const float gpu = voxel::evaluateTileTape(words.data(), p, gpuFeature);
+                const float gpu = voxel::evaluateTileTape(words.data(), p);
                 const float cpu = floats.evaluate(local, p.x, p.y, p.z, &cpuFeature);
                 const double exact = doubles.evaluate(tape, lo.x + rel.x, lo.y + rel.y, lo.z + rel.z);
                 // The same float arithmetic but for the order of a few
                 // operations (the evaluator's extrusions run edge by edge).
                 worstFloat = std::max(worstFloat, std::abs(double(gpu) - double(cpu)) / (1.0 + std::abs(double(cpu))));
                 worstDouble = std::max(worstDouble, std::abs(double(gpu) - exact));
-                featureMismatches += gpuFeature != cpuFeature;
                 // The gradient: forward differentiation as the evaluator does it.
-                std::uint32_t gradientFeature = 0;
-                const glm::vec4 fg = voxel::evaluateTileTapeGradient(words.data(), p, gradientFeature);
+                const glm::vec4 fg = voxel::evaluateTileTapeGradient(words.data(), p, gpuFeature);
+                featureMismatches += gpuFeature != cpuFeature;
                 const Dual<float> dual = gradients.evaluate(local, p.x, p.y, p.z);
                 worstFloat = std::max(worstFloat, std::abs(double(fg.x) - double(cpu)) / (1.0 + std::abs(double(cpu))));
                 for (int a = 0; a < 3; ++a)
                     worstGradient = std::max(worstGradient, std::abs(double(fg[a + 1]) - double(dual.d[a])));
-                EXPECT_EQ(gradientFeature, gpuFeature);
                 ++points;
             }
         }
@@ -117,9 +115,10 @@ TEST(TileTape, SurfaceTilesCarryTheTapeTheyWereBuiltFrom)
             for (int k = 0; k < 8; ++k) {
                 const glm::dvec3 rel = glm::dvec3(layout.tileSize) * r.vec(0.0, 1.0);
                 std::uint32_t feature = 0;
-                const float v = voxel::evaluateTileTape(t->tape.data(), glm::vec3(rel), feature);
+                const float v = voxel::evaluateTileTape(t->tape.data(), glm::vec3(rel));
                 const glm::dvec3 w = box.min + rel;
                 worst = std::max(worst, std::abs(double(v) - doubles.evaluate(tape, w.x, w.y, w.z)));
+                EXPECT_NEAR(voxel::evaluateTileTapeGradient(t->tape.data(), glm::vec3(rel), feature).x, v, 1e-4);
                 EXPECT_LT(feature, tape.features().size());
             }
         }

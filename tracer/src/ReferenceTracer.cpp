@@ -152,8 +152,7 @@ float exactAt(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& di
               std::uint32_t& evaluations)
 {
     ++evaluations;
-    std::uint32_t feature = 0;
-    return voxel::evaluateTileTape(tape, (e + s * dir) * tileSize, feature) / tileSize;
+    return voxel::evaluateTileTape(tape, (e + s * dir) * tileSize) / tileSize;
 }
 
 // The ray's first crossing of the exact surface around a populated voxel
@@ -164,9 +163,20 @@ float exactAt(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& di
 // inside there, it brackets the crossing. Returns the crossing's parameter,
 // or -1 when the window holds none.
 //
-// Sphere tracing never passes a crossing (the field is 1-Lipschitz);
-// bisection takes over from it when a bracket is known and the steps run
-// out (rays grazing the surface).
+// From the window's start the search either walks back (the start is
+// inside: the surface was crossed where no voxel is populated, an edge
+// sharper than the voxels; |g| never passes the crossing, nor goes back
+// before what is known outside) or sphere-traces forward (which never
+// passes a crossing, the field being 1-Lipschitz); when the steps run out
+// (rays grazing the surface), bisection of a bracket (the trilinear
+// crossing, else the window's end) finishes it.
+//
+// Written as one loop with one evaluation per iteration, whose phase says
+// what the value means and where the next one goes: the GPU compiler then
+// inlines the tape interpreter once, not at six call sites.
+constexpr int kStart = 0, kBack = 1, kProbe = 2, kMarch = 3, kEnd = 4, kBisect = 5;
+constexpr int kMaxEvaluations = 3 + KERF_EXACT_STEPS + KERF_EXACT_BISECTIONS;
+
 float exactCrossing(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& dir, float tileSize, float s0,
                     float s1, float sTileEnd, float voxelEdge, float sTrilinear, float& searched,
                     std::uint32_t& evaluations)
@@ -176,46 +186,81 @@ float exactCrossing(const std::uint32_t* tape, const glm::vec3& e, const glm::ve
     const float a = glm::max(searched, s0 - margin);
     const float b = glm::min(s1 + margin, sTileEnd);
     if (!(a < b)) return -1.0f;
-    float g = exactAt(tape, e, dir, tileSize, a, evaluations);
-    if (g <= 0.0f) {
-        // Inside at the window's start: the surface was crossed before,
-        // where no voxel is populated (an edge sharper than the voxels).
-        // Walk back towards it: |g| is at most the distance to it, so the
-        // walk never passes it, nor goes back before what is known outside.
-        float sBack = a;
-        for (int k = 0; k < KERF_EXACT_STEPS && g < -eps && sBack > searched; ++k) {
-            sBack = glm::max(sBack + g, searched);
-            g = exactAt(tape, e, dir, tileSize, sBack, evaluations);
+    int phase = kStart, count = 0;
+    float at = a;                // where the field is evaluated next
+    float lo = a, gLo = 0.0f;    // the march: outside, the field there
+    float hi = -1.0f;            // ahead, inside: a bracket
+    for (int k = 0; k < kMaxEvaluations; ++k) {
+        const float g = exactAt(tape, e, dir, tileSize, at, evaluations);
+        // What the value says.
+        if (phase == kStart) {
+            if (g <= 0.0f) {
+                phase = kBack;
+            } else {
+                gLo = g;
+                phase = sTrilinear > a && sTrilinear < b ? kProbe : kMarch;
+                if (phase == kProbe) {
+                    at = sTrilinear;
+                    continue;
+                }
+            }
+        } else if (phase == kProbe) {
+            if (g <= 0.0f) hi = sTrilinear;
+            phase = kMarch;
+        } else if (phase == kMarch) {
+            gLo = g;
+        } else if (phase == kEnd) {
+            if (g <= 0.0f) hi = b;
+            if (hi < 0.0f) {
+                searched = lo;
+                return -1.0f;
+            }
+            phase = kBisect;
+            count = 0;
+        } else if (phase == kBisect) {
+            if (g <= 0.0f)
+                hi = at;
+            else
+                lo = at;
+            ++count;
         }
-        return sBack;
-    }
-    float hi = -1.0f; // ahead, inside: a bracket
-    if (sTrilinear > a && sTrilinear < b && exactAt(tape, e, dir, tileSize, sTrilinear, evaluations) <= 0.0f)
-        hi = sTrilinear;
-    float lo = a;
-    for (int k = 0; k < KERF_EXACT_STEPS && g >= eps; ++k) {
-        lo += g;
-        if (hi >= 0.0f && lo >= hi) return hi;
-        if (lo >= b) {
-            searched = b;
-            return -1.0f;
+        // Where the next one goes.
+        if (phase == kBack) {
+            if (count < KERF_EXACT_STEPS && g < -eps && at > searched) {
+                at = glm::max(at + g, searched);
+                ++count;
+                continue;
+            }
+            return at;
         }
-        g = exactAt(tape, e, dir, tileSize, lo, evaluations);
+        if (phase == kMarch) {
+            if (count < KERF_EXACT_STEPS && gLo >= eps) {
+                lo += gLo;
+                ++count;
+                if (hi >= 0.0f && lo >= hi) return hi;
+                if (lo >= b) {
+                    searched = b;
+                    return -1.0f;
+                }
+                at = lo;
+                continue;
+            }
+            if (gLo < eps) return lo;
+            if (hi < 0.0f) {
+                phase = kEnd;
+                at = b;
+                continue;
+            }
+            phase = kBisect;
+            count = 0;
+        }
+        if (count < KERF_EXACT_BISECTIONS) {
+            at = 0.5f * (lo + hi);
+            continue;
+        }
+        return hi;
     }
-    if (g < eps) return lo;
-    if (hi < 0.0f && exactAt(tape, e, dir, tileSize, b, evaluations) <= 0.0f) hi = b;
-    if (hi < 0.0f) {
-        searched = lo;
-        return -1.0f;
-    }
-    for (int k = 0; k < KERF_EXACT_BISECTIONS; ++k) {
-        const float mid = 0.5f * (lo + hi);
-        if (exactAt(tape, e, dir, tileSize, mid, evaluations) <= 0.0f)
-            hi = mid;
-        else
-            lo = mid;
-    }
-    return hi;
+    return hi; // not reached: every phase ends within its steps
 }
 
 // A section's cap, pending while the ray, started on the section plane, has

@@ -25,7 +25,8 @@ struct ComputeTracer::Impl {
     const Context& ctx;
     ShaderModule module;
     PipelineLayout layout;
-    Pipeline pipeline;
+    Pipeline voxelPipeline;  // trace.comp without the hybrid refinement's code
+    Pipeline hybridPipeline; // with it; made when first asked for
     QueryPool timestamps;
     GridLayout grid;
     GpuBuffer tiles, entries, nodes, leafIndirections, leafData, vertices, tapes;
@@ -36,6 +37,8 @@ struct ComputeTracer::Impl {
 
     explicit Impl(const Context& c) : ctx(c) {}
     void ensureTargets(int w, int h);
+    Pipeline makePipeline(bool hybrid) const;
+    VkPipeline pipelineFor(TraceQuality quality);
 };
 
 void ComputeTracer::Impl::ensureTargets(int w, int h)
@@ -48,6 +51,36 @@ void ComputeTracer::Impl::ensureTargets(int w, int h)
     targets.feature = GpuBuffer(ctx, pixels * sizeof(std::uint32_t), usage, GpuBuffer::Kind::DeviceLocal, "trace feature");
     targets.width = w;
     targets.height = h;
+}
+
+Pipeline ComputeTracer::Impl::makePipeline(bool hybrid) const
+{
+    // trace.comp's specialization constant 0, kHybrid.
+    const VkBool32 value = hybrid ? VK_TRUE : VK_FALSE;
+    const VkSpecializationMapEntry entry{0, 0, sizeof value};
+    VkSpecializationInfo special{};
+    special.mapEntryCount = 1;
+    special.pMapEntries = &entry;
+    special.dataSize = sizeof value;
+    special.pData = &value;
+    VkComputePipelineCreateInfo cpci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    cpci.stage.module = module;
+    cpci.stage.pName = "main";
+    cpci.stage.pSpecializationInfo = &special;
+    cpci.layout = layout;
+    VkPipeline p;
+    check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &cpci, nullptr, &p),
+          hybrid ? "vkCreateComputePipelines (trace, hybrid)" : "vkCreateComputePipelines (trace)");
+    return Pipeline(ctx.device(), p);
+}
+
+VkPipeline ComputeTracer::Impl::pipelineFor(TraceQuality quality)
+{
+    if (quality != TraceQuality::Exact) return voxelPipeline;
+    if (!hybridPipeline) hybridPipeline = makePipeline(true);
+    return hybridPipeline;
 }
 
 ComputeTracer::ComputeTracer(const Context& ctx) : impl_(std::make_unique<Impl>(ctx))
@@ -68,15 +101,7 @@ ComputeTracer::ComputeTracer(const Context& ctx) : impl_(std::make_unique<Impl>(
     check(vkCreatePipelineLayout(dev, &plci, nullptr, &pl), "vkCreatePipelineLayout");
     impl_->layout = PipelineLayout(dev, pl);
 
-    VkComputePipelineCreateInfo cpci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    cpci.stage.module = sm;
-    cpci.stage.pName = "main";
-    cpci.layout = pl;
-    VkPipeline p;
-    check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cpci, nullptr, &p), "vkCreateComputePipelines (trace)");
-    impl_->pipeline = Pipeline(dev, p);
+    impl_->voxelPipeline = impl_->makePipeline(false);
 
     VkQueryPoolCreateInfo qpci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     qpci.queryType = VK_QUERY_TYPE_TIMESTAMP;
@@ -172,7 +197,7 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
 
     const std::uint64_t address = impl_->params.address();
     vkCmdResetQueryPool(cb, impl_->timestamps, 0, 2);
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, impl_->pipeline);
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, impl_->pipelineFor(TraceQuality(p.options.x)));
     vkCmdPushConstants(cb, impl_->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof address, &address);
     vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, impl_->timestamps, 0);
     const std::uint32_t g = KERF_TRACE_LOCAL_SIZE;

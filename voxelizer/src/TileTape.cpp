@@ -274,6 +274,7 @@ glm::vec4 evaluateTileTapeGradient(const std::uint32_t* t, const glm::vec3& p, s
         } else if (op <= KERF_TAPE_SMOOTH_MAX) {
             const glm::vec4 b = stack[sp - 1], a = stack[sp - 2];
             const bool isMin = op == KERF_TAPE_MIN || op == KERF_TAPE_SMOOTH_MIN;
+            // The deciding feature: the operand the exact min/max would pick.
             if (isMin ? b.x < a.x : a.x < b.x) features[sp - 2] = features[sp - 1];
             glm::vec4 r;
             if (op == KERF_TAPE_MIN) {
@@ -298,27 +299,21 @@ glm::vec4 evaluateTileTapeGradient(const std::uint32_t* t, const glm::vec3& p, s
     return stack[0];
 }
 
-float evaluateTileTape(const std::uint32_t* t, const glm::vec3& p, std::uint32_t& feature)
+float evaluateTileTape(const std::uint32_t* t, const glm::vec3& p)
 {
     const std::uint32_t count = t[0];
     const std::uint32_t shapes = KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * count;
     float stack[KERF_TAPE_MAX_STACK];
-    std::uint32_t features[KERF_TAPE_MAX_STACK];
     int sp = 0;
     for (std::uint32_t i = 0u; i < count; ++i) {
         const std::uint32_t code = t[KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i];
         const float k = word(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);
         const std::uint32_t op = code & 0xFFu;
         if (op == KERF_TAPE_PRIMITIVE) {
-            const std::uint32_t s = shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS;
-            stack[sp] = shapeDistance(t, s, p);
-            features[sp] = t[s + 1u];
+            stack[sp] = shapeDistance(t, shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS, p);
             ++sp;
         } else if (op <= KERF_TAPE_SMOOTH_MAX) {
             const float b = stack[sp - 1], a = stack[sp - 2];
-            // The deciding feature: the operand the exact min/max would pick.
-            const bool isMin = op == KERF_TAPE_MIN || op == KERF_TAPE_SMOOTH_MIN;
-            if (isMin ? b < a : a < b) features[sp - 2] = features[sp - 1];
             float r;
             if (op == KERF_TAPE_MIN) {
                 r = glm::min(a, b);
@@ -340,7 +335,6 @@ float evaluateTileTape(const std::uint32_t* t, const glm::vec3& p, std::uint32_t
             stack[sp - 1] = glm::max(stack[sp - 1], -(stack[sp - 1] + k));
         }
     }
-    feature = features[0];
     return stack[0];
 }
 

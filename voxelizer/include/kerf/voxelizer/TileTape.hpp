@@ -29,16 +29,16 @@ inline constexpr std::uint32_t kNoTape = KERF_NO_TAPE;
 std::vector<std::uint32_t> encodeTileTape(const Tape& tape);
 
 /// The field of an encoded tape at `p` (relative to the tape's origin, mm),
-/// in float, as shaders/trace.comp computes it; `feature` receives the
-/// deciding feature (an index into the part's features). `tape` points at
-/// the tape's first word.
-float evaluateTileTape(const std::uint32_t* tape, const glm::vec3& p, std::uint32_t& feature);
+/// in float, as shaders/trace.comp computes it. `tape` points at the tape's
+/// first word.
+float evaluateTileTape(const std::uint32_t* tape, const glm::vec3& p);
 
-/// As evaluateTileTape(), with the gradient by forward-mode differentiation
-/// (the evaluator's Dual semantics: comparisons look at values, the
-/// derivative of sqrt at 0 is taken as 0): x the field, yzw its gradient in
-/// the tape's frame. The normal of the hybrid refinement: exact on either
-/// side of a crease, where central differences would blur it.
+/// The field with its gradient by forward-mode differentiation (the
+/// evaluator's Dual semantics: comparisons look at values, the derivative
+/// of sqrt at 0 is taken as 0): x the field, yzw its gradient in the tape's
+/// frame; `feature` receives the deciding feature (an index into the part's
+/// features). The normal of the hybrid refinement: exact on either side of
+/// a crease, where central differences would blur it.
 glm::vec4 evaluateTileTapeGradient(const std::uint32_t* tape, const glm::vec3& p, std::uint32_t& feature);
 
 } // namespace kerf::voxel
