@@ -40,6 +40,8 @@ struct Hit {
     float depth;
     vec3 normal;
     uint feature;
+    uint tape;  // a hit of the hybrid refinement: its tile's tape (else KERF_NO_TAPE) ...
+    vec3 point; // ... and the point, tile-relative (mm), where main() takes the exact normal
 };
 
 // A section's cap, pending while the ray, started on the section plane, has
@@ -258,21 +260,28 @@ float shapeDistance(uint t, uint s, vec3 p)
     return tapeFloat(t, a) * l.x + tapeFloat(t, a + 1u) * l.y + tapeFloat(t, a + 2u) * l.z - tapeFloat(t, a + 3u);
 }
 
+// The stack lives in eight registers, top first (TileTape.cpp's st[j] is
+// s<j>): a push shifts it down, a binary operation up. A dynamically indexed
+// array would live in local memory (lavapipe slowed the whole kernel
+// fourfold for one).
+#if KERF_TAPE_MAX_STACK != 8
+#error "the tape evaluators below keep exactly eight stack registers"
+#endif
+
 float evaluateTileTape(uint t, vec3 p)
 {
     const uint count = tapeWord(t, 0u);
     const uint shapes = KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * count;
-    float stack[KERF_TAPE_MAX_STACK];
-    int sp = 0;
+    float s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0, s4 = 0.0, s5 = 0.0, s6 = 0.0, s7 = 0.0;
     for (uint i = 0u; i < count; ++i) {
         const uint code = tapeWord(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i);
         const float k = tapeFloat(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);
         const uint op = code & 0xFFu;
         if (op == KERF_TAPE_PRIMITIVE) {
-            stack[sp] = shapeDistance(t, shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS, p);
-            ++sp;
+            s7 = s6; s6 = s5; s5 = s4; s4 = s3; s3 = s2; s2 = s1; s1 = s0;
+            s0 = shapeDistance(t, shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS, p);
         } else if (op <= KERF_TAPE_SMOOTH_MAX) {
-            const float b = stack[sp - 1], a = stack[sp - 2];
+            const float b = s0, a = s1;
             float r;
             if (op == KERF_TAPE_MIN) {
                 r = min(a, b);
@@ -282,17 +291,17 @@ float evaluateTileTape(uint t, vec3 p)
                 const float h = max(k - abs(a - b), 0.0) * (1.0 / k);
                 r = op == KERF_TAPE_SMOOTH_MIN ? min(a, b) - h * h * (k * 0.25) : max(a, b) + h * h * (k * 0.25);
             }
-            stack[sp - 2] = r;
-            --sp;
+            s0 = r;
+            s1 = s2; s2 = s3; s3 = s4; s4 = s5; s5 = s6; s6 = s7;
         } else if (op == KERF_TAPE_NEGATE) {
-            stack[sp - 1] = -stack[sp - 1];
+            s0 = -s0;
         } else if (op == KERF_TAPE_OFFSET) {
-            stack[sp - 1] = stack[sp - 1] - k;
+            s0 = s0 - k;
         } else {
-            stack[sp - 1] = max(stack[sp - 1], -(stack[sp - 1] + k));
+            s0 = max(s0, -(s0 + k));
         }
     }
-    return stack[0];
+    return s0;
 }
 
 // ---- Its gradient (TileTape.cpp, evaluateTileTapeGradient): dual numbers
@@ -392,22 +401,23 @@ vec4 evaluateTileTapeGradient(uint t, vec3 p, out uint feature)
 {
     const uint count = tapeWord(t, 0u);
     const uint shapes = KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * count;
-    vec4 stack[KERF_TAPE_MAX_STACK];
-    uint features[KERF_TAPE_MAX_STACK];
-    int sp = 0;
+    vec4 s0 = vec4(0.0), s1 = vec4(0.0), s2 = vec4(0.0), s3 = vec4(0.0), s4 = vec4(0.0), s5 = vec4(0.0),
+         s6 = vec4(0.0), s7 = vec4(0.0);
+    uint f0 = 0u, f1 = 0u, f2 = 0u, f3 = 0u, f4 = 0u, f5 = 0u, f6 = 0u, f7 = 0u;
     for (uint i = 0u; i < count; ++i) {
         const uint code = tapeWord(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i);
         const float k = tapeFloat(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);
         const uint op = code & 0xFFu;
         if (op == KERF_TAPE_PRIMITIVE) {
             const uint s = shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS;
-            stack[sp] = shapeGradient(t, s, p);
-            features[sp] = tapeWord(t, s + 1u);
-            ++sp;
+            s7 = s6; s6 = s5; s5 = s4; s4 = s3; s3 = s2; s2 = s1; s1 = s0;
+            f7 = f6; f6 = f5; f5 = f4; f4 = f3; f3 = f2; f2 = f1; f1 = f0;
+            s0 = shapeGradient(t, s, p);
+            f0 = tapeWord(t, s + 1u);
         } else if (op <= KERF_TAPE_SMOOTH_MAX) {
-            const vec4 b = stack[sp - 1], a = stack[sp - 2];
+            const vec4 b = s0, a = s1;
             const bool isMin = op == KERF_TAPE_MIN || op == KERF_TAPE_SMOOTH_MIN;
-            if (isMin ? b.x < a.x : a.x < b.x) features[sp - 2] = features[sp - 1];
+            const uint f = (isMin ? b.x < a.x : a.x < b.x) ? f0 : f1;
             vec4 r;
             if (op == KERF_TAPE_MIN) {
                 r = dMin(a, b);
@@ -417,18 +427,20 @@ vec4 evaluateTileTapeGradient(uint t, vec3 p, out uint feature)
                 const vec4 h = dMax(dConst(k) - dAbs(a - b), dConst(0.0)) * (1.0 / k);
                 r = op == KERF_TAPE_SMOOTH_MIN ? dMin(a, b) - dSq(h) * (k * 0.25) : dMax(a, b) + dSq(h) * (k * 0.25);
             }
-            stack[sp - 2] = r;
-            --sp;
+            s0 = r;
+            f0 = f;
+            s1 = s2; s2 = s3; s3 = s4; s4 = s5; s5 = s6; s6 = s7;
+            f1 = f2; f2 = f3; f3 = f4; f4 = f5; f5 = f6; f6 = f7;
         } else if (op == KERF_TAPE_NEGATE) {
-            stack[sp - 1] = -stack[sp - 1];
+            s0 = -s0;
         } else if (op == KERF_TAPE_OFFSET) {
-            stack[sp - 1] = stack[sp - 1] - dConst(k);
+            s0 = s0 - dConst(k);
         } else {
-            stack[sp - 1] = dMax(stack[sp - 1], -(stack[sp - 1] + dConst(k)));
+            s0 = dMax(s0, -(s0 + dConst(k)));
         }
     }
-    feature = features[0];
-    return stack[0];
+    feature = f0;
+    return s0;
 }
 
 // ---- The hybrid refinement (ReferenceTracer.cpp, exactCrossing) ----
@@ -608,12 +620,10 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
                 const float sHit = exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
                                                  w >= 0.0 ? s + w / voxelScale : -1.0, searched);
                 if (sHit >= 0.0) {
-                    uint feature = kNoFeature;
-                    const vec4 fg = evaluateTileTapeGradient(tape, (e + sHit * dir) * tileSize, feature);
-                    const vec3 g = fg.yzw;
-                    const float len = length(g);
-                    hit.normal = len > 0.0 ? g / len : -dir;
-                    hit.feature = feature;
+                    hit.tape = tape;
+                    hit.point = (e + sHit * dir) * tileSize;
+                    hit.normal = -dir;
+                    hit.feature = kNoFeature;
                     hit.depth = tEnter + sHit * tileSize;
                     return true;
                 }
@@ -666,6 +676,8 @@ Hit traceRay(vec3 origin, vec3 direction)
     hit.depth = kInf;
     hit.normal = vec3(0.0);
     hit.feature = kNoFeature;
+    hit.tape = KERF_NO_TAPE;
+    hit.point = vec3(0.0);
 
     const vec3 dir = vec3(nonZero(direction.x), nonZero(direction.y), nonZero(direction.z));
     const vec3 invDir = 1.0 / dir;
@@ -728,6 +740,7 @@ Hit traceRay(vec3 origin, vec3 direction)
                 hit.depth = kInf;
                 hit.normal = vec3(0.0);
                 hit.feature = kNoFeature;
+                hit.tape = KERF_NO_TAPE;
             }
             return hit;
         }
@@ -761,6 +774,14 @@ void main()
         direction = normalize(P.forward.xyz + (u * halfHeight) * P.right.xyz + (v * halfHeight) * P.up.xyz);
     }
     Hit h = traceRay(origin, direction);
+    if (kHybrid && h.tape != KERF_NO_TAPE) {
+        // The exact field's gradient at the refined hit (ReferenceTracer.cpp, traceRay).
+        uint feature = kNoFeature;
+        const vec4 fg = evaluateTileTapeGradient(h.tape, h.point, feature);
+        const float len = length(fg.yzw);
+        h.normal = len > 0.0 ? fg.yzw / len : h.normal;
+        h.feature = feature;
+    }
     const uint i = px.x + P.image.x * px.y;
     Floats(P.outDepth).f[i] = h.depth;
     Vec4s(P.outNormal).v[i] = vec4(h.normal, 0.0);

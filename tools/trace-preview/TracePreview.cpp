@@ -274,6 +274,20 @@ int run(const Options& o)
         }
         std::printf("voxel trace (quality %s) %dx%d: %.1f ms (best of %d)\n",
                     std::string(kerf::traceQualityName(o.quality)).c_str(), o.width, o.height, best, o.repeat);
+        if (o.quality == kerf::TraceQuality::Exact) {
+            // The refinement's cost in exact tape evaluations (one gradient counts as one).
+            std::size_t evaluations = 0, hits = 0, refined = 0;
+            for (int y = 0; y < o.height; ++y)
+                for (int x = 0; x < o.width; ++x) {
+                    const kerf::RayHit h = kerf::traceRay(buffers, camera.ray(x, y), {}, o.quality);
+                    evaluations += h.evaluations;
+                    hits += h.hit();
+                    refined += h.hit() && h.evaluations > 0;
+                }
+            std::printf("exact evaluations: %.2f per pixel, %.2f per pixel hit; %zu of %zu hits refined\n",
+                        double(evaluations) / (double(o.width) * o.height), double(evaluations) / double(std::max<std::size_t>(hits, 1)),
+                        refined, hits);
+        }
         if (!o.diff.empty()) {
             const auto t2 = Clock::now();
             const kerf::TraceImage exact = kerf::traceExact(tape, camera, 1e-3, o.threads);

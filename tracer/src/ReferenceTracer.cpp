@@ -283,10 +283,19 @@ struct CapState {
 // Traces inside one surface tile, from ray parameter tEnter (where the ray is
 // in the tile) until it leaves the tile. Returns true with `hit` filled when
 // it finds the surface (or a section's cap).
+// Where a hit of the hybrid refinement lies: its tile's tape and the point,
+// tile-relative (mm). Its normal and feature are the exact field's there,
+// evaluated once the ray is done (outside the loops: on the GPU their state
+// would otherwise stay live across the gradient's evaluation).
+struct ExactPoint {
+    const std::uint32_t* tape = nullptr;
+    glm::vec3 point{0.0f};
+};
+
 // `tape`: the tile's exact tape when the hybrid refinement is on, else null.
 bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uint32_t* tape, const glm::ivec3& tile,
                const glm::vec3& origin, const glm::vec3& dir, const glm::vec3& invDir, float tileSize, float tEnter,
-               RayHit& hit, CapState& cap)
+               RayHit& hit, CapState& cap, ExactPoint& exact)
 {
     const int levels = int(entry.levels);
     const int n = 1 << (2 * levels); // finest cells per tile edge
@@ -372,14 +381,10 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
                 const float sHit = exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
                                                  w >= 0.0f ? s + w / voxelScale : -1.0f, searched, hit.evaluations);
                 if (sHit >= 0.0f) {
-                    // The exact field's gradient there, by forward differentiation.
-                    std::uint32_t feature = kNoFeature;
-                    const glm::vec4 fg = voxel::evaluateTileTapeGradient(tape, (e + sHit * dir) * tileSize, feature);
-                    ++hit.evaluations;
-                    const glm::vec3 g(fg.y, fg.z, fg.w);
-                    const float len = glm::length(g);
-                    hit.normal = len > 0.0f ? g / len : -dir;
-                    hit.feature = feature;
+                    exact.tape = tape;
+                    exact.point = (e + sHit * dir) * tileSize;
+                    hit.normal = -dir;
+                    hit.feature = kNoFeature;
                     hit.depth = tEnter + sHit * tileSize;
                     return true;
                 }
@@ -428,10 +433,9 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
     return false;
 }
 
-} // namespace
-
-RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction,
-                const glm::vec4& plane, TraceQuality quality)
+// traceRay() but for the exact normal and feature of a refined hit.
+RayHit traceGrid(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction,
+                 const glm::vec4& plane, TraceQuality quality, ExactPoint& exact)
 {
     RayHit hit;
     const GridLayout& layout = b.layout;
@@ -504,9 +508,12 @@ RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::v
                       quality == TraceQuality::Exact && b.entries[value].tape != voxel::kNoTape
                           ? b.tapes.data() + b.entries[value].tape
                           : nullptr,
-                      tile, origin, dir, invDir, tileSize, tEnter, hit, cap)) {
+                      tile, origin, dir, invDir, tileSize, tEnter, hit, cap, exact)) {
             // A hit past the section plane is in the part cut away.
-            if (hit.depth > tLeave) hit = RayHit{};
+            if (hit.depth > tLeave) {
+                hit = RayHit{};
+                exact.tape = nullptr;
+            }
             return hit;
         }
         if (tExitTile >= tLeave) break;
@@ -515,6 +522,26 @@ RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::v
         tNext[axis] += tDelta[axis];
         enterAxis = axis;
         if (tile[axis] < 0 || tile[axis] >= dims[axis]) break;
+    }
+    return hit;
+}
+
+} // namespace
+
+RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction,
+                const glm::vec4& plane, TraceQuality quality)
+{
+    ExactPoint exact;
+    RayHit hit = traceGrid(b, origin, direction, plane, quality, exact);
+    if (exact.tape) {
+        // The exact field's gradient at the refined hit, by forward differentiation.
+        std::uint32_t feature = kNoFeature;
+        const glm::vec4 fg = voxel::evaluateTileTapeGradient(exact.tape, exact.point, feature);
+        ++hit.evaluations;
+        const glm::vec3 g(fg.y, fg.z, fg.w);
+        const float len = glm::length(g);
+        hit.normal = len > 0.0f ? g / len : hit.normal;
+        hit.feature = feature;
     }
     return hit;
 }

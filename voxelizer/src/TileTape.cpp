@@ -6,9 +6,11 @@
 #include <bit>
 #include <map>
 
-// evaluateTileTape() is written to be ported to GLSL line by line
-// (shaders/trace.comp, tapeDistance): glm types stand for GLSL's, plain
-// loops, a fixed-size stack, no containers.
+// evaluateTileTape() and evaluateTileTapeGradient() are written to be ported
+// to GLSL line by line (shaders/trace.comp): glm types stand for GLSL's,
+// plain loops, no containers. The stack is kept top first and shifted on
+// every push and pop, as the shader keeps it in eight named registers (st[j]
+// here is its s<j>).
 
 namespace kerf::voxel {
 
@@ -259,23 +261,25 @@ glm::vec4 evaluateTileTapeGradient(const std::uint32_t* t, const glm::vec3& p, s
 {
     const std::uint32_t count = t[0];
     const std::uint32_t shapes = KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * count;
-    glm::vec4 stack[KERF_TAPE_MAX_STACK];
-    std::uint32_t features[KERF_TAPE_MAX_STACK];
-    int sp = 0;
+    glm::vec4 st[KERF_TAPE_MAX_STACK] = {};
+    std::uint32_t fs[KERF_TAPE_MAX_STACK] = {};
     for (std::uint32_t i = 0u; i < count; ++i) {
         const std::uint32_t code = t[KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i];
         const float k = word(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);
         const std::uint32_t op = code & 0xFFu;
         if (op == KERF_TAPE_PRIMITIVE) {
             const std::uint32_t s = shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS;
-            stack[sp] = shapeGradient(t, s, p);
-            features[sp] = t[s + 1u];
-            ++sp;
+            for (int j = KERF_TAPE_MAX_STACK - 1; j > 0; --j) {
+                st[j] = st[j - 1];
+                fs[j] = fs[j - 1];
+            }
+            st[0] = shapeGradient(t, s, p);
+            fs[0] = t[s + 1u];
         } else if (op <= KERF_TAPE_SMOOTH_MAX) {
-            const glm::vec4 b = stack[sp - 1], a = stack[sp - 2];
-            const bool isMin = op == KERF_TAPE_MIN || op == KERF_TAPE_SMOOTH_MIN;
+            const glm::vec4 b = st[0], a = st[1];
             // The deciding feature: the operand the exact min/max would pick.
-            if (isMin ? b.x < a.x : a.x < b.x) features[sp - 2] = features[sp - 1];
+            const bool isMin = op == KERF_TAPE_MIN || op == KERF_TAPE_SMOOTH_MIN;
+            const std::uint32_t f = (isMin ? b.x < a.x : a.x < b.x) ? fs[0] : fs[1];
             glm::vec4 r;
             if (op == KERF_TAPE_MIN) {
                 r = dMin(a, b);
@@ -285,35 +289,38 @@ glm::vec4 evaluateTileTapeGradient(const std::uint32_t* t, const glm::vec3& p, s
                 const glm::vec4 h = dMax(dConst(k) - dAbs(a - b), dConst(0.0f)) * (1.0f / k);
                 r = op == KERF_TAPE_SMOOTH_MIN ? dMin(a, b) - dSq(h) * (k * 0.25f) : dMax(a, b) + dSq(h) * (k * 0.25f);
             }
-            stack[sp - 2] = r;
-            --sp;
+            st[0] = r;
+            fs[0] = f;
+            for (int j = 1; j < KERF_TAPE_MAX_STACK - 1; ++j) {
+                st[j] = st[j + 1];
+                fs[j] = fs[j + 1];
+            }
         } else if (op == KERF_TAPE_NEGATE) {
-            stack[sp - 1] = -stack[sp - 1];
+            st[0] = -st[0];
         } else if (op == KERF_TAPE_OFFSET) {
-            stack[sp - 1] = stack[sp - 1] - dConst(k);
+            st[0] = st[0] - dConst(k);
         } else {
-            stack[sp - 1] = dMax(stack[sp - 1], -(stack[sp - 1] + dConst(k)));
+            st[0] = dMax(st[0], -(st[0] + dConst(k)));
         }
     }
-    feature = features[0];
-    return stack[0];
+    feature = fs[0];
+    return st[0];
 }
 
 float evaluateTileTape(const std::uint32_t* t, const glm::vec3& p)
 {
     const std::uint32_t count = t[0];
     const std::uint32_t shapes = KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * count;
-    float stack[KERF_TAPE_MAX_STACK];
-    int sp = 0;
+    float st[KERF_TAPE_MAX_STACK] = {};
     for (std::uint32_t i = 0u; i < count; ++i) {
         const std::uint32_t code = t[KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i];
         const float k = word(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);
         const std::uint32_t op = code & 0xFFu;
         if (op == KERF_TAPE_PRIMITIVE) {
-            stack[sp] = shapeDistance(t, shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS, p);
-            ++sp;
+            for (int j = KERF_TAPE_MAX_STACK - 1; j > 0; --j) st[j] = st[j - 1];
+            st[0] = shapeDistance(t, shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS, p);
         } else if (op <= KERF_TAPE_SMOOTH_MAX) {
-            const float b = stack[sp - 1], a = stack[sp - 2];
+            const float b = st[0], a = st[1];
             float r;
             if (op == KERF_TAPE_MIN) {
                 r = glm::min(a, b);
@@ -325,17 +332,17 @@ float evaluateTileTape(const std::uint32_t* t, const glm::vec3& p)
                 r = op == KERF_TAPE_SMOOTH_MIN ? glm::min(a, b) - h * h * (k * 0.25f)
                                                : glm::max(a, b) + h * h * (k * 0.25f);
             }
-            stack[sp - 2] = r;
-            --sp;
+            st[0] = r;
+            for (int j = 1; j < KERF_TAPE_MAX_STACK - 1; ++j) st[j] = st[j + 1];
         } else if (op == KERF_TAPE_NEGATE) {
-            stack[sp - 1] = -stack[sp - 1];
+            st[0] = -st[0];
         } else if (op == KERF_TAPE_OFFSET) {
-            stack[sp - 1] = stack[sp - 1] - k;
+            st[0] = st[0] - k;
         } else { // shell
-            stack[sp - 1] = glm::max(stack[sp - 1], -(stack[sp - 1] + k));
+            st[0] = glm::max(st[0], -(st[0] + k));
         }
     }
-    return stack[0];
+    return st[0];
 }
 
 } // namespace kerf::voxel

@@ -43,10 +43,12 @@
 #define KERF_TAPE_SHAPE_FRAME 2u  // first frame word within a shape
 #define KERF_TAPE_SHAPE_PARAMS 14u // first parameter word within a shape
 
-// The evaluator's stack lives in registers (or a GPU thread's local memory):
-// a tile whose tape needs a deeper stack, or has more instructions than
-// this, carries no tape and is traced on its voxels alone.
-#define KERF_TAPE_MAX_STACK 12
+// The evaluator's stack lives in registers (eight named ones in the shader;
+// a dynamically indexed array would live in local memory, and slowed
+// lavapipe's whole kernel fourfold): a tile whose tape needs a deeper stack,
+// or has more instructions than this, carries no tape and is traced on its
+// voxels alone. The bundled examples' tile tapes need at most 7.
+#define KERF_TAPE_MAX_STACK 8
 #define KERF_TAPE_MAX_INSTRUCTIONS 256u
 
 // TileEntry.tape of a tile without an exact tape.
