@@ -161,7 +161,8 @@ int main(int argc, char** argv)
             j["frames"] = frames;
             j["exact_refinement"] = {{"margin_voxels", KERF_EXACT_MARGIN},
                                      {"sphere_steps", KERF_EXACT_STEPS},
-                                     {"bisections", KERF_EXACT_BISECTIONS},
+                                     {"bracketed_steps", KERF_EXACT_BRACKETED_STEPS},
+                                     {"refinements", KERF_EXACT_REFINEMENTS},
                                      {"epsilon_voxels", KERF_EXACT_EPSILON}};
             j["results"] = results;
             std::ofstream(jsonPath) << j.dump(2) << "\n";

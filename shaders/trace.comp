@@ -450,8 +450,8 @@ float exactAt(uint tape, vec3 e, vec3 dir, float tileSize, float s)
     return evaluateTileTape(tape, (e + s * dir) * tileSize) / tileSize;
 }
 
-const int kStart = 0, kBack = 1, kProbe = 2, kMarch = 3, kEnd = 4, kBisect = 5;
-const int kMaxEvaluations = 3 + KERF_EXACT_STEPS + KERF_EXACT_BISECTIONS;
+const int kStart = 0, kBack = 1, kProbe = 2, kMarch = 3, kEnd = 4, kRefine = 5;
+const int kMaxEvaluations = 3 + KERF_EXACT_STEPS + KERF_EXACT_REFINEMENTS;
 
 float exactCrossing(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float s1, float sTileEnd, float voxelEdge,
                     float sTrilinear, inout float searched)
@@ -464,7 +464,8 @@ float exactCrossing(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float
     int phase = kStart, count = 0;
     float at = a;
     float lo = a, gLo = 0.0;
-    float hi = -1.0;
+    float hi = -1.0, gHi = 0.0;
+    int side = 0;
     for (int k = 0; k < kMaxEvaluations; ++k) {
         const float g = exactAt(tape, e, dir, tileSize, at);
         if (phase == kStart) {
@@ -479,21 +480,45 @@ float exactCrossing(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float
                 }
             }
         } else if (phase == kProbe) {
-            if (g <= 0.0) hi = sTrilinear;
+            if (g <= 0.0) {
+                hi = sTrilinear;
+                gHi = g;
+            }
             phase = kMarch;
         } else if (phase == kMarch) {
-            gLo = g;
+            if (g <= 0.0) {
+                hi = at;
+                gHi = g;
+                phase = kRefine;
+                count = 0;
+            } else {
+                lo = at;
+                gLo = g;
+            }
         } else if (phase == kEnd) {
-            if (g <= 0.0) hi = b;
+            if (g <= 0.0) {
+                hi = b;
+                gHi = g;
+            }
             if (hi < 0.0) {
                 searched = lo;
                 return -1.0;
             }
-            phase = kBisect;
+            phase = kRefine;
             count = 0;
-        } else if (phase == kBisect) {
-            if (g <= 0.0) hi = at;
-            else lo = at;
+        } else if (phase == kRefine) {
+            if (abs(g) < eps) return at;
+            if (g <= 0.0) {
+                hi = at;
+                gHi = g;
+                if (side == 1) gLo *= 0.5;
+                side = 1;
+            } else {
+                lo = at;
+                gLo = g;
+                if (side == -1) gHi *= 0.5;
+                side = -1;
+            }
             ++count;
         }
         if (phase == kBack) {
@@ -505,28 +530,29 @@ float exactCrossing(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float
             return at;
         }
         if (phase == kMarch) {
-            if (count < KERF_EXACT_STEPS && gLo >= eps) {
-                lo += gLo;
-                ++count;
-                if (hi >= 0.0 && lo >= hi) return hi;
-                if (lo >= b) {
-                    searched = b;
-                    return -1.0;
-                }
-                at = lo;
-                continue;
-            }
             if (gLo < eps) return lo;
-            if (hi < 0.0) {
+            if (lo + gLo >= b) {
+                searched = b;
+                return -1.0;
+            }
+            if (count < (hi < 0.0 ? KERF_EXACT_STEPS : KERF_EXACT_BRACKETED_STEPS)) {
+                at = lo + gLo;
+                ++count;
+                if (hi < 0.0 || at < hi) continue;
+                phase = kRefine;
+                count = 0;
+            } else if (hi < 0.0) {
                 phase = kEnd;
                 at = b;
                 continue;
+            } else {
+                phase = kRefine;
+                count = 0;
             }
-            phase = kBisect;
-            count = 0;
         }
-        if (count < KERF_EXACT_BISECTIONS) {
-            at = 0.5 * (lo + hi);
+        if (count < KERF_EXACT_REFINEMENTS) {
+            at = hi - gHi * (hi - lo) / (gHi - gLo);
+            if (!(at > lo && at < hi)) at = 0.5 * (lo + hi);
             continue;
         }
         return hi;
@@ -621,7 +647,7 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
                                                  w >= 0.0 ? s + w / voxelScale : -1.0, searched);
                 if (sHit >= 0.0) {
                     hit.tape = tape;
-                    hit.point = (e + sHit * dir) * tileSize;
+                    hit.point = (e + max(sHit - float(KERF_EXACT_EPSILON) * voxelEdge, 0.0) * dir) * tileSize;
                     hit.normal = -dir;
                     hit.feature = kNoFeature;
                     hit.depth = tEnter + sHit * tileSize;

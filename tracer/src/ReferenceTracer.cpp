@@ -165,17 +165,20 @@ float exactAt(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& di
 //
 // From the window's start the search either walks back (the start is
 // inside: the surface was crossed where no voxel is populated, an edge
-// sharper than the voxels; |g| never passes the crossing, nor goes back
-// before what is known outside) or sphere-traces forward (which never
-// passes a crossing, the field being 1-Lipschitz); when the steps run out
-// (rays grazing the surface), bisection of a bracket (the trilinear
-// crossing, else the window's end) finishes it.
+// sharper than the voxels; a step of |g| never passes the crossing, nor
+// goes back before what is known outside) or sphere-traces forward, which
+// never passes a crossing (the field is 1-Lipschitz) but closes in on one
+// slowly unless the ray meets the surface head-on. So once a crossing is
+// bracketed (the trilinear crossing is inside, a step landed inside, or the
+// steps ran out and the window's end is inside) a few more steps tighten
+// the bracket from the outside and the Illinois variant of regula falsi
+// finishes it.
 //
 // Written as one loop with one evaluation per iteration, whose phase says
 // what the value means and where the next one goes: the GPU compiler then
-// inlines the tape interpreter once, not at six call sites.
-constexpr int kStart = 0, kBack = 1, kProbe = 2, kMarch = 3, kEnd = 4, kBisect = 5;
-constexpr int kMaxEvaluations = 3 + KERF_EXACT_STEPS + KERF_EXACT_BISECTIONS;
+// inlines the tape interpreter once.
+constexpr int kStart = 0, kBack = 1, kProbe = 2, kMarch = 3, kEnd = 4, kRefine = 5;
+constexpr int kMaxEvaluations = 3 + KERF_EXACT_STEPS + KERF_EXACT_REFINEMENTS;
 
 float exactCrossing(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& dir, float tileSize, float s0,
                     float s1, float sTileEnd, float voxelEdge, float sTrilinear, float& searched,
@@ -187,9 +190,10 @@ float exactCrossing(const std::uint32_t* tape, const glm::vec3& e, const glm::ve
     const float b = glm::min(s1 + margin, sTileEnd);
     if (!(a < b)) return -1.0f;
     int phase = kStart, count = 0;
-    float at = a;                // where the field is evaluated next
-    float lo = a, gLo = 0.0f;    // the march: outside, the field there
-    float hi = -1.0f;            // ahead, inside: a bracket
+    float at = a;                 // where the field is evaluated next
+    float lo = a, gLo = 0.0f;     // outside: the march's point, or the bracket's outer end
+    float hi = -1.0f, gHi = 0.0f; // inside, ahead: the bracket's inner end (hi < 0: none)
+    int side = 0;                 // regula falsi: the end moved last (-1 lo, 1 hi)
     for (int k = 0; k < kMaxEvaluations; ++k) {
         const float g = exactAt(tape, e, dir, tileSize, at, evaluations);
         // What the value says.
@@ -205,23 +209,46 @@ float exactCrossing(const std::uint32_t* tape, const glm::vec3& e, const glm::ve
                 }
             }
         } else if (phase == kProbe) {
-            if (g <= 0.0f) hi = sTrilinear;
+            if (g <= 0.0f) {
+                hi = sTrilinear;
+                gHi = g;
+            }
             phase = kMarch;
         } else if (phase == kMarch) {
-            gLo = g;
+            if (g <= 0.0f) {
+                hi = at; // landed inside (a sliver of float): bracketed
+                gHi = g;
+                phase = kRefine;
+                count = 0;
+            } else {
+                lo = at;
+                gLo = g;
+            }
         } else if (phase == kEnd) {
-            if (g <= 0.0f) hi = b;
+            if (g <= 0.0f) {
+                hi = b;
+                gHi = g;
+            }
             if (hi < 0.0f) {
                 searched = lo;
                 return -1.0f;
             }
-            phase = kBisect;
+            phase = kRefine;
             count = 0;
-        } else if (phase == kBisect) {
-            if (g <= 0.0f)
+        } else if (phase == kRefine) {
+            if (glm::abs(g) < eps) return at;
+            // Illinois: an end kept twice in a row has its value halved.
+            if (g <= 0.0f) {
                 hi = at;
-            else
+                gHi = g;
+                if (side == 1) gLo *= 0.5f;
+                side = 1;
+            } else {
                 lo = at;
+                gLo = g;
+                if (side == -1) gHi *= 0.5f;
+                side = -1;
+            }
             ++count;
         }
         // Where the next one goes.
@@ -234,28 +261,29 @@ float exactCrossing(const std::uint32_t* tape, const glm::vec3& e, const glm::ve
             return at;
         }
         if (phase == kMarch) {
-            if (count < KERF_EXACT_STEPS && gLo >= eps) {
-                lo += gLo;
-                ++count;
-                if (hi >= 0.0f && lo >= hi) return hi;
-                if (lo >= b) {
-                    searched = b;
-                    return -1.0f;
-                }
-                at = lo;
-                continue;
-            }
             if (gLo < eps) return lo;
-            if (hi < 0.0f) {
+            if (lo + gLo >= b) {
+                searched = b;
+                return -1.0f;
+            }
+            if (count < (hi < 0.0f ? KERF_EXACT_STEPS : KERF_EXACT_BRACKETED_STEPS)) {
+                at = lo + gLo;
+                ++count;
+                if (hi < 0.0f || at < hi) continue;
+                phase = kRefine; // at or past the bracket's inner end: close in on it
+                count = 0;
+            } else if (hi < 0.0f) {
                 phase = kEnd;
                 at = b;
                 continue;
+            } else {
+                phase = kRefine;
+                count = 0;
             }
-            phase = kBisect;
-            count = 0;
         }
-        if (count < KERF_EXACT_BISECTIONS) {
-            at = 0.5f * (lo + hi);
+        if (count < KERF_EXACT_REFINEMENTS) {
+            at = hi - gHi * (hi - lo) / (gHi - gLo);
+            if (!(at > lo && at < hi)) at = 0.5f * (lo + hi);
             continue;
         }
         return hi;
@@ -381,8 +409,11 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
                 const float sHit = exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
                                                  w >= 0.0f ? s + w / voxelScale : -1.0f, searched, hit.evaluations);
                 if (sHit >= 0.0f) {
+                    // The normal is taken a hair in front of the hit: exactly
+                    // on the surface some fields have no derivative (a
+                    // cone's cap is a sqrt(0) there).
                     exact.tape = tape;
-                    exact.point = (e + sHit * dir) * tileSize;
+                    exact.point = (e + glm::max(sHit - float(KERF_EXACT_EPSILON) * voxelEdge, 0.0f) * dir) * tileSize;
                     hit.normal = -dir;
                     hit.feature = kNoFeature;
                     hit.depth = tEnter + sHit * tileSize;

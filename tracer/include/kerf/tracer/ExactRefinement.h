@@ -10,10 +10,13 @@
 // searched: the exact surface departs from the trilinear one by a fraction
 // of a voxel (sharp edges rounded off, creases filled in).
 #define KERF_EXACT_MARGIN 1.0
-// Sphere-tracing steps per populated voxel before bisection takes over.
+// Sphere-tracing steps per populated voxel before the window's end is tried
+// as a bracket; and with a bracket already known (the trilinear crossing
+// inside the exact surface), before regula falsi takes over.
 #define KERF_EXACT_STEPS 8
-// Bisection steps of a bracketed crossing (2^-14 of about a voxel).
-#define KERF_EXACT_BISECTIONS 14
+#define KERF_EXACT_BRACKETED_STEPS 2
+// Regula falsi (Illinois) steps on a bracketed crossing.
+#define KERF_EXACT_REFINEMENTS 8
 // The ray hits where the exact field drops below this.
 #define KERF_EXACT_EPSILON 0.001
 
