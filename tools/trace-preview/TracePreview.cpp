@@ -263,9 +263,10 @@ int run(const Options& o)
         const kerf::VoxelSnapshot snapshot = kerf::voxelize(tape, layout, vo);
         const kerf::FlatVoxelBuffers buffers = kerf::FlatVoxelBuffers::flatten(snapshot);
         std::printf("grid %dx%dx%d tiles of %.3f mm, %d levels, voxel %.4f mm; %zu surface tiles, %zu voxels, "
-                    "%.1f MB; voxelized in %.0f ms\n",
+                    "%.1f MB (of which exact tapes %.3f MB); voxelized in %.0f ms\n",
                     layout.dims.x, layout.dims.y, layout.dims.z, layout.tileSize, layout.levels, layout.voxelSize,
-                    buffers.entries.size(), buffers.leafData.size(), double(buffers.bytes()) / 1e6, msSince(t0));
+                    buffers.entries.size(), buffers.leafData.size(), double(buffers.bytes()) / 1e6,
+                    double(buffers.tapes.size() * sizeof(std::uint32_t)) / 1e6, msSince(t0));
         double best = 1e300;
         for (int r = 0; r < o.repeat; ++r) {
             const auto t1 = Clock::now();
