@@ -5,6 +5,11 @@
 // device-local depth, normal and feature buffers (TraceTargets), which the
 // shading pass reads in place or trace() reads back.
 //
+// The hybrid refinement (TraceQuality::Exact) runs in a second pipeline of
+// the same shader, made when first asked for; the voxel-only pipeline is
+// compiled without its code (a specialization constant), so it keeps its
+// speed.
+//
 // Threading: one thread at a time. The context must outlive the tracer.
 
 #include "kerf/tracer/Camera.hpp"
