@@ -81,8 +81,9 @@ int main(int argc, char** argv)
         else if (a == "--examples" && i + 1 < argc) examples = argv[++i];
         else if (a == "--scene" && i + 1 < argc) onlyScene = argv[++i];
         else if (a == "--feature-size" && i + 1 < argc) onlyFeatureSize = std::atof(argv[++i]);
-        else if (a == "--quality" && i + 1 < argc && std::string(argv[i + 1]) == "both") ++i;
-        else if (a == "--quality" && i + 1 < argc && parseTraceQuality(argv[i + 1])) qualities = {*parseTraceQuality(argv[++i])};
+        else if (a == "--quality" && i + 1 < argc && std::string(argv[i + 1]) == "both") ++i; // the default
+        else if (a == "--quality" && i + 1 < argc && parseTraceQuality(argv[i + 1]))
+            qualities = {*parseTraceQuality(argv[++i])};
         else {
             std::cerr << "usage: kerf_gpu_bench [--quick] [--frames N] [--quality voxels|exact|both] "
                          "[--scene chair|showcase] [--feature-size MM] [--json OUT.json] [--examples DIR]\n";

@@ -233,12 +233,17 @@ float polygonDistance(uint t, uint first, uint count, float x, float y)
     return inside ? -dist : dist;
 }
 
+// Local coordinate `row` of tile-relative point p, by the frame at word f.
+float localCoordinate(uint t, uint f, uint row, vec3 p)
+{
+    const uint r = f + 3u * row;
+    return tapeFloat(t, r) * p.x + tapeFloat(t, r + 1u) * p.y + tapeFloat(t, r + 2u) * p.z + tapeFloat(t, f + 9u + row);
+}
+
 float shapeDistance(uint t, uint s, vec3 p)
 {
     const uint f = s + KERF_TAPE_SHAPE_FRAME;
-    const vec3 l = vec3(tapeFloat(t, f) * p.x + tapeFloat(t, f + 1u) * p.y + tapeFloat(t, f + 2u) * p.z + tapeFloat(t, f + 9u),
-                        tapeFloat(t, f + 3u) * p.x + tapeFloat(t, f + 4u) * p.y + tapeFloat(t, f + 5u) * p.z + tapeFloat(t, f + 10u),
-                        tapeFloat(t, f + 6u) * p.x + tapeFloat(t, f + 7u) * p.y + tapeFloat(t, f + 8u) * p.z + tapeFloat(t, f + 11u));
+    const vec3 l = vec3(localCoordinate(t, f, 0u, p), localCoordinate(t, f, 1u, p), localCoordinate(t, f, 2u, p));
     const uint a = s + KERF_TAPE_SHAPE_PARAMS;
     const uint kind = tapeWord(t, s);
     if (kind == KERF_SHAPE_BOX)
@@ -308,7 +313,10 @@ float evaluateTileTape(uint t, vec3 p)
 // as vec4, x the value, yzw the gradient ----
 
 vec4 dConst(float c) { return vec4(c, 0.0, 0.0, 0.0); }
-vec4 dMul(vec4 a, vec4 b) { return vec4(a.x * b.x, a.y * b.x + a.x * b.y, a.z * b.x + a.x * b.z, a.w * b.x + a.x * b.w); }
+vec4 dMul(vec4 a, vec4 b)
+{
+    return vec4(a.x * b.x, a.y * b.x + a.x * b.y, a.z * b.x + a.x * b.z, a.w * b.x + a.x * b.w);
+}
 vec4 dSq(vec4 a) { return dMul(a, a); }
 vec4 dSqrt(vec4 a)
 {
@@ -369,22 +377,23 @@ vec4 polygonGradient(uint t, uint first, uint count, vec4 x, vec4 y)
 
 vec4 shapeGradient(uint t, uint s, vec3 p)
 {
+    // Each local coordinate's gradient is its row of the frame.
     const uint f = s + KERF_TAPE_SHAPE_FRAME;
-    const vec4 lx = vec4(tapeFloat(t, f) * p.x + tapeFloat(t, f + 1u) * p.y + tapeFloat(t, f + 2u) * p.z + tapeFloat(t, f + 9u),
-                         tapeFloat(t, f), tapeFloat(t, f + 1u), tapeFloat(t, f + 2u));
-    const vec4 ly = vec4(tapeFloat(t, f + 3u) * p.x + tapeFloat(t, f + 4u) * p.y + tapeFloat(t, f + 5u) * p.z + tapeFloat(t, f + 10u),
-                         tapeFloat(t, f + 3u), tapeFloat(t, f + 4u), tapeFloat(t, f + 5u));
-    const vec4 lz = vec4(tapeFloat(t, f + 6u) * p.x + tapeFloat(t, f + 7u) * p.y + tapeFloat(t, f + 8u) * p.z + tapeFloat(t, f + 11u),
-                         tapeFloat(t, f + 6u), tapeFloat(t, f + 7u), tapeFloat(t, f + 8u));
+    const vec4 lx = vec4(localCoordinate(t, f, 0u, p), tapeFloat(t, f), tapeFloat(t, f + 1u), tapeFloat(t, f + 2u));
+    const vec4 ly = vec4(localCoordinate(t, f, 1u, p), tapeFloat(t, f + 3u), tapeFloat(t, f + 4u),
+                         tapeFloat(t, f + 5u));
+    const vec4 lz = vec4(localCoordinate(t, f, 2u, p), tapeFloat(t, f + 6u), tapeFloat(t, f + 7u),
+                         tapeFloat(t, f + 8u));
     const uint a = s + KERF_TAPE_SHAPE_PARAMS;
     const uint kind = tapeWord(t, s);
     if (kind == KERF_SHAPE_BOX)
-        return boxGradient(lx, ly, lz, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
+        return boxGradient(lx, ly, lz, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u),
+                           tapeFloat(t, a + 3u));
     if (kind == KERF_SHAPE_SPHERE) return dSqrt(dSq(lx) + dSq(ly) + dSq(lz)) - dConst(tapeFloat(t, a));
     if (kind == KERF_SHAPE_CYLINDER) return cylinderGradient(lx, ly, lz, tapeFloat(t, a), tapeFloat(t, a + 1u));
     if (kind == KERF_SHAPE_CONE)
-        return coneGradient(lx, ly, lz, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u),
-                            tapeFloat(t, a + 4u), tapeFloat(t, a + 5u));
+        return coneGradient(lx, ly, lz, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u),
+                            tapeFloat(t, a + 3u), tapeFloat(t, a + 4u), tapeFloat(t, a + 5u));
     if (kind == KERF_SHAPE_TORUS) {
         const vec4 q = dSqrt(dSq(lx) + dSq(ly)) - dConst(tapeFloat(t, a));
         return dSqrt(dSq(q) + dSq(lz)) - dConst(tapeFloat(t, a + 1u));

@@ -3,10 +3,10 @@
 // carry the tape they were built from, precise far from the origin; tapes the
 // GPU evaluator cannot hold are refused.
 
+#include "kerf/voxelizer/TileTape.hpp"
 #include "kerf/evaluator/IntervalEvaluator.hpp"
 #include "kerf/evaluator/PointEvaluator.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
-#include "kerf/voxelizer/TileTape.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
 #include "support/RandomShapes.hpp"
 
@@ -147,7 +147,8 @@ TEST(TileTape, RefusesWhatTheGpuEvaluatorCannotHold)
             if (!nested && i > 0) code.push_back(op);
         }
         if (nested)
-            for (int i = 1; i < primitives; ++i) code.push_back(op);
+            for (int i = 1; i < primitives; ++i)
+                code.push_back(op);
         return Tape::assemble(code, {s}, nullptr, glm::dvec3(0.0), Aabb{glm::dvec3(-1.0), glm::dvec3(1.0)});
     };
     EXPECT_FALSE(voxel::encodeTileTape(tapeOf(KERF_TAPE_MAX_STACK, true)).empty());

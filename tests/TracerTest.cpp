@@ -349,7 +349,8 @@ struct Departure {
 
 Departure departure(const TraceImage& img, const TraceImage& exact, double normalDegrees = 2.0)
 {
-    const double cosMax = std::cos(normalDegrees * std::numbers::pi / 180.0), cosEdge = std::cos(20.0 * std::numbers::pi / 180.0);
+    const double cosMax = std::cos(normalDegrees * std::numbers::pi / 180.0);
+    const double cosEdge = std::cos(20.0 * std::numbers::pi / 180.0);
     struct Sums {
         int pixels = 0, agree = 0, both = 0, normalOk = 0;
         double depth = 0.0;
@@ -443,7 +444,8 @@ TEST(TracerExact, AgreesWithTheExactTracerOnEveryShape)
     const Tape chair = compileTape(Document::load(fs::path(KERF_EXAMPLES_DIR) / "side-chair.kerf"));
     const Tape rotated = compileTape(doc(R"({"id":"b","type":"box","size":[60,40,25],"round":2,)"
                                          R"("transform":{"rotate":[0,0,30]}})"));
-    for (const auto& [tape, featureSize] : {std::pair<const Tape*, double>{&sphere, 1.0}, {&rotated, 1.0}, {&chair, 2.0}}) {
+    for (const auto& [tape, featureSize] :
+         {std::pair<const Tape*, double>{&sphere, 1.0}, {&rotated, 1.0}, {&chair, 2.0}}) {
         const FlatVoxelBuffers buffers = voxels(*tape, featureSize);
         for (const char* view : {"iso", "right"}) {
             SCOPED_TRACE(view);

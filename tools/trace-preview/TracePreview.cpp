@@ -286,8 +286,8 @@ int run(const Options& o)
                     refined += h.hit() && h.evaluations > 0;
                 }
             std::printf("exact evaluations: %.2f per pixel, %.2f per pixel hit; %zu of %zu hits refined\n",
-                        double(evaluations) / (double(o.width) * o.height), double(evaluations) / double(std::max<std::size_t>(hits, 1)),
-                        refined, hits);
+                        double(evaluations) / (double(o.width) * o.height),
+                        double(evaluations) / double(std::max<std::size_t>(hits, 1)), refined, hits);
         }
         if (!o.diff.empty()) {
             const auto t2 = Clock::now();

@@ -465,8 +465,8 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
 }
 
 // traceRay() but for the exact normal and feature of a refined hit.
-RayHit traceGrid(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction,
-                 const glm::vec4& plane, TraceQuality quality, ExactPoint& exact)
+RayHit traceGrid(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction, const glm::vec4& plane,
+                 TraceQuality quality, ExactPoint& exact)
 {
     RayHit hit;
     const GridLayout& layout = b.layout;
@@ -559,8 +559,8 @@ RayHit traceGrid(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::
 
 } // namespace
 
-RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction,
-                const glm::vec4& plane, TraceQuality quality)
+RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction, const glm::vec4& plane,
+                TraceQuality quality)
 {
     ExactPoint exact;
     RayHit hit = traceGrid(b, origin, direction, plane, quality, exact);

@@ -18,9 +18,11 @@ static_assert(std::uint32_t(Op::Primitive) == KERF_TAPE_PRIMITIVE && std::uint32
               std::uint32_t(Op::Max) == KERF_TAPE_MAX && std::uint32_t(Op::SmoothMin) == KERF_TAPE_SMOOTH_MIN &&
               std::uint32_t(Op::SmoothMax) == KERF_TAPE_SMOOTH_MAX && std::uint32_t(Op::Negate) == KERF_TAPE_NEGATE &&
               std::uint32_t(Op::Offset) == KERF_TAPE_OFFSET && std::uint32_t(Op::Shell) == KERF_TAPE_SHELL);
-static_assert(std::uint32_t(ShapeKind::Box) == KERF_SHAPE_BOX && std::uint32_t(ShapeKind::Sphere) == KERF_SHAPE_SPHERE &&
+static_assert(std::uint32_t(ShapeKind::Box) == KERF_SHAPE_BOX &&
+              std::uint32_t(ShapeKind::Sphere) == KERF_SHAPE_SPHERE &&
               std::uint32_t(ShapeKind::Cylinder) == KERF_SHAPE_CYLINDER &&
-              std::uint32_t(ShapeKind::Cone) == KERF_SHAPE_CONE && std::uint32_t(ShapeKind::Torus) == KERF_SHAPE_TORUS &&
+              std::uint32_t(ShapeKind::Cone) == KERF_SHAPE_CONE &&
+              std::uint32_t(ShapeKind::Torus) == KERF_SHAPE_TORUS &&
               std::uint32_t(ShapeKind::Extrude) == KERF_SHAPE_EXTRUDE &&
               std::uint32_t(ShapeKind::Halfspace) == KERF_SHAPE_HALFSPACE);
 
@@ -47,9 +49,11 @@ std::vector<std::uint32_t> encodeTileTape(const Tape& tape)
     for (const ShapeInstance& s : shapes) {
         w.push_back(std::uint32_t(s.kind));
         w.push_back(s.feature);
-        for (float f : s.frameF) w.push_back(std::bit_cast<std::uint32_t>(f));
+        for (float f : s.frameF)
+            w.push_back(std::bit_cast<std::uint32_t>(f));
         std::array<std::uint32_t, 6> param;
-        for (std::size_t i = 0; i < 6; ++i) param[i] = std::bit_cast<std::uint32_t>(s.paramF[i]);
+        for (std::size_t i = 0; i < 6; ++i)
+            param[i] = std::bit_cast<std::uint32_t>(s.paramF[i]);
         if (s.kind == ShapeKind::Extrude) {
             const Polygon* poly = s.polygon.get();
             auto [it, added] = polygonAt.emplace(poly, polygonWords);
@@ -81,8 +85,7 @@ float sq(float v) { return v * v; }
 float boxDistance(const glm::vec3& l, float bx, float by, float bz, float round)
 {
     const float qx = glm::abs(l.x) - bx, qy = glm::abs(l.y) - by, qz = glm::abs(l.z) - bz;
-    const float outside =
-        glm::sqrt(sq(glm::max(qx, 0.0f)) + sq(glm::max(qy, 0.0f)) + sq(glm::max(qz, 0.0f)));
+    const float outside = glm::sqrt(sq(glm::max(qx, 0.0f)) + sq(glm::max(qy, 0.0f)) + sq(glm::max(qz, 0.0f)));
     const float inside = glm::min(glm::max(qx, glm::max(qy, qz)), 0.0f);
     return outside + inside - round;
 }
@@ -120,19 +123,24 @@ float polygonDistance(const std::uint32_t* t, std::uint32_t first, std::uint32_t
         const float wx = x - vix, wy = y - viy;
         const float s = glm::clamp((wx * ex + wy * ey) / (ex * ex + ey * ey), 0.0f, 1.0f);
         d = glm::min(d, sq(wx - ex * s) + sq(wy - ey * s));
-        const bool c1 = y >= viy, c2 = y < vjy, c3 = ex * wy > ey * wx;
+        const bool c1 = y >= viy, c2 = y<vjy, c3 = ex * wy> ey * wx;
         if ((c1 && c2 && c3) || (!c1 && !c2 && !c3)) inside = !inside;
     }
     const float dist = glm::sqrt(d);
     return inside ? -dist : dist;
 }
 
+// Local coordinate `row` of tile-relative point p, by the frame at word f.
+float localCoordinate(const std::uint32_t* t, std::uint32_t f, std::uint32_t row, const glm::vec3& p)
+{
+    const std::uint32_t r = f + 3u * row;
+    return word(t, r) * p.x + word(t, r + 1u) * p.y + word(t, r + 2u) * p.z + word(t, f + 9u + row);
+}
+
 float shapeDistance(const std::uint32_t* t, std::uint32_t s, const glm::vec3& p)
 {
     const std::uint32_t f = s + KERF_TAPE_SHAPE_FRAME;
-    const glm::vec3 l(word(t, f) * p.x + word(t, f + 1u) * p.y + word(t, f + 2u) * p.z + word(t, f + 9u),
-                      word(t, f + 3u) * p.x + word(t, f + 4u) * p.y + word(t, f + 5u) * p.z + word(t, f + 10u),
-                      word(t, f + 6u) * p.x + word(t, f + 7u) * p.y + word(t, f + 8u) * p.z + word(t, f + 11u));
+    const glm::vec3 l(localCoordinate(t, f, 0u, p), localCoordinate(t, f, 1u, p), localCoordinate(t, f, 2u, p));
     const std::uint32_t a = s + KERF_TAPE_SHAPE_PARAMS;
     const std::uint32_t kind = t[s];
     if (kind == KERF_SHAPE_BOX) return boxDistance(l, word(t, a), word(t, a + 1u), word(t, a + 2u), word(t, a + 3u));
@@ -217,7 +225,7 @@ glm::vec4 polygonGradient(const std::uint32_t* t, std::uint32_t first, std::uint
         const glm::vec4 wx = x - dConst(vix), wy = y - dConst(viy);
         const glm::vec4 s = dMin(dMax((wx * ex + wy * ey) * (1.0f / (ex * ex + ey * ey)), dConst(0.0f)), dConst(1.0f));
         d = dMin(d, dSq(wx - s * ex) + dSq(wy - s * ey));
-        const bool c1 = y.x >= viy, c2 = y.x < vjy, c3 = ex * wy.x > ey * wx.x;
+        const bool c1 = y.x >= viy, c2 = y.x<vjy, c3 = ex * wy.x> ey * wx.x;
         if ((c1 && c2 && c3) || (!c1 && !c2 && !c3)) inside = !inside;
     }
     const glm::vec4 dist = dSqrt(d);
@@ -228,12 +236,9 @@ glm::vec4 shapeGradient(const std::uint32_t* t, std::uint32_t s, const glm::vec3
 {
     // Each local coordinate's gradient is its row of the frame.
     const std::uint32_t f = s + KERF_TAPE_SHAPE_FRAME;
-    const glm::vec4 lx(word(t, f) * p.x + word(t, f + 1u) * p.y + word(t, f + 2u) * p.z + word(t, f + 9u), word(t, f),
-                       word(t, f + 1u), word(t, f + 2u));
-    const glm::vec4 ly(word(t, f + 3u) * p.x + word(t, f + 4u) * p.y + word(t, f + 5u) * p.z + word(t, f + 10u),
-                       word(t, f + 3u), word(t, f + 4u), word(t, f + 5u));
-    const glm::vec4 lz(word(t, f + 6u) * p.x + word(t, f + 7u) * p.y + word(t, f + 8u) * p.z + word(t, f + 11u),
-                       word(t, f + 6u), word(t, f + 7u), word(t, f + 8u));
+    const glm::vec4 lx(localCoordinate(t, f, 0u, p), word(t, f), word(t, f + 1u), word(t, f + 2u));
+    const glm::vec4 ly(localCoordinate(t, f, 1u, p), word(t, f + 3u), word(t, f + 4u), word(t, f + 5u));
+    const glm::vec4 lz(localCoordinate(t, f, 2u, p), word(t, f + 6u), word(t, f + 7u), word(t, f + 8u));
     const std::uint32_t a = s + KERF_TAPE_SHAPE_PARAMS;
     const std::uint32_t kind = t[s];
     if (kind == KERF_SHAPE_BOX)
@@ -241,8 +246,8 @@ glm::vec4 shapeGradient(const std::uint32_t* t, std::uint32_t s, const glm::vec3
     if (kind == KERF_SHAPE_SPHERE) return dSqrt(dSq(lx) + dSq(ly) + dSq(lz)) - dConst(word(t, a));
     if (kind == KERF_SHAPE_CYLINDER) return cylinderGradient(lx, ly, lz, word(t, a), word(t, a + 1u));
     if (kind == KERF_SHAPE_CONE)
-        return coneGradient(lx, ly, lz, word(t, a), word(t, a + 1u), word(t, a + 2u), word(t, a + 3u),
-                            word(t, a + 4u), word(t, a + 5u));
+        return coneGradient(lx, ly, lz, word(t, a), word(t, a + 1u), word(t, a + 2u), word(t, a + 3u), word(t, a + 4u),
+                            word(t, a + 5u));
     if (kind == KERF_SHAPE_TORUS) {
         const glm::vec4 q = dSqrt(dSq(lx) + dSq(ly)) - dConst(word(t, a));
         return dSqrt(dSq(q) + dSq(lz)) - dConst(word(t, a + 1u));
@@ -317,7 +322,8 @@ float evaluateTileTape(const std::uint32_t* t, const glm::vec3& p)
         const float k = word(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);
         const std::uint32_t op = code & 0xFFu;
         if (op == KERF_TAPE_PRIMITIVE) {
-            for (int j = KERF_TAPE_MAX_STACK - 1; j > 0; --j) st[j] = st[j - 1];
+            for (int j = KERF_TAPE_MAX_STACK - 1; j > 0; --j)
+                st[j] = st[j - 1];
             st[0] = shapeDistance(t, shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS, p);
         } else if (op <= KERF_TAPE_SMOOTH_MAX) {
             const float b = st[0], a = st[1];
@@ -333,7 +339,8 @@ float evaluateTileTape(const std::uint32_t* t, const glm::vec3& p)
                                                : glm::max(a, b) + h * h * (k * 0.25f);
             }
             st[0] = r;
-            for (int j = 1; j < KERF_TAPE_MAX_STACK - 1; ++j) st[j] = st[j + 1];
+            for (int j = 1; j < KERF_TAPE_MAX_STACK - 1; ++j)
+                st[j] = st[j + 1];
         } else if (op == KERF_TAPE_NEGATE) {
             st[0] = -st[0];
         } else if (op == KERF_TAPE_OFFSET) {
