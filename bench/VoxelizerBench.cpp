@@ -6,6 +6,7 @@
 
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
+#include "kerf/tracer/ViewController.hpp"
 #include "kerf/voxelizer/Voxelizer.hpp"
 
 #include <benchmark/benchmark.h>
@@ -53,6 +54,42 @@ BENCHMARK(BM_ChairCold)
     ->Args({250, 2})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ChairCold)->ArgNames({"fs_um", "threads"})->Args({100, 2})->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Modelling only what the view needs (issue 7): the chair seen close up, a
+// 1920x1080 view zoomed to a sixth of the standard iso distance towards the
+// front corner of the seat, voxelized by the background Voxelizer (2
+// threads) until complete, with the view-dependent plan against uniform
+// full depth. Args: feature size in micrometres, view-dependent (0 or 1).
+void BM_ChairCloseUp(benchmark::State& state)
+{
+    const double fs = double(state.range(0)) / 1000.0;
+    Document doc = chairDocument();
+    doc.settings.featureSize = fs;
+    const Tape tape = compileTape(doc);
+    ViewController view;
+    view.setStandardView("iso", tape.bounds(), 16.0 / 9.0);
+    const Aabb seat = Aabb{{-225.0, -240.0, 428.0}, {225.0, 220.0, 450.0}}; // the seat (its box in the document)
+    view.zoom(1.0 / 6.0, glm::dvec3(seat.max.x, seat.min.y, seat.max.z));
+    const ViewRequirement need = viewRequirement(view.camera(1920, 1080, tape.bounds()));
+    std::shared_ptr<const VoxelSnapshot> s;
+    VoxelizerStats stats;
+    for (auto _ : state) {
+        Voxelizer vox({.limits = {}, .coarseLevelDrop = 2, .threads = 2, .featureSize = 0.0, .onPublish = {}});
+        if (state.range(1)) vox.setView(need);
+        const auto rev = vox.setDocument(doc);
+        if (!vox.waitFor(rev, true, std::chrono::minutes(10))) state.SkipWithError("timed out");
+        s = vox.snapshot();
+        stats = vox.lastStats();
+    }
+    report(state, *s);
+    state.counters["outside_view_tiles"] = double(s->outsideView);
+    state.counters["coarse_ms"] = stats.coarseMs;
+}
+BENCHMARK(BM_ChairCloseUp)
+    ->ArgNames({"fs_um", "view"})
+    ->Args({500, 0})->Args({500, 1})
+    ->Args({250, 0})->Args({250, 1})
+    ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Tiles against depth at the same voxel size: the grid limit decides how
 // many levels each tile's contree has. Args: max tiles, threads.

@@ -13,13 +13,16 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Sh
 layout(push_constant) uniform Push { uint64_t shade; } pc;
 layout(location = 0) out vec4 outColor;
 
-// Coverage of lines every `spacing` mm at plane coordinates q.
+// Coverage of lines every `spacing` mm at plane coordinates q, about a
+// pixel wide. Lines closer than about ten pixels apart on screen fade out
+// before they would turn the plane into a grey moire.
 float lines(vec2 q, float spacing)
 {
     const vec2 g = q / spacing;
-    const vec2 width = fwidth(g);
+    const vec2 width = fwidth(g); // grid cells per pixel
     const vec2 d = abs(fract(g - 0.5) - 0.5) / max(width, vec2(1e-6));
-    return 1.0 - min(min(d.x, d.y), 1.0);
+    const float density = max(width.x, width.y);
+    return (1.0 - min(min(d.x, d.y), 1.0)) * (1.0 - smoothstep(0.04, 0.1, density));
 }
 
 void main()
@@ -53,8 +56,8 @@ void main()
     const vec2 axisWidth = fwidth(hit.xy);
     const float onX = 1.0 - min(abs(hit.y) / max(axisWidth.y, 1e-6), 1.0);
     const float onY = 1.0 - min(abs(hit.x) / max(axisWidth.x, 1e-6), 1.0);
-    vec3 color = vec3(0.62);
-    float alpha = max(minor * 0.25, major * 0.55);
+    vec3 color = vec3(0.78);
+    float alpha = max(minor * 0.18, major * 0.32);
     if (onX > 0.0) { color = vec3(0.85, 0.25, 0.22); alpha = max(alpha, onX * 0.9); }
     if (onY > 0.0) { color = vec3(0.35, 0.75, 0.25); alpha = max(alpha, onY * 0.9); }
     alpha *= fade;

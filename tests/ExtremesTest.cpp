@@ -7,6 +7,8 @@
 #include "kerf/evaluator/IntervalEvaluator.hpp"
 #include "kerf/evaluator/PointEvaluator.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/mesher/MeshCheck.hpp"
+#include "kerf/mesher/MeshPart.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
 #include "kerf/voxelizer/VoxelQuery.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
@@ -187,6 +189,37 @@ TEST(Extremes, FlushHoleLeavesNoMembrane)
     const RayHit h = traceRay(flat, wood);
     ASSERT_TRUE(h.hit());
     EXPECT_NEAR(h.depth, 190.0, 0.05);
+}
+
+TEST(Extremes, WallsThinnerThanAVoxel)
+{
+    // A shell wall of 0.2 mm voxelized at 1 mm: the voxels keep exact,
+    // finite corners; the export at its own, finer feature size meshes both
+    // faces of the wall into a closed surface whose vertices lie on them.
+    const Document d = doc(R"({"id":"s","type":"shell","thickness":0.2,"children":[
+        {"id":"b","type":"box","size":[60,40,30],"round":4}]})",
+                           1.0);
+    const Tape tape = compileTape(d);
+    const VoxelSnapshot snap = voxelize(tape, GridLayout::choose(tape.bounds(), 1.0));
+    const VoxelCheck c = checkVoxels(tape, snap);
+    EXPECT_TRUE(c.finite);
+    EXPECT_LT(c.worstCornerError, 1e-3);
+    MeshOptions o;
+    o.featureSize = 0.1;
+    const auto mesh = meshPart(d, o);
+    ASSERT_TRUE(mesh);
+    const MeshReport r = checkMesh(*mesh);
+    EXPECT_TRUE(r.watertight());
+    EXPECT_EQ(r.components, 2u) << "the outer and the inner face of the wall";
+    PointEvaluator<double> exact;
+    double worst = 0.0;
+    for (const auto& v : mesh->vertices) {
+        ASSERT_TRUE(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z));
+        worst = std::max(worst, std::fabs(exact.evaluate(tape, v.x, v.y, v.z)));
+    }
+    EXPECT_LT(worst, 1e-6);
+    // The wall's volume: its area times its thickness, to the cells' chamfer.
+    EXPECT_NEAR(r.volume, 0.2 * r.area / 2.0, 0.05 * 0.2 * r.area / 2.0);
 }
 
 TEST(Extremes, TenThousandFeatures)

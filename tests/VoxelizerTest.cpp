@@ -9,6 +9,7 @@
 #include "kerf/voxelizer/TileBuilder.hpp"
 #include "kerf/voxelizer/VoxelQuery.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
+#include "kerf/voxelizer/RefinementPlan.hpp"
 #include "kerf/voxelizer/Voxelizer.hpp"
 #include "support/RandomShapes.hpp"
 
@@ -19,6 +20,7 @@
 #include <glm/glm.hpp>
 
 #include <mutex>
+#include <set>
 
 namespace kerf {
 namespace {
@@ -370,6 +372,221 @@ TEST(Voxelizer, CancelledGridChangesEqualAFullRebuild)
     rev = vox.setDocument(empty);
     ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(60)));
     EXPECT_EQ(vox.snapshot()->layout.tileCount(), 0);
+}
+
+// --- Modelling only what the view needs ---------------------------------------
+
+// Waits until the voxelizer has finished (or been cancelled in) a revision
+// at least `revision`, by its stats.
+bool QuietWait(const Voxelizer& vox, std::uint64_t revision)
+{
+    for (int i = 0; i < 120000; ++i) {
+        const auto s = vox.lastStats();
+        if (s.revision >= revision && !s.cancelled && !vox.progress().busy) return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return false;
+}
+
+// A camera 30 mm in front of the board's left end, looking along +Y: it sees
+// that end up close (fine voxels); the rest of the part is outside the
+// picture (the coarse depth).
+ViewRequirement closeUpView(const Aabb& bounds, bool rightEnd = false)
+{
+    ViewRequirement v;
+    v.eye = glm::dvec3(rightEnd ? bounds.max.x - 10.0 : bounds.min.x + 10.0, bounds.min.y - 30.0, 5.0);
+    v.forward = {0, 1, 0};
+    v.right = {1, 0, 0};
+    v.up = {0, 0, 1};
+    v.halfHeight = std::tan(15.0 * 3.14159265358979 / 180.0);
+    v.aspect = 16.0 / 9.0;
+    v.imageHeight = 1080;
+    return v;
+}
+
+// The snapshot's tiles are exactly buildTile's at the depth each has, and
+// tiles without records are empty or full as a fresh build says.
+void expectTilesMatchTheirDepth(const VoxelSnapshot& snap, const Tape& tape)
+{
+    TileBuildScratch scratch;
+    long checked = 0;
+    for (long i = 0; i < snap.layout.tileCount(); ++i) {
+        const auto& t = snap.tiles[std::size_t(i)];
+        const int levels = t && t->state == TileState::Surface ? t->levels : snap.layout.levels;
+        auto again = buildTile(tape, snap.layout, snap.layout.tileCoord(i), levels, scratch);
+        ASSERT_TRUE(again);
+        if (!t || t->state != TileState::Surface) {
+            const TileState was = t ? t->state : TileState::Empty;
+            ASSERT_EQ(int(again->state), int(was)) << "tile " << i << " should have been rebuilt";
+            continue;
+        }
+        ASSERT_TRUE(sameTile(t.get(), &*again, *snap.features, tape.features())) << "tile " << i;
+        ++checked;
+    }
+    EXPECT_GT(checked, 0);
+}
+
+TEST(RefinementPlan, FineNearTheEyeCoarseFarAndOutOfView)
+{
+    const Document doc = editableDoc();
+    const Tape tape = compileTape(doc);
+    GridLimits limits;
+    limits.maxTiles = 512;
+    const GridLayout g = GridLayout::choose(tape.bounds(), 0.1, limits);
+    ASSERT_GE(g.levels, 3);
+    const VoxelSnapshot uniform = voxelize(tape, g);
+    RefinementOptions none;
+    const RefinementPlan full = planRefinement(g, uniform.tiles, none);
+    for (std::size_t i = 0; i < uniform.tiles.size(); ++i) {
+        if (uniform.tiles[i] && uniform.tiles[i]->state == TileState::Surface) {
+            EXPECT_EQ(full.levels[i], g.levels) << "without a view, every tile goes to full depth";
+        }
+    }
+    EXPECT_NEAR(double(full.estimatedBytes), double(uniform.bytes()), 0.01 * double(uniform.bytes()));
+
+    RefinementOptions ro;
+    ro.view = closeUpView(tape.bounds());
+    ro.coarseLevels = 1;
+    const RefinementPlan plan = planRefinement(g, uniform.tiles, ro);
+    double nearestFull = 1e30, farthestFull = 0.0;
+    int deepest = 0, shallowest = 99;
+    for (std::size_t i = 0; i < uniform.tiles.size(); ++i) {
+        if (!uniform.tiles[i] || uniform.tiles[i]->state != TileState::Surface) continue;
+        const Aabb box = g.tileBox(g.tileCoord(long(i)));
+        const int level = plan.levels[i];
+        deepest = std::max(deepest, level);
+        shallowest = std::min(shallowest, level);
+        // Whatever depth, its voxels project to at most a pixel where it is seen.
+        if (ro.view->sees(box) && level < g.levels) {
+            EXPECT_LE(g.voxelSizeAt(level), ro.view->pixelSizeAt(ro.view->depthOf(box)) * 1.000001);
+        }
+        if (level == g.levels) {
+            nearestFull = std::min(nearestFull, box.min.x);
+            farthestFull = std::max(farthestFull, box.min.x);
+        }
+        if (!ro.view->sees(box)) {
+            EXPECT_EQ(level, ro.coarseLevels) << "out of view: the coarse depth";
+        }
+    }
+    EXPECT_EQ(deepest, g.levels) << "tiles next to the eye need the feature size";
+    EXPECT_LT(shallowest, g.levels) << "far tiles need less";
+    EXPECT_LT(plan.estimatedBytes, uniform.bytes() / 2);
+}
+
+TEST(RefinementPlan, TheBudgetCoarsensTheFarthestTilesFirst)
+{
+    const Tape tape = compileTape(editableDoc());
+    GridLimits limits;
+    limits.maxTiles = 512;
+    const GridLayout g = GridLayout::choose(tape.bounds(), 0.25, limits);
+    const VoxelSnapshot uniform = voxelize(tape, g);
+    RefinementOptions ro;
+    ro.focus = glm::dvec3(-40, 0, 0);
+    ro.memoryBudgetBytes = uniform.bytes() / 3;
+    const RefinementPlan plan = planRefinement(g, uniform.tiles, ro);
+    EXPECT_LE(plan.estimatedBytes, ro.memoryBudgetBytes);
+    EXPECT_GT(plan.coarsenedForBudget, 0u);
+    double nearestCoarsened = 1e30, farthestKept = 0.0;
+    for (std::size_t i = 0; i < uniform.tiles.size(); ++i) {
+        if (!uniform.tiles[i] || uniform.tiles[i]->state != TileState::Surface) continue;
+        const double d = glm::length(g.tileBox(g.tileCoord(long(i))).center() - ro.focus);
+        if (plan.levels[i] < g.levels) {
+            nearestCoarsened = std::min(nearestCoarsened, d);
+        } else {
+            farthestKept = std::max(farthestKept, d);
+        }
+    }
+    EXPECT_GE(nearestCoarsened, farthestKept) << "a nearer tile was coarsened while a farther one kept its depth";
+}
+
+TEST(Voxelizer, RefinesWhatTheViewNeedsAndFollowsTheView)
+{
+    Document doc = editableDoc();
+    doc.settings.featureSize = 0.1;
+    const Tape tape = compileTape(doc);
+    GridLimits limits;
+    limits.maxTiles = 512;
+    Voxelizer vox({.limits = limits, .coarseLevelDrop = 2, .threads = 2, .featureSize = 0.0, .onPublish = {}});
+    ViewRequirement left = closeUpView(tape.bounds());
+    vox.setView(left);
+    ASSERT_TRUE(vox.waitFor(vox.setDocument(doc), true, std::chrono::seconds(120)));
+    const auto a = vox.snapshot();
+    expectTilesMatchTheirDepth(*a, tape);
+    const VoxelSnapshot uniform = voxelize(tape, a->layout);
+    std::printf("close-up: %zu bytes against %zu uniform, %zu tiles out of view\n", a->bytes(), uniform.bytes(),
+                a->outsideView);
+    EXPECT_GT(a->outsideView, 0u);
+    EXPECT_LT(a->bytes(), uniform.bytes() * 3 / 5) << "a close-up needs far less than the whole part at full depth";
+
+    // Turn around: look at the right end from beyond it. Tiles there refine.
+    const ViewRequirement right = closeUpView(tape.bounds(), true);
+    const std::uint64_t before = vox.lastStats().revision;
+    vox.setView(right);
+    ASSERT_TRUE(QuietWait(vox, before + 1));
+    const auto b = vox.snapshot();
+    EXPECT_GT(vox.lastStats().refinedTiles, 0u);
+    EXPECT_EQ(vox.lastStats().dirtyTiles, 0u) << "the document did not change";
+    expectTilesMatchTheirDepth(*b, tape);
+    int deepRight = 0;
+    for (long i = 0; i < b->layout.tileCount(); ++i) {
+        const auto& t = b->tiles[std::size_t(i)];
+        if (t && t->state == TileState::Surface && t->levels == b->layout.levels &&
+            b->layout.tileBox(b->layout.tileCoord(i)).max.x > tape.bounds().max.x - 5.0)
+            ++deepRight;
+    }
+    EXPECT_GT(deepRight, 0) << "the right end, now near the eye, is at full depth";
+}
+
+// Edits while tiles of several depths coexist (a view keeps far tiles
+// coarse): every tile still equals a fresh build of the final document at
+// its depth (the dirty region of each depth reaches as far as its samples).
+TEST(Voxelizer, EditsAmongTilesOfMixedDepthsEqualFreshBuilds)
+{
+    Document doc = editableDoc();
+    doc.settings.featureSize = 0.1;
+    GridLimits limits;
+    limits.maxTiles = 512;
+    Voxelizer vox({.limits = limits, .coarseLevelDrop = 2, .threads = 2, .featureSize = 0.0, .onPublish = {}});
+    vox.setView(closeUpView(compileTape(doc).bounds()));
+    std::uint64_t rev = vox.setDocument(doc);
+    ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(120)));
+    test::RandomShapes r(7);
+    for (int step = 0; step < 6; ++step) {
+        Node* n = doc.root.find(r.chance(0.5) ? "hole1" : "knob");
+        n->transform.translate.x = r.uniform(-30, 30);
+        n->transform.translate.y = r.uniform(-5, 5);
+        rev = vox.setDocument(doc);
+        if (r.chance(0.5)) {
+            ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(120)));
+        }
+    }
+    ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(120)));
+    const auto snap = vox.snapshot();
+    std::set<int> depths;
+    for (const auto& t : snap->tiles)
+        if (t && t->state == TileState::Surface) depths.insert(t->levels);
+    EXPECT_GT(depths.size(), 1u) << "the view should leave tiles of several depths";
+    expectTilesMatchTheirDepth(*snap, compileTape(doc));
+}
+
+TEST(Voxelizer, StaysWithinTheMemoryBudgetAndSaysSo)
+{
+    Document doc = editableDoc();
+    doc.settings.featureSize = 0.1;
+    const Tape tape = compileTape(doc);
+    GridLimits limits;
+    limits.maxTiles = 512;
+    const VoxelSnapshot uniform = voxelize(tape, GridLayout::choose(tape.bounds(), 0.1, limits));
+    const std::size_t budget = uniform.bytes() / 4;
+    Voxelizer vox({.limits = limits, .coarseLevelDrop = 1, .threads = 2, .featureSize = 0.0, .onPublish = {},
+                   .memoryBudgetBytes = budget});
+    ASSERT_TRUE(vox.waitFor(vox.setDocument(doc), true, std::chrono::seconds(120)));
+    const auto snap = vox.snapshot();
+    EXPECT_GT(snap->coarsenedForBudget, 0u);
+    EXPECT_EQ(vox.lastStats().coarsenedForBudget, snap->coarsenedForBudget);
+    // The estimate scales the coarse pass by 16 per level: the real bytes stay near it.
+    EXPECT_LE(snap->bytes(), budget * 5 / 4);
+    expectTilesMatchTheirDepth(*snap, tape);
 }
 
 TEST(Voxelizer, AnEditRebuildsOnlyTheTilesItReaches)

@@ -53,12 +53,13 @@ Interval shapeInterval(const ShapeInstance& s, const Aabb& box)
     const double margin = (scale + 1.0) * 1e-12;
     Interval result{fc - radius - margin, fc + radius + margin};
 
+    // The box mapped into the shape's local frame, as intervals per axis.
+    const Interval X{box.min.x, box.max.x}, Y{box.min.y, box.max.y}, Z{box.min.z, box.max.z};
+    const Interval lx = Interval(f[0]) * X + Interval(f[1]) * Y + Interval(f[2]) * Z + Interval(f[9]);
+    const Interval ly = Interval(f[3]) * X + Interval(f[4]) * Y + Interval(f[5]) * Z + Interval(f[10]);
+    const Interval lz = Interval(f[6]) * X + Interval(f[7]) * Y + Interval(f[8]) * Z + Interval(f[11]);
+    const auto& p = s.param;
     if (hasNaturalExtension(s.kind)) {
-        const Interval X{box.min.x, box.max.x}, Y{box.min.y, box.max.y}, Z{box.min.z, box.max.z};
-        const Interval lx = Interval(f[0]) * X + Interval(f[1]) * Y + Interval(f[2]) * Z + Interval(f[9]);
-        const Interval ly = Interval(f[3]) * X + Interval(f[4]) * Y + Interval(f[5]) * Z + Interval(f[10]);
-        const Interval lz = Interval(f[6]) * X + Interval(f[7]) * Y + Interval(f[8]) * Z + Interval(f[11]);
-        const auto& p = s.param;
         Interval natural;
         switch (s.kind) {
         case ShapeKind::Box: natural = sdf::box<Interval>(lx, ly, lz, p[0], p[1], p[2], p[3]); break;
@@ -68,29 +69,21 @@ Interval shapeInterval(const ShapeInstance& s, const Aabb& box)
         default: natural = sdf::halfspace<Interval>(lx, ly, lz, p[0], p[1], p[2], p[3]); break;
         }
         result = intersect(result, natural);
-    } else if (s.kind == ShapeKind::Cone || s.kind == ShapeKind::Extrude) {
+    } else if (s.kind == ShapeKind::Cone) {
         // No natural extension (the formulas branch on the point), but a
         // containment enclosure: a solid inside another has a field at least
         // as large everywhere (farther from its surface outside, nearer to it
         // inside), one containing another a field at most as large. A cone
         // lies between the cylinders of its smaller and larger radius (the
-        // smaller may be 0: a segment), an extrusion inside its profile's
-        // bounding box swept over its height.
-        const Interval X{box.min.x, box.max.x}, Y{box.min.y, box.max.y}, Z{box.min.z, box.max.z};
-        const Interval lx = Interval(f[0]) * X + Interval(f[1]) * Y + Interval(f[2]) * Z + Interval(f[9]);
-        const Interval ly = Interval(f[3]) * X + Interval(f[4]) * Y + Interval(f[5]) * Z + Interval(f[10]);
-        const Interval lz = Interval(f[6]) * X + Interval(f[7]) * Y + Interval(f[8]) * Z + Interval(f[11]);
-        const auto& p = s.param;
-        if (s.kind == ShapeKind::Cone) {
-            const Interval outer = sdf::cylinder<Interval>(lx, ly, lz, std::max(p[0], p[1]), p[2]);
-            const Interval inner = sdf::cylinder<Interval>(lx, ly, lz, std::min(p[0], p[1]), p[2]);
-            result = intersect(result, Interval{outer.lo, inner.hi});
-        } else {
-            const glm::dvec2 c = 0.5 * (s.polygon->min + s.polygon->max), h = 0.5 * (s.polygon->max - s.polygon->min);
-            const Interval outer =
-                sdf::box<Interval>(lx - Interval(c.x), ly - Interval(c.y), lz, h.x, h.y, p[0], 0.0);
-            result.lo = std::max(result.lo, outer.lo);
-        }
+        // smaller may be 0: a segment).
+        const Interval outer = sdf::cylinder<Interval>(lx, ly, lz, std::max(p[0], p[1]), p[2]);
+        const Interval inner = sdf::cylinder<Interval>(lx, ly, lz, std::min(p[0], p[1]), p[2]);
+        result = intersect(result, Interval{outer.lo, inner.hi});
+    } else if (s.kind == ShapeKind::Extrude) {
+        // Likewise, an extrusion lies inside its profile's bounding box swept over its height.
+        const glm::dvec2 mid = 0.5 * (s.polygon->min + s.polygon->max), half2 = 0.5 * (s.polygon->max - s.polygon->min);
+        const Interval outer = sdf::box<Interval>(lx - Interval(mid.x), ly - Interval(mid.y), lz, half2.x, half2.y, p[0], 0.0);
+        result.lo = std::max(result.lo, outer.lo);
     }
     return result;
 }

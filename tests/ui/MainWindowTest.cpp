@@ -13,13 +13,19 @@
 #include "QuantityEdit.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/NodeBounds.hpp"
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/voxelizer/Voxelize.hpp"
 #include "kerf/mesher/MeshCheck.hpp"
+#include "kerf/mesher/MeshPart.hpp"
+#include "kerf/mesher/StlWriter.hpp"
 #include "kerf/mesher/OpenMeshAdapter.hpp"
 #include "kerf/viewport/qt/ViewportWidget.hpp"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 
 #include <QAction>
+#include <QDragEnterEvent>
+#include <QDropEvent>
 #include <QCheckBox>
 #include <QFile>
 #include <QMimeData>
@@ -33,6 +39,7 @@
 #include <QTemporaryDir>
 #include <QTest>
 #include <QTreeView>
+#include <QWindow>
 
 #include <glm/glm.hpp>
 
@@ -148,6 +155,17 @@ double pictureDifference(const QImage& a, const QImage& b)
     return double(differ) / double(a.width() * a.height());
 }
 
+// Drops `data` on the window as a drag would: enter, then drop.
+void drop(MainWindow& w, const QMimeData& data)
+{
+    const QPointF at(w.width() / 2.0, w.height() / 2.0);
+    QDragEnterEvent enter(at.toPoint(), Qt::CopyAction, &data, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(&w, &enter);
+    QVERIFY(enter.isAccepted());
+    QDropEvent dropped(at, Qt::CopyAction, &data, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(&w, &dropped);
+}
+
 void saveScreenshot(MainWindow& w, const QString& name)
 {
     const QString dir = qEnvironmentVariable("KERF_SCREENSHOT_DIR");
@@ -183,6 +201,10 @@ private slots:
     void cutListMeasureAndSection();
     void refusedFilesChangeNothing();
     void dragAndDropRegroupsInTheTree();
+    void modelsOnlyWhatTheViewNeedsWithinTheBudget();
+    void promptsBeforeChangesAreLost();
+    void dropsDocumentsAndMeshesOntoTheWindow();
+    void aClickOnThePartSelectsItsFeature();
 
 private:
     QTemporaryDir recovery_, files_;
@@ -532,6 +554,154 @@ void MainWindowTest::dragAndDropRegroupsInTheTree()
     QVERIFY(!w->session()->document().root.find("box")->visible);
     action(w.get(), "action.undo")->trigger();
     QVERIFY(w->session()->document().root.find("box")->visible);
+}
+
+void MainWindowTest::modelsOnlyWhatTheViewNeedsWithinTheBudget()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "side-chair.kerf"));
+    QVERIFY(action(w.get(), "action.refineForView")->isChecked());
+    QVERIFY(waitForViewport(*w));
+    auto deepTilesNear = [&](const glm::dvec3& p, double radius) {
+        const auto s = w->voxelizer()->latest();
+        int deep = 0;
+        for (long i = 0; i < s->layout.tileCount(); ++i) {
+            const auto& t = s->tiles[std::size_t(i)];
+            if (t && t->state == TileState::Surface && t->levels == s->layout.levels &&
+                glm::length(s->layout.tileBox(s->layout.tileCoord(i)).center() - p) < radius)
+                ++deep;
+        }
+        return deep;
+    };
+    const auto whole = w->voxelizer()->latest();
+    // Close up on a corner of the seat: the tiles there refine to full depth,
+    // the chair as a whole takes less memory than at full depth everywhere.
+    qt::ViewportWidget* v = w->viewport();
+    const QPoint centre(v->width() / 2, v->height() / 2);
+    const qt::ViewportPick seat = v->pickAt(centre);
+    QVERIFY(seat.hit);
+    ViewController close = v->view();
+    close.zoom(0.08, seat.point);
+    v->setView(close);
+    QVERIFY(QTest::qWaitFor([&] { return w->voxelizer()->latest()->documentRevision > whole->documentRevision; }, 60000));
+    QVERIFY(waitForVoxels(*w));
+    const auto near = w->voxelizer()->latest();
+    QVERIFY(deepTilesNear(seat.point, 40.0) > 0);
+    QVERIFY(near->outsideView > 0);
+    const VoxelSnapshot full = voxelize(compileTape(w->session()->document()), near->layout);
+    QVERIFY2(near->bytes() < full.bytes(), "the close-up keeps most of the chair coarse");
+
+    // A budget far below the chair at full depth: distant tiles coarsen, the status bar says so.
+    w->voxelizer()->voxelizer().setMemoryBudget(8u << 20);
+    w->voxelizer()->submit(w->session()->document());
+    QVERIFY(waitForVoxels(*w));
+    QVERIFY(w->voxelizer()->latest()->coarsenedForBudget > 0);
+    QVERIFY(w->voxelizer()->latest()->bytes() < (12u << 20));
+    QTRY_VERIFY_WITH_TIMEOUT(w->findChild<QLabel*>("status.memory")->text().contains("coarsened"), 10000);
+}
+
+void MainWindowTest::promptsBeforeChangesAreLost()
+{
+    int asked = 0;
+    QMessageBox::StandardButton answer = QMessageBox::Cancel;
+    MainWindowOptions options;
+    options.askSave = [&](const QString& name) {
+        ++asked;
+        (void)name;
+        return answer;
+    };
+    auto w = makeWindow(recovery_.path(), options);
+    action(w.get(), "action.new")->trigger();
+    QCOMPARE(asked, 0); // nothing to lose yet
+    action(w.get(), "action.add.torus")->trigger();
+    QVERIFY(w->isWindowModified());
+    // Cancel: New does nothing, closing does not close.
+    action(w.get(), "action.new")->trigger();
+    QCOMPARE(asked, 1);
+    QVERIFY(w->session()->document().root.find("torus"));
+    QVERIFY(!w->close());
+    QCOMPARE(asked, 2);
+    QVERIFY(w->isVisible());
+    // Discard: the new part replaces it.
+    answer = QMessageBox::Discard;
+    action(w.get(), "action.new")->trigger();
+    QCOMPARE(asked, 3);
+    QVERIFY(!w->session()->document().root.find("torus"));
+    QVERIFY(!w->isWindowModified());
+}
+
+void MainWindowTest::dropsDocumentsAndMeshesOntoTheWindow()
+{
+    auto w = makeWindow(recovery_.path());
+    // A .kerf file dropped on the window opens.
+    QMimeData doc;
+    doc.setUrls({QUrl::fromLocalFile(QString(KERF_EXAMPLES_DIR) + "/table-top.kerf")});
+    drop(*w, doc);
+    QVERIFY(w->session()->document().root.find("top-slab"));
+    // A mesh file becomes a reference mesh of the document (an undoable edit).
+    const QString stl = files_.path() + "/knob.stl";
+    {
+        MeshOptions o;
+        o.featureSize = 2.0;
+        const auto mesh = meshPart(Document::parse(R"({"format":"kerf","version":1,"root":{"id":"k","type":"sphere","radius":15}})",
+                                                   "knob.kerf"),
+                                   o);
+        QVERIFY(mesh);
+        writeStl(*mesh, stl.toStdString());
+    }
+    QMimeData mesh;
+    mesh.setUrls({QUrl::fromLocalFile(stl)});
+    drop(*w, mesh);
+    QCOMPARE(w->session()->document().meshes.size(), std::size_t(1));
+    QCOMPARE(w->session()->document().meshes.front().id, std::string("knob"));
+    action(w.get(), "action.undo")->trigger();
+    QVERIFY(w->session()->document().meshes.empty());
+    // A broken mesh is named and not added.
+    const QString broken = files_.path() + "/broken.stl";
+    QFile f(broken);
+    QVERIFY(f.open(QIODevice::WriteOnly));
+    f.write("solid nothing\nendsolid\n");
+    f.close();
+    QMimeData bad;
+    bad.setUrls({QUrl::fromLocalFile(broken)});
+    drop(*w, bad);
+    QVERIFY(w->session()->document().meshes.empty());
+    QVERIFY2(w->lastMessage().contains("broken.stl"), qPrintable(w->lastMessage()));
+}
+
+void MainWindowTest::aClickOnThePartSelectsItsFeature()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "stool.kerf"));
+    QVERIFY(waitForViewport(*w));
+    qt::ViewportWidget* v = w->viewport();
+    // A point on the part, found along the middle column.
+    QPoint at;
+    qt::ViewportPick expected;
+    for (int y = v->height() / 4; y < v->height() && !expected.hit; y += 5) {
+        at = QPoint(v->width() / 2, y);
+        expected = v->pickAt(at);
+    }
+    QVERIFY(expected.hit);
+    // A real click on the drawing surface: the Vulkan window, or the CPU widget.
+    QWindow* surface = nullptr;
+    for (QWindow* win : QGuiApplication::allWindows())
+        if (win->surfaceType() == QSurface::VulkanSurface && win->isVisible()) surface = win;
+    if (surface) {
+        QTest::mouseClick(surface, Qt::LeftButton, Qt::NoModifier, at);
+    } else {
+        QWidget* child = v->childAt(at);
+        QVERIFY(child);
+        QTest::mouseClick(child, Qt::LeftButton, Qt::NoModifier, child->mapFrom(v, at));
+    }
+    QTRY_COMPARE(w->selectedNodeIds(), std::vector<std::string>{expected.nodeId});
+    QCOMPARE(w->propertyEditor()->nodeId(), expected.nodeId);
+    // A click on the background clears the selection.
+    const QPoint corner(5, 5);
+    QVERIFY(!v->pickAt(corner).hit);
+    if (surface) QTest::mouseClick(surface, Qt::LeftButton, Qt::NoModifier, corner);
+    else QTest::mouseClick(v->childAt(corner), Qt::LeftButton, Qt::NoModifier, corner);
+    QTRY_VERIFY(w->selectedNodeIds().empty());
 }
 
 QTEST_MAIN(MainWindowTest)

@@ -148,4 +148,19 @@ Camera ViewController::camera(int width, int height, const Aabb& scene) const
     return Camera::orthographic(target_ - f * back, target_, up(), heightAtTarget(), width, height);
 }
 
+ViewRequirement viewRequirement(const Camera& camera, double pixelsPerVoxel)
+{
+    ViewRequirement v;
+    v.eye = camera.eye();
+    v.forward = camera.forward();
+    v.right = camera.right();
+    v.up = camera.up();
+    v.orthographic = camera.projection() == Projection::Orthographic;
+    v.halfHeight = camera.halfHeight();
+    v.aspect = double(camera.width()) / double(camera.height());
+    v.imageHeight = camera.height();
+    v.pixelsPerVoxel = pixelsPerVoxel;
+    return v;
+}
+
 } // namespace kerf

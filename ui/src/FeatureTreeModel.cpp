@@ -12,28 +12,49 @@ namespace kerf::ui {
 
 FeatureTreeModel::FeatureTreeModel(DocumentSession* session, QObject* parent) : QAbstractItemModel(parent), session_(session)
 {
-    rebuild();
+    items_ = flatten();
     connect(session_, &DocumentSession::documentChanged, this, [this] {
+        // A change of values keeps the tree's shape: the rows stay (and the
+        // view keeps its state); only a change of shape resets the model.
+        std::vector<Item> next = flatten();
+        const bool sameShape = next.size() == items_.size() &&
+                               std::equal(next.begin(), next.end(), items_.begin(), [](const Item& a, const Item& b) {
+                                   return a.id == b.id && a.parent == b.parent && a.row == b.row;
+                               });
+        if (sameShape) {
+            items_ = std::move(next);
+            emitChangedBelow(QModelIndex());
+            return;
+        }
         beginResetModel();
-        rebuild();
+        items_ = std::move(next);
         endResetModel();
     });
 }
 
-void FeatureTreeModel::rebuild()
+void FeatureTreeModel::emitChangedBelow(const QModelIndex& parent)
 {
-    items_.clear();
-    add(session_->document().root, -1, 0);
+    const int rows = rowCount(parent);
+    if (rows == 0) return;
+    emit dataChanged(index(0, 0, parent), index(rows - 1, ColumnCount - 1, parent));
+    for (int r = 0; r < rows; ++r) emitChangedBelow(index(r, 0, parent));
 }
 
-void FeatureTreeModel::add(const Node& n, int parent, int row)
+std::vector<FeatureTreeModel::Item> FeatureTreeModel::flatten() const
 {
-    const int self = int(items_.size());
-    items_.push_back({n.id, parent, row, {}});
+    std::vector<Item> items;
+    add(items, session_->document().root, -1, 0);
+    return items;
+}
+
+void FeatureTreeModel::add(std::vector<Item>& items, const Node& n, int parent, int row)
+{
+    const int self = int(items.size());
+    items.push_back({n.id, parent, row, {}});
     for (std::size_t i = 0; i < n.children.size(); ++i) {
-        const int child = int(items_.size());
-        items_[std::size_t(self)].children.push_back(child);
-        add(n.children[i], self, int(i));
+        const int child = int(items.size());
+        items[std::size_t(self)].children.push_back(child);
+        add(items, n.children[i], self, int(i));
     }
 }
 

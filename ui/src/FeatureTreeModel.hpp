@@ -57,8 +57,9 @@ private:
         int row = 0;
         std::vector<int> children;
     };
-    void rebuild();
-    void add(const Node& n, int parent, int row);
+    std::vector<Item> flatten() const;
+    static void add(std::vector<Item>& items, const Node& n, int parent, int row);
+    void emitChangedBelow(const QModelIndex& parent);
     const Node* nodeOf(const QModelIndex& index) const;
 
     DocumentSession* session_;

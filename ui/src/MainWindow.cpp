@@ -27,6 +27,7 @@
 #include <QFutureWatcher>
 #include <QHBoxLayout>
 #include <QHeaderView>
+#include <QInputDialog>
 #include <QLabel>
 #include <QMenu>
 #include <QMenuBar>
@@ -83,7 +84,11 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
     setObjectName("mainWindow");
     setAcceptDrops(true);
     session_ = new DocumentSession(this);
-    voxelizer_ = new VoxelizerBridge(this);
+    {
+        VoxelizerOptions vo;
+        vo.memoryBudgetBytes = memoryBudgetBytes();
+        voxelizer_ = new VoxelizerBridge(this, vo);
+    }
     recovery_ = std::make_unique<RecoveryStore>(options_.recoveryFolder);
     model_ = new FeatureTreeModel(session_, this);
 
@@ -103,7 +108,9 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
     tree_->setEditTriggers(QAbstractItemView::EditKeyPressed | QAbstractItemView::SelectedClicked);
     tree_->setContextMenuPolicy(Qt::CustomContextMenu);
     tree_->header()->setSectionResizeMode(0, QHeaderView::Stretch);
+    tree_->header()->setSectionResizeMode(1, QHeaderView::ResizeToContents);
     tree_->header()->setStretchLastSection(false);
+    tree_->setMinimumWidth(300);
     tree_->expandAll();
 
     properties_ = new PropertyEditor(session_, this);
@@ -145,6 +152,9 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
     connect(viewport_, &qt::ViewportWidget::backendChanged, this, [this] {
         showMessage(tr("The viewport uses the CPU reference tracer: %1").arg(viewport_->status().fallbackReason), 0);
     });
+    connect(viewport_, &qt::ViewportWidget::viewSettled, this, [this](const ViewRequirement& v) {
+        if (refineForView_->isChecked()) voxelizer_->setView(v);
+    });
     connect(voxelizer_, &VoxelizerBridge::published, this, [this](std::shared_ptr<const VoxelSnapshot> s) {
         viewport_->setSnapshot(std::move(s));
         updateStatus();
@@ -169,6 +179,15 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
 }
 
 MainWindow::~MainWindow() = default;
+
+std::size_t MainWindow::memoryBudgetBytes() const
+{
+    // KERF_GPU_BUDGET_MB (tests, scripts), else the setting, else 1 GiB: a
+    // fraction of any GPU Kerf runs on, and a scene far beyond what a screen shows.
+    const QString env = qEnvironmentVariable("KERF_GPU_BUDGET_MB");
+    const qlonglong mb = !env.isEmpty() ? env.toLongLong() : QSettings().value("voxelBudgetMB", 1024).toLongLong();
+    return std::size_t(std::max<qlonglong>(mb, 1)) << 20;
+}
 
 // ---------------------------------------------------------------------------
 // Actions, menus, toolbars
@@ -309,6 +328,28 @@ void MainWindow::buildActions()
     view->addSeparator();
     view->addActions({gridAct, axesAct});
     view->addSeparator();
+    // Modelling only what the scene requires: tiles as fine as the camera
+    // sees them, within a memory budget.
+    refineForView_ = action(tr("&Refine Only What the View Needs"), "action.refineForView");
+    refineForView_->setCheckable(true);
+    refineForView_->setChecked(QSettings().value("refineForView", true).toBool());
+    connect(refineForView_, &QAction::toggled, this, [this](bool on) {
+        QSettings().setValue("refineForView", on);
+        voxelizer_->setView(on ? viewport_->settledView() : std::nullopt);
+    });
+    QAction* budgetAct = action(tr("Voxel Memory &Budget…"), "action.memoryBudget");
+    connect(budgetAct, &QAction::triggered, this, [this] {
+        bool ok = false;
+        const int mb = QInputDialog::getInt(this, tr("Voxel memory budget"),
+                                            tr("Largest voxel memory (MB). Past it, the farthest tiles are coarsened:"),
+                                            int(memoryBudgetBytes() >> 20), 16, 1 << 20, 64, &ok);
+        if (!ok) return;
+        QSettings().setValue("voxelBudgetMB", mb);
+        voxelizer_->voxelizer().setMemoryBudget(memoryBudgetBytes());
+        voxelizer_->submit(session_->document());
+    });
+    view->addActions({refineForView_, budgetAct});
+    view->addSeparator();
 
     // Tools
     QMenu* tools = menuBar()->addMenu(tr("&Tools"));
@@ -421,6 +462,10 @@ void MainWindow::buildDocks()
     measureDock->setObjectName("dock.measure");
     measureDock->setWidget(measureLabel_);
     addDockWidget(Qt::RightDockWidgetArea, measureDock);
+    // Section and measure share a tabbed area under the properties.
+    tabifyDockWidget(sectionDock, measureDock);
+    sectionDock->raise();
+    propDock->setMinimumWidth(350);
 
     // The docks' toggles go in the View menu.
     for (QAction* a : menuBar()->actions())
@@ -954,10 +999,16 @@ void MainWindow::updateStatus()
                                   .arg(s.dirtyTiles)
                                   .arg(snap->layout.voxelSize, 0, 'g', 3));
     }
-    memoryStatus_->setText(tr("%1: %2 MB%3")
-                               .arg(v.vulkan ? tr("GPU") : tr("Voxels"))
-                               .arg(double(v.voxelBytes) / 1e6, 0, 'f', 1)
-                               .arg(v.streaming ? tr(" (streaming)") : QString()));
+    QString memory = tr("%1: %2 MB%3")
+                         .arg(v.vulkan ? tr("GPU") : tr("Voxels"))
+                         .arg(double(v.voxelBytes) / 1e6, 0, 'f', 1)
+                         .arg(v.streaming ? tr(" (streaming)") : QString());
+    if (snap && snap->coarsenedForBudget > 0)
+        memory += tr(" — budget of %1 MB reached: %2 distant tiles coarsened")
+                      .arg(memoryBudgetBytes() >> 20)
+                      .arg(snap->coarsenedForBudget);
+    memoryStatus_->setText(memory);
+    memoryStatus_->setStyleSheet(snap && snap->coarsenedForBudget > 0 ? QStringLiteral("color: #b35900;") : QString());
     frameStatus_->setText(v.traceMs >= 0.0 ? tr("Frame %1 ms, trace %2 ms").arg(v.frameMs, 0, 'f', 1).arg(v.traceMs, 0, 'f', 1)
                                            : tr("Frame %1 ms").arg(v.frameMs, 0, 'f', 1));
     deviceStatus_->setText(v.device);

@@ -95,6 +95,9 @@ public:
     void selectNodes(const std::vector<std::string>& ids);
     std::vector<std::string> selectedNodeIds() const;
 
+    /// The voxel memory budget (KERF_GPU_BUDGET_MB, the setting, or 1 GiB).
+    std::size_t memoryBudgetBytes() const;
+
     /// The last message shown in the status bar's message area.
     QString lastMessage() const { return lastMessage_; }
     /// The measure panel's text (distance, or the bounding box).
@@ -143,6 +146,7 @@ private:
 
     // Measure.
     QAction* measureAction_ = nullptr;
+    QAction* refineForView_ = nullptr;
     std::vector<glm::dvec3> measurePoints_;
     QLabel* measureLabel_ = nullptr;
 

@@ -227,7 +227,7 @@ void PropertyEditor::rebuild()
     ch->setContentsMargins(0, 0, 0, 0);
     color_ = new QPushButton(colorRow);
     color_->setObjectName("field.color");
-    auto* clear = new QPushButton(tr("Inherit"), colorRow);
+    auto* clear = new QPushButton(tr("Use Parent's"), colorRow);
     clear->setToolTip(tr("Use the parent's colour (or the default wood tone)"));
     ch->addWidget(color_, 1);
     ch->addWidget(clear);
@@ -410,7 +410,7 @@ void PropertyEditor::refresh()
             color_->setStyleSheet(QStringLiteral("background: %1; color: %2;")
                                       .arg(c.name(), c.lightness() > 128 ? "black" : "white"));
         } else {
-            color_->setText(tr("Inherited"));
+            color_->setText(tr("Parent's — choose…"));
             color_->setStyleSheet({});
         }
     }

@@ -21,6 +21,7 @@ public:
     /// Queues a document version; returns its revision.
     std::uint64_t submit(const Document& doc);
     void setFocus(const glm::dvec3& point) { voxelizer_->setFocus(point); }
+    void setView(std::optional<ViewRequirement> view) { voxelizer_->setView(std::move(view)); }
     std::shared_ptr<const VoxelSnapshot> latest() const { return latest_; }
     VoxelizerStats lastStats() const { return voxelizer_->lastStats(); }
     VoxelizerProgress progress() const { return voxelizer_->progress(); }

@@ -45,10 +45,33 @@ std::uint64_t Voxelizer::setDocument(const Document& doc)
         std::lock_guard lock(mutex_);
         revision = latestRevision_.load() + 1;
         latestRevision_ = revision; // running work sees it and stops
-        pending_ = Request{doc, revision, std::chrono::steady_clock::now()};
+        pending_ = Request{doc, revision, std::chrono::steady_clock::now(), true};
+        latestDocument_ = doc;
     }
     changed_.notify_all();
     return revision;
+}
+
+void Voxelizer::setView(std::optional<ViewRequirement> view)
+{
+    {
+        std::lock_guard lock(mutex_);
+        if (view == view_) return;
+        view_ = std::move(view);
+        // A pending request reads the view when it runs; otherwise the
+        // present document is planned again for it.
+        if (pending_ || !latestDocument_) return;
+        const std::uint64_t revision = latestRevision_.load() + 1;
+        latestRevision_ = revision;
+        pending_ = Request{*latestDocument_, revision, std::chrono::steady_clock::now(), false};
+    }
+    changed_.notify_all();
+}
+
+void Voxelizer::setMemoryBudget(std::size_t bytes)
+{
+    std::lock_guard lock(mutex_);
+    options_.memoryBudgetBytes = bytes;
 }
 
 void Voxelizer::setFocus(const glm::dvec3& point)
@@ -136,13 +159,27 @@ void Voxelizer::process(Request request)
         for (long i = 0; i < layout.tileCount(); ++i) dirty.insert(i);
     } else {
         dirty.insert(unfinishedTiles_.begin(), unfinishedTiles_.end());
-        // Tiles outside unfinishedTiles_ are at full depth: a fine voxel's
-        // diagonal (doubled for safety) is as far as a stored sample reaches.
-        const double margin = 2.0 * std::sqrt(3.0) * layout.voxelSize;
-        const DirtyRegion region = dirtyRegion(*builtDocument_, request.doc, margin);
-        if (region.everything) {
-            for (long i = 0; i < layout.tileCount(); ++i) dirty.insert(i);
-        } else {
+        // A stored distance saturates at two voxel edges of its tile's depth,
+        // so twice a voxel diagonal at that depth is as far as an edit can
+        // change what a tile stores: each depth present gets its own region,
+        // and a tile is dirty when the region of its own depth reaches it
+        // (tiles with no records, at the finest depth's).
+        std::vector<int> depthOf(std::size_t(layout.tileCount()), layout.levels);
+        std::set<int> depths = {layout.levels};
+        for (long i = 0; i < layout.tileCount(); ++i) {
+            const auto& t = base->tiles[std::size_t(i)];
+            if (t && t->state == TileState::Surface) {
+                depthOf[std::size_t(i)] = std::clamp(t->levels, 1, layout.levels);
+                depths.insert(depthOf[std::size_t(i)]);
+            }
+        }
+        for (int depth : depths) {
+            const double margin = 2.0 * std::sqrt(3.0) * layout.voxelSizeAt(depth);
+            const DirtyRegion region = dirtyRegion(*builtDocument_, request.doc, margin);
+            if (region.everything) {
+                for (long i = 0; i < layout.tileCount(); ++i) dirty.insert(i);
+                break;
+            }
             for (const Aabb& box : region.boxes) {
                 const Aabb clipped = box.intersected(layout.bounds());
                 if (clipped.isEmpty()) continue;
@@ -152,7 +189,10 @@ void Voxelizer::process(Request request)
                                                  glm::ivec3(0), layout.dims - 1);
                 for (int z = lo.z; z <= hi.z; ++z)
                     for (int y = lo.y; y <= hi.y; ++y)
-                        for (int x = lo.x; x <= hi.x; ++x) dirty.insert(layout.tileIndex({x, y, z}));
+                        for (int x = lo.x; x <= hi.x; ++x) {
+                            const long i = layout.tileIndex({x, y, z});
+                            if (depthOf[std::size_t(i)] == depth) dirty.insert(i);
+                        }
             }
         }
     }
@@ -160,17 +200,24 @@ void Voxelizer::process(Request request)
     builtLayout_ = layout;
     unfinishedTiles_.assign(dirty.begin(), dirty.end());
 
-    // Nearest tiles first.
     glm::dvec3 focus;
+    std::optional<ViewRequirement> view;
+    std::size_t budget;
     {
         std::lock_guard lock(mutex_);
         focus = focus_;
+        view = view_;
+        budget = options_.memoryBudgetBytes;
     }
+    if (view) focus = view->eye;
+    auto nearestFirst = [&](std::vector<long>& tiles) {
+        std::sort(tiles.begin(), tiles.end(), [&](long a, long b) {
+            return glm::length(layout.tileBox(layout.tileCoord(a)).center() - focus) <
+                   glm::length(layout.tileBox(layout.tileCoord(b)).center() - focus);
+        });
+    };
     std::vector<long> order(dirty.begin(), dirty.end());
-    std::sort(order.begin(), order.end(), [&](long a, long b) {
-        return glm::length(layout.tileBox(layout.tileCoord(a)).center() - focus) <
-               glm::length(layout.tileBox(layout.tileCoord(b)).center() - focus);
-    });
+    nearestFirst(order);
 
     auto start = [&] {
         auto s = std::make_shared<VoxelSnapshot>();
@@ -204,15 +251,15 @@ void Voxelizer::process(Request request)
         tilesBuilt_ = 0;
     };
 
-    // Builds `tiles` at `levels` into `snap`; false when cancelled.
-    auto buildInto = [&](VoxelSnapshot& snap, const std::vector<long>& tiles, int levels) {
+    // Builds each of `tiles` at its depth (`levelsOf`) into `snap`; false when cancelled.
+    auto buildInto = [&](VoxelSnapshot& snap, const std::vector<long>& tiles, const auto& levelsOf) {
         std::vector<std::shared_ptr<const TileData>> built(tiles.size());
         std::atomic<bool> aborted{false};
         arena.execute([&] {
             tbb::parallel_for(std::size_t(0), tiles.size(), [&](std::size_t k) {
                 if (aborted.load()) return;
                 const glm::ivec3 tc = layout.tileCoord(tiles[k]);
-                auto t = buildTile(blocks.forTile(tc), layout, tc, levels, scratch.local(), cancelled);
+                auto t = buildTile(blocks.forTile(tc), layout, tc, levelsOf(tiles[k]), scratch.local(), cancelled);
                 if (!t) {
                     aborted = true;
                     return;
@@ -233,37 +280,90 @@ void Voxelizer::process(Request request)
         progress_.busy = false;
     };
 
+    // 1. The coarse pass: every tile the edit reaches, at the coarse depth,
+    // published at once (the preview). Without one, those tiles are built
+    // at their planned depth below, and nothing is published before the end.
     const int coarseLevels = std::max(1, layout.levels - options_.coarseLevelDrop);
     auto current = start();
+    pass(false, 0, layout.levels); // this revision is under way
     const bool coarsePass = coarseLevels < layout.levels && !order.empty();
+    std::set<long> stale = dirty; // tiles still describing an older document
     if (coarsePass) {
         pass(true, order.size(), coarseLevels);
-        if (!buildInto(*current, order, coarseLevels)) return finish(true);
+        if (!buildInto(*current, order, [&](long) { return coarseLevels; })) return finish(true);
         current->complete = false;
         publish(current);
         stats.coarseMs = millisecondsSince(request.submitted);
         current = std::make_shared<VoxelSnapshot>(*current);
+        stale.clear();
+        unfinishedTiles_.clear(); // every tile the edit reached is published for the new document
     }
-    // Full depth, nearest tiles first. After a coarse pass every dirty tile
-    // already describes the new document, so batches can be published as
-    // they finish (each a consistent snapshot); without one, only the end.
-    const std::size_t batch = std::max<std::size_t>(64, order.size() / 4);
-    pass(false, order.size(), layout.levels);
-    for (std::size_t first = 0; first < order.size(); first += batch) {
-        const std::vector<long> part(order.begin() + long(first),
-                                     order.begin() + long(std::min(order.size(), first + batch)));
-        if (!buildInto(*current, part, layout.levels)) return finish(true);
-        const bool last = first + batch >= order.size();
-        if (!last && coarsePass) {
-            // Only what is published counts as done: a cancelled revision's
-            // successor starts from the published snapshot.
-            unfinishedTiles_.assign(order.begin() + long(first + batch), order.end());
-            current->complete = false;
-            publish(current);
-            current = std::make_shared<VoxelSnapshot>(*current);
+
+    // 2. The plan: each tile's depth for this view and budget, estimated from
+    // the tiles as they now are; then 3. the building, nearest first,
+    // published batch by batch once every tile describes the document (each
+    // a consistent snapshot). A tile with no data yet (no coarse pass ran)
+    // has no estimate: it is built first (at full depth without a view, at
+    // the coarse depth with one) and planned again in the next round.
+    RefinementOptions ro;
+    ro.view = view;
+    ro.memoryBudgetBytes = budget;
+    ro.coarseLevels = coarseLevels;
+    ro.focus = focus;
+    RefinementPlan plan;
+    for (int round = 0; round < 3; ++round) {
+        plan = planRefinement(layout, current->tiles, ro);
+        const bool overBudget = plan.coarsenedForBudget > 0;
+        // Stale tiles, those shallower than planned and, over the budget,
+        // those deeper than planned. A tile the view has left keeps its depth
+        // while the budget allows: building it again would only cost time.
+        std::vector<long> work;
+        std::size_t refined = 0;
+        for (long i = 0; i < layout.tileCount(); ++i) {
+            const auto& t = current->tiles[std::size_t(i)];
+            if (stale.count(i)) {
+                work.push_back(i);
+                continue;
+            }
+            if (!t || t->state != TileState::Surface) continue;
+            const int planned = plan.levels[std::size_t(i)];
+            if (t->levels < planned || (overBudget && t->levels > planned)) {
+                work.push_back(i);
+                ++refined;
+            }
         }
+        if (work.empty()) break;
+        nearestFirst(work);
+        stats.refinedTiles += refined;
+        auto plannedLevels = [&](long i) {
+            const int planned = plan.levels[std::size_t(i)];
+            return planned > 0 ? planned : (view ? coarseLevels : layout.levels);
+        };
+        const bool publishBatches = stale.empty();
+        const std::size_t batch = std::max<std::size_t>(64, work.size() / 4);
+        pass(false, work.size(), layout.levels);
+        for (std::size_t first = 0; first < work.size(); first += batch) {
+            const std::vector<long> part(work.begin() + long(first),
+                                         work.begin() + long(std::min(work.size(), first + batch)));
+            if (!buildInto(*current, part, plannedLevels)) return finish(true);
+            const bool last = first + batch >= work.size();
+            if (!last && publishBatches) {
+                // Only what is published counts as done: a cancelled
+                // revision's successor starts from the published snapshot.
+                unfinishedTiles_.clear();
+                current->complete = false;
+                current->coarsenedForBudget = plan.coarsenedForBudget;
+                current->outsideView = plan.outsideView;
+                publish(current);
+                current = std::make_shared<VoxelSnapshot>(*current);
+            }
+        }
+        stale.clear();
     }
+    stats.coarsenedForBudget = plan.coarsenedForBudget;
     current->complete = true;
+    current->coarsenedForBudget = plan.coarsenedForBudget;
+    current->outsideView = plan.outsideView;
     unfinishedTiles_.clear();
     stats.fineMs = millisecondsSince(request.submitted);
     if (stats.coarseMs == 0.0) stats.coarseMs = stats.fineMs;

@@ -51,6 +51,7 @@ ViewportWidget::ViewportWidget(QWidget* parent) : QWidget(parent)
 {
     qRegisterMetaType<ViewportStatus>();
     qRegisterMetaType<ViewportPick>();
+    qRegisterMetaType<ViewRequirement>();
     auto* layout = new QVBoxLayout(this);
     layout->setContentsMargins(0, 0, 0, 0);
     setMinimumSize(160, 120);
@@ -133,6 +134,15 @@ void ViewportWidget::sceneChanged()
     scene.markers = markers_;
     scene.resolutionScale = interactive_ && status_.traceMs > kInteractiveTraceBudgetMs ? 0.5 : 1.0;
     backend_->show(scene);
+    // At rest, the voxelizer learns what this view needs.
+    if (!interactive_) {
+        const QSize px = pixelSize();
+        const ViewRequirement v = viewRequirement(view_.camera(px.width(), px.height(), partBounds()));
+        if (!settledView_ || !(*settledView_ == v)) {
+            settledView_ = v;
+            emit viewSettled(v);
+        }
+    }
 }
 
 void ViewportWidget::setSnapshot(std::shared_ptr<const VoxelSnapshot> snapshot)
@@ -258,6 +268,12 @@ std::optional<glm::dvec3> ViewportWidget::surfacePointAt(QPointF position) const
     const ViewportPick p = pickAt(position);
     if (!p.hit) return std::nullopt;
     return p.point;
+}
+
+void ViewportWidget::resizeEvent(QResizeEvent* e)
+{
+    QWidget::resizeEvent(e);
+    sceneChanged(); // another size: another pixel size for the voxelizer
 }
 
 void ViewportWidget::interacting()

@@ -149,7 +149,11 @@ void VulkanViewWindow::renderLoop()
             s.vulkan = true;
             s.device = QString::fromStdString(context_->deviceDescription());
             s.frameMs = f.frameMs;
-            s.traceMs = f.traceGpuMs;
+            // A reshaded frame keeps the last trace's time. A CPU implementation
+            // (lavapipe) has no meaningful GPU timestamps: its frame time,
+            // which the trace dominates, stands in.
+            if (f.traced) lastTraceMs_ = context_->isCpuDevice() ? f.frameMs : f.traceGpuMs;
+            s.traceMs = lastTraceMs_;
             s.voxelBytes = f.residentBytes;
             s.shownVersion = f.shownVersion;
             s.shownRevision = f.shownRevision;

@@ -68,6 +68,7 @@ private:
     bool grabDone_ = false;
     std::thread thread_;
     std::unique_ptr<vk::ViewportRenderer> renderer_; // render thread only
+    double lastTraceMs_ = -1.0;                      // render thread only
 };
 
 } // namespace kerf::qt

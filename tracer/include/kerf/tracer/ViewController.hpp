@@ -15,6 +15,7 @@
 
 #include "kerf/document/Aabb.hpp"
 #include "kerf/tracer/Camera.hpp"
+#include "kerf/voxelizer/RefinementPlan.hpp"
 
 #include <glm/vec3.hpp>
 
@@ -78,5 +79,9 @@ private:
     double yaw_ = -45.0, pitch_ = 35.26438968275465;
     Projection projection_ = Projection::Perspective;
 };
+
+/// What a camera needs from the voxelizer (RefinementPlan.hpp): voxels
+/// that project to at most `pixelsPerVoxel` pixels.
+ViewRequirement viewRequirement(const Camera& camera, double pixelsPerVoxel = 1.0);
 
 } // namespace kerf

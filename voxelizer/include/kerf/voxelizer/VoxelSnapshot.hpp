@@ -16,7 +16,9 @@ namespace kerf {
 struct VoxelSnapshot {
     std::uint64_t version = 0;          // increases with every publication
     std::uint64_t documentRevision = 0; // the request this snapshot answers
-    bool complete = false;              // every tile at the target depth
+    bool complete = false;              // every tile at the depth planned for it
+    std::size_t coarsenedForBudget = 0; // tiles shallower than the view needs, to fit the memory budget
+    std::size_t outsideView = 0;        // surface tiles kept coarse because the camera does not see them
     GridLayout layout;
     std::vector<std::shared_ptr<const TileData>> tiles; // layout.tileCount() entries, null = empty
     std::shared_ptr<const std::vector<Feature>> features;

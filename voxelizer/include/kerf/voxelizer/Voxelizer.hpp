@@ -1,7 +1,12 @@
 #pragma once
 // The background voxelizer: give it each new version of the document; it
 // rebuilds only the tiles the edit can change, first at a coarse depth, then
-// at the full depth, and publishes consistent snapshots as it goes.
+// at the depth each tile needs, and publishes consistent snapshots as it goes.
+//
+// Depth per tile (RefinementPlan.hpp): full depth everywhere without a view;
+// with one (setView), only as fine as the camera can see, refined when the
+// view changes; and within the memory budget, the farthest tiles coarsened
+// first when a scene would exceed it.
 //
 // Threading: setDocument() and every other public function return at once
 // and may be called from any thread (the GUI thread, typically). Work runs on
@@ -14,6 +19,7 @@
 
 #include "kerf/document/Document.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/voxelizer/RefinementPlan.hpp"
 #include "kerf/voxelizer/VoxelSnapshot.hpp"
 
 #include <atomic>
@@ -37,12 +43,16 @@ struct VoxelizerOptions {
     double featureSize = 0.0;
     /// Called on the coordinating thread after each publication.
     std::function<void(std::shared_ptr<const VoxelSnapshot>)> onPublish;
+    /// Voxel bytes a snapshot may reach (estimated ahead); 0: no limit.
+    std::size_t memoryBudgetBytes = 0;
 };
 
 struct VoxelizerStats {
     std::uint64_t revision = 0;
     std::size_t tilesInGrid = 0;
-    std::size_t dirtyTiles = 0;   // tiles this revision rebuilt
+    std::size_t dirtyTiles = 0;   // tiles the edit reached (rebuilt for the new document)
+    std::size_t refinedTiles = 0; // tiles rebuilt at another depth (the view or the budget asked)
+    std::size_t coarsenedForBudget = 0; // tiles below what the view needs, to fit the budget
     double coarseMs = 0.0;        // from the request to the coarse publication
     double fineMs = 0.0;          // from the request to the complete publication
     bool cancelled = false;
@@ -70,6 +80,11 @@ public:
     std::uint64_t setDocument(const Document& doc);
     /// Tiles nearer this world point are rebuilt first.
     void setFocus(const glm::dvec3& point);
+    /// What the viewer needs (none: full depth everywhere). A changed view
+    /// refines (or, over budget, coarsens) the tiles it concerns.
+    void setView(std::optional<ViewRequirement> view);
+    /// The memory budget (0: none); applies from the next request on.
+    void setMemoryBudget(std::size_t bytes);
 
     /// The latest publication (null before the first).
     std::shared_ptr<const VoxelSnapshot> snapshot() const;
@@ -85,7 +100,9 @@ private:
         Document doc;
         std::uint64_t revision;
         std::chrono::steady_clock::time_point submitted;
+        bool documentChanged = true; // false: the same document, a new view or budget
     };
+    void queue(Request request);
     void run();
     void process(Request request);
     void publish(std::shared_ptr<VoxelSnapshot> snap);
@@ -98,6 +115,8 @@ private:
     std::shared_ptr<const VoxelSnapshot> published_;
     VoxelizerStats stats_;
     glm::dvec3 focus_{0.0};
+    std::optional<ViewRequirement> view_;      // guarded by mutex_
+    std::optional<Document> latestDocument_;   // guarded by mutex_: the newest setDocument()
     std::atomic<std::uint64_t> latestRevision_{0};
     std::atomic<bool> stopping_{false};
     VoxelizerProgress progress_;               // guarded by mutex_

@@ -100,10 +100,15 @@ public:
     void setView(const ViewController& view);
 
     ViewportStatus status() const { return status_; }
+    /// The view at rest the voxelizer was last told of (none before the first frame).
+    std::optional<ViewRequirement> settledView() const { return settledView_; }
     /// The next frame's picture, as drawn (waits for it, at most timeoutMs).
     QImage grabFrame(int timeoutMs = 10000);
     /// Casts the exact ray under a widget position (logical pixels).
     ViewportPick pickAt(QPointF position) const;
+
+protected:
+    void resizeEvent(QResizeEvent* e) override;
 
 signals:
     /// A click (press and release without a drag) on the viewport.
@@ -112,6 +117,9 @@ signals:
     void frameDrawn();
     /// The viewport fell back to the CPU tracer (the reason in status()).
     void backendChanged();
+    /// The camera came to rest somewhere new (or the window changed size):
+    /// what the voxelizer should refine for.
+    void viewSettled(const kerf::ViewRequirement& view);
 
 public:
     // For the drawing surfaces (VulkanViewWindow, CpuViewWidget): input
@@ -149,6 +157,7 @@ private:
     std::optional<glm::dvec3> pivot_;
     class QTimer* settle_ = nullptr; // ends the interactive (reduced resolution) phase
     bool interactive_ = false;
+    std::optional<ViewRequirement> settledView_;
 
     std::unique_ptr<ViewportBackend> backend_;
     ViewportStatus status_;
@@ -158,3 +167,4 @@ private:
 
 Q_DECLARE_METATYPE(kerf::qt::ViewportPick)
 Q_DECLARE_METATYPE(kerf::qt::ViewportStatus)
+Q_DECLARE_METATYPE(kerf::ViewRequirement)
