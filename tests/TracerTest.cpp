@@ -287,6 +287,14 @@ TEST(TracerAgreement, TilesOfMixedDepths)
     const double coarse = layout.voxelSizeAt(layout.levels - 1);
     expectAgreement(tape, buffers, coarse, "iso", 160, 120, 0.9);
     expectAgreement(tape, buffers, coarse, "front", 160, 120, 0.9);
+    // The hybrid refinement sees through a tile's depth to the exact field:
+    // coarse and fine tiles alike agree to a hundredth of a coarse voxel.
+    const Camera camera = Camera::standardView(tape.bounds(), "iso", 160, 120);
+    const Agreement a = compare(traceVoxels(buffers, camera, 2, {}, TraceQuality::Exact),
+                                traceExact(tape, camera, 1e-3, 2), 0.01 * coarse, 2.0);
+    EXPECT_GE(a.maskAgree, 0.999);
+    EXPECT_GE(a.depthWithin, 0.99);
+    EXPECT_GE(a.normalWithin, 0.99);
 }
 
 // A section view is the exact image of the part intersected with the kept
