@@ -1,13 +1,20 @@
 // Trace time per frame of the Vulkan compute tracer on whatever device Kerf
 // finds (the H100 of the `device` tool, lavapipe here): the default chair at
 // several feature sizes and a stand-in for the seed's showcase, at 1920x1080
-// and 2560x1440. Headless; needs only the Vulkan loader and what the core
+// and 2560x1440, each with and without the hybrid refinement (quality
+// voxels and exact). Headless; needs only the Vulkan loader and what the core
 // links, so it can be carried to a machine without Qt or a package registry.
 //
-//   kerf_gpu_bench [--quick] [--frames N] [--json OUT.json] [--examples DIR]
+//   kerf_gpu_bench [--quick] [--frames N] [--quality voxels|exact|both]
+//                  [--scene chair|showcase] [--feature-size MM]
+//                  [--json OUT.json] [--examples DIR]
+//
+// --scene and --feature-size keep only that scene and that feature size (for
+// slow devices, where the whole run would take hours).
 
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/Camera.hpp"
+#include "kerf/tracer/ExactRefinement.h"
 #include "kerf/viewport/ComputeTracer.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
 
@@ -63,14 +70,23 @@ int main(int argc, char** argv)
     bool quick = false;
     int frames = 20;
     std::string jsonPath, examples = KERF_EXAMPLES_DIR;
+    std::vector<TraceQuality> qualities{TraceQuality::Voxels, TraceQuality::Exact};
+    std::string onlyScene;
+    double onlyFeatureSize = 0.0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--quick") quick = true;
         else if (a == "--frames" && i + 1 < argc) frames = std::max(1, std::atoi(argv[++i]));
         else if (a == "--json" && i + 1 < argc) jsonPath = argv[++i];
         else if (a == "--examples" && i + 1 < argc) examples = argv[++i];
+        else if (a == "--scene" && i + 1 < argc) onlyScene = argv[++i];
+        else if (a == "--feature-size" && i + 1 < argc) onlyFeatureSize = std::atof(argv[++i]);
+        else if (a == "--quality" && i + 1 < argc && std::string(argv[i + 1]) == "both") ++i; // the default
+        else if (a == "--quality" && i + 1 < argc && parseTraceQuality(argv[i + 1]))
+            qualities = {*parseTraceQuality(argv[++i])};
         else {
-            std::cerr << "usage: kerf_gpu_bench [--quick] [--frames N] [--json OUT.json] [--examples DIR]\n";
+            std::cerr << "usage: kerf_gpu_bench [--quick] [--frames N] [--quality voxels|exact|both] "
+                         "[--scene chair|showcase] [--feature-size MM] [--json OUT.json] [--examples DIR]\n";
             return 2;
         }
     }
@@ -90,10 +106,12 @@ int main(int argc, char** argv)
             quick ? std::vector<std::pair<int, int>>{{640, 360}} : std::vector<std::pair<int, int>>{{1920, 1080}, {2560, 1440}};
 
         nlohmann::ordered_json results = nlohmann::ordered_json::array();
-        std::printf("%-9s %8s %11s %10s %11s %10s %12s %12s\n", "scene", "fs", "voxels", "MB", "upload ms", "size",
-                    "trace ms", "Mrays/s");
+        std::printf("%-9s %8s %11s %10s %9s %11s %10s %8s %12s %12s\n", "scene", "fs", "voxels", "MB", "tape MB",
+                    "upload ms", "size", "quality", "trace ms", "Mrays/s");
         for (auto& scene : scenes) {
+            if (!onlyScene.empty() && scene.name != onlyScene) continue;
             const Tape tape = compileTape(scene.doc);
+            if (onlyFeatureSize > 0.0) scene.featureSizes = {onlyFeatureSize};
             for (double fs : scene.featureSizes) {
                 const auto t0 = std::chrono::steady_clock::now();
                 const GridLayout layout = GridLayout::choose(tape.bounds(), fs);
@@ -106,33 +124,47 @@ int main(int argc, char** argv)
                 tracer.setVoxels(buffers);
                 const double uploadMs =
                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - u0).count();
-                for (auto [w, h] : sizes) {
-                    const Camera camera = Camera::standardView(tape.bounds(), "iso", w, h);
-                    std::vector<double> ms;
-                    for (int f = 0; f < frames + 2; ++f) {
-                        vk::TraceTiming timing;
-                        (void)tracer.trace(camera, &timing);
-                        if (f >= 2) ms.push_back(timing.gpuMilliseconds); // two warm-up frames
+                const std::size_t tapeBytes = buffers.tapes.size() * sizeof(std::uint32_t);
+                for (auto [w, h] : sizes)
+                    for (TraceQuality quality : qualities) {
+                        const Camera camera = Camera::standardView(tape.bounds(), "iso", w, h);
+                        std::vector<double> ms;
+                        std::size_t hits = 0;
+                        for (int f = 0; f < frames + 2; ++f) {
+                            vk::TraceTiming timing;
+                            const TraceImage image = tracer.trace(camera, &timing, {}, quality);
+                            if (f >= 2) ms.push_back(timing.gpuMilliseconds); // two warm-up frames
+                            if (f == 0)
+                                for (std::size_t i = 0; i < image.depth.size(); ++i) hits += image.hit(i);
+                        }
+                        const double m = median(ms);
+                        const double mrays = double(w) * h / (m * 1e-3) / 1e6;
+                        const std::string q(traceQualityName(quality));
+                        std::printf("%-9s %8g %11zu %10.1f %9.2f %11.1f %5dx%-5d %8s %11.3f %12.1f\n", scene.name.c_str(),
+                                    fs, snap.populatedVoxels(), double(snap.bytes()) / 1e6, double(tapeBytes) / 1e6,
+                                    uploadMs, w, h, q.c_str(), m, mrays);
+                        std::fflush(stdout);
+                        results.push_back({{"scene", scene.name},          {"feature_size", fs},
+                                           {"populated_voxels", snap.populatedVoxels()},
+                                           {"bytes", snap.bytes()},        {"tape_bytes", tapeBytes},
+                                           {"voxelize_ms", voxelizeMs},    {"upload_ms", uploadMs},
+                                           {"width", w},                   {"height", h},
+                                           {"quality", q},                 {"pixels_hit", hits},
+                                           {"trace_ms_median", m},
+                                           {"trace_ms_min", *std::min_element(ms.begin(), ms.end())},
+                                           {"mrays_per_s", mrays}});
                     }
-                    const double m = median(ms);
-                    const double mrays = double(w) * h / (m * 1e-3) / 1e6;
-                    std::printf("%-9s %8g %11zu %10.1f %11.1f %5dx%-5d %11.3f %12.1f\n", scene.name.c_str(), fs,
-                                snap.populatedVoxels(), double(snap.bytes()) / 1e6, uploadMs, w, h, m, mrays);
-                    std::fflush(stdout);
-                    results.push_back({{"scene", scene.name},          {"feature_size", fs},
-                                       {"populated_voxels", snap.populatedVoxels()},
-                                       {"bytes", snap.bytes()},        {"voxelize_ms", voxelizeMs},
-                                       {"upload_ms", uploadMs},        {"width", w},
-                                       {"height", h},                  {"trace_ms_median", m},
-                                       {"trace_ms_min", *std::min_element(ms.begin(), ms.end())},
-                                       {"mrays_per_s", mrays}});
-                }
             }
         }
         if (!jsonPath.empty()) {
             nlohmann::ordered_json j;
             j["device"] = ctx.deviceDescription();
             j["frames"] = frames;
+            j["exact_refinement"] = {{"margin_voxels", KERF_EXACT_MARGIN},
+                                     {"sphere_steps", KERF_EXACT_STEPS},
+                                     {"bracketed_steps", KERF_EXACT_BRACKETED_STEPS},
+                                     {"refinements", KERF_EXACT_REFINEMENTS},
+                                     {"epsilon_voxels", KERF_EXACT_EPSILON}};
             j["results"] = results;
             std::ofstream(jsonPath) << j.dump(2) << "\n";
         }

@@ -43,7 +43,7 @@ struct TraceParams {
     KERF_U64 outDepth;   // float, +inf where nothing is hit
     KERF_U64 outNormal;  // vec4 (xyz unit normal, w unused)
     KERF_U64 outFeature; // uint, 0xFFFFFFFF where nothing is hit
-    KERF_U64 reserved;
+    KERF_U64 tapes;      // the tiles' exact tapes (TileTapeFormat.h), as 32-bit words
     KERF_VEC4 eye;       // xyz: camera eye relative to the grid origin (mm); w: tile size (mm)
     KERF_VEC4 forward;   // xyz: unit view direction; w: 1 for orthographic, 0 for perspective
     KERF_VEC4 right;     // xyz: unit image right; w: tan(fovY/2) or half the ortho height (mm)
@@ -51,10 +51,11 @@ struct TraceParams {
     KERF_IVEC4 dims;     // xyz: tiles along each axis
     KERF_UVEC4 image;    // x: width, y: height (pixels)
     KERF_VEC4 section;   // xyz: unit normal of the section plane, w: its offset from the grid origin; zero: none
+    KERF_UVEC4 options;  // x: the quality switch (kerf::TraceQuality: 0 voxels, 1 exact = the hybrid refinement)
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(TraceParams) == 80 + 7 * 16);
+static_assert(sizeof(TraceParams) == 80 + 8 * 16);
 } // namespace kerf::gpu
 #endif
 

@@ -7,8 +7,15 @@
 #extension GL_GOOGLE_include_directive : require
 
 #include "TraceShared.h"
+#include "kerf/tracer/ExactRefinement.h"
+#include "kerf/voxelizer/TileTapeFormat.h"
 
 layout(local_size_x = KERF_TRACE_LOCAL_SIZE, local_size_y = KERF_TRACE_LOCAL_SIZE) in;
+
+// Two pipelines of this shader (ComputeTracer.cpp): without the hybrid
+// refinement its code is compiled out, so that the voxel path keeps its
+// registers and occupancy; with it, TraceParams.options.x still decides.
+layout(constant_id = 0) const bool kHybrid = false;
 
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Words { uint w[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) writeonly buffer Floats { float f[]; };
@@ -33,6 +40,8 @@ struct Hit {
     float depth;
     vec3 normal;
     uint feature;
+    uint tape;  // a hit of the hybrid refinement: its tile's tape (else KERF_NO_TAPE) ...
+    vec3 point; // ... and the point, tile-relative (mm), where main() takes the exact normal
 };
 
 // A section's cap, pending while the ray, started on the section plane, has
@@ -169,7 +178,398 @@ float firstCrossing(vec4 c, float wEnd)
 
 float nonZero(float v) { return abs(v) < 1e-20 ? (v < 0.0 ? -1e-20 : 1e-20) : v; }
 
-bool traceTile(uint entry, ivec3 tile, vec3 origin, vec3 dir, vec3 invDir, float tileSize, float tEnter,
+// ---- A tile's exact tape (voxelizer/src/TileTape.cpp, evaluateTileTape) ----
+// t is the tape's first word in P.tapes; indices are relative to it.
+
+uint tapeWord(uint t, uint i) { return word(P.tapes, t + i); }
+float tapeFloat(uint t, uint i) { return uintBitsToFloat(word(P.tapes, t + i)); }
+
+float sq(float v) { return v * v; }
+
+float boxDistance(vec3 l, float bx, float by, float bz, float round)
+{
+    const float qx = abs(l.x) - bx, qy = abs(l.y) - by, qz = abs(l.z) - bz;
+    const float outside = sqrt(sq(max(qx, 0.0)) + sq(max(qy, 0.0)) + sq(max(qz, 0.0)));
+    const float inside = min(max(qx, max(qy, qz)), 0.0);
+    return outside + inside - round;
+}
+
+float cylinderDistance(vec3 l, float radius, float halfHeight)
+{
+    const float dr = sqrt(sq(l.x) + sq(l.y)) - radius;
+    const float dz = abs(l.z) - halfHeight;
+    return min(max(dr, dz), 0.0) + sqrt(sq(max(dr, 0.0)) + sq(max(dz, 0.0)));
+}
+
+float coneDistance(vec3 l, float r1, float r2, float h, float k2x, float k2y, float invK2)
+{
+    const float qx = sqrt(sq(l.x) + sq(l.y));
+    const float qy = l.z;
+    const float rr = qy < 0.0 ? r1 : r2;
+    const float cax = qx - min(qx, rr);
+    const float cay = abs(qy) - h;
+    const float t = clamp(((r2 - qx) * k2x + (h - qy) * k2y) * invK2, 0.0, 1.0);
+    const float cbx = qx - r2 + k2x * t;
+    const float cby = qy - h + k2y * t;
+    const float s = (cbx < 0.0 && cay < 0.0) ? -1.0 : 1.0;
+    return s * sqrt(min(sq(cax) + sq(cay), sq(cbx) + sq(cby)));
+}
+
+float polygonDistance(uint t, uint first, uint count, float x, float y)
+{
+    float d = sq(x - tapeFloat(t, first)) + sq(y - tapeFloat(t, first + 1u));
+    bool inside = false;
+    for (uint i = 0u, j = count - 1u; i < count; j = i++) {
+        const float vix = tapeFloat(t, first + 2u * i), viy = tapeFloat(t, first + 2u * i + 1u);
+        const float vjx = tapeFloat(t, first + 2u * j), vjy = tapeFloat(t, first + 2u * j + 1u);
+        const float ex = vjx - vix, ey = vjy - viy;
+        const float wx = x - vix, wy = y - viy;
+        const float s = clamp((wx * ex + wy * ey) / (ex * ex + ey * ey), 0.0, 1.0);
+        d = min(d, sq(wx - ex * s) + sq(wy - ey * s));
+        const bool c1 = y >= viy, c2 = y < vjy, c3 = ex * wy > ey * wx;
+        if ((c1 && c2 && c3) || (!c1 && !c2 && !c3)) inside = !inside;
+    }
+    const float dist = sqrt(d);
+    return inside ? -dist : dist;
+}
+
+// Local coordinate `row` of tile-relative point p, by the frame at word f.
+float localCoordinate(uint t, uint f, uint row, vec3 p)
+{
+    const uint r = f + 3u * row;
+    return tapeFloat(t, r) * p.x + tapeFloat(t, r + 1u) * p.y + tapeFloat(t, r + 2u) * p.z + tapeFloat(t, f + 9u + row);
+}
+
+float shapeDistance(uint t, uint s, vec3 p)
+{
+    const uint f = s + KERF_TAPE_SHAPE_FRAME;
+    const vec3 l = vec3(localCoordinate(t, f, 0u, p), localCoordinate(t, f, 1u, p), localCoordinate(t, f, 2u, p));
+    const uint a = s + KERF_TAPE_SHAPE_PARAMS;
+    const uint kind = tapeWord(t, s);
+    if (kind == KERF_SHAPE_BOX)
+        return boxDistance(l, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
+    if (kind == KERF_SHAPE_SPHERE) return sqrt(sq(l.x) + sq(l.y) + sq(l.z)) - tapeFloat(t, a);
+    if (kind == KERF_SHAPE_CYLINDER) return cylinderDistance(l, tapeFloat(t, a), tapeFloat(t, a + 1u));
+    if (kind == KERF_SHAPE_CONE)
+        return coneDistance(l, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u),
+                            tapeFloat(t, a + 4u), tapeFloat(t, a + 5u));
+    if (kind == KERF_SHAPE_TORUS) {
+        const float q = sqrt(sq(l.x) + sq(l.y)) - tapeFloat(t, a);
+        return sqrt(sq(q) + sq(l.z)) - tapeFloat(t, a + 1u);
+    }
+    if (kind == KERF_SHAPE_EXTRUDE) {
+        const float d2 = polygonDistance(t, tapeWord(t, a + 1u), tapeWord(t, a + 2u), l.x, l.y);
+        const float wz = abs(l.z) - tapeFloat(t, a);
+        return min(max(d2, wz), 0.0) + sqrt(sq(max(d2, 0.0)) + sq(max(wz, 0.0)));
+    }
+    return tapeFloat(t, a) * l.x + tapeFloat(t, a + 1u) * l.y + tapeFloat(t, a + 2u) * l.z - tapeFloat(t, a + 3u);
+}
+
+// The stack lives in eight registers, top first (TileTape.cpp's st[j] is
+// s<j>): a push shifts it down, a binary operation up. A dynamically indexed
+// array would live in local memory (lavapipe slowed the whole kernel
+// fourfold for one).
+#if KERF_TAPE_MAX_STACK != 8
+#error "the tape evaluators below keep exactly eight stack registers"
+#endif
+
+float evaluateTileTape(uint t, vec3 p)
+{
+    const uint count = tapeWord(t, 0u);
+    const uint shapes = KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * count;
+    float s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0, s4 = 0.0, s5 = 0.0, s6 = 0.0, s7 = 0.0;
+    for (uint i = 0u; i < count; ++i) {
+        const uint code = tapeWord(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i);
+        const float k = tapeFloat(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);
+        const uint op = code & 0xFFu;
+        if (op == KERF_TAPE_PRIMITIVE) {
+            s7 = s6; s6 = s5; s5 = s4; s4 = s3; s3 = s2; s2 = s1; s1 = s0;
+            s0 = shapeDistance(t, shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS, p);
+        } else if (op <= KERF_TAPE_SMOOTH_MAX) {
+            const float b = s0, a = s1;
+            float r;
+            if (op == KERF_TAPE_MIN) {
+                r = min(a, b);
+            } else if (op == KERF_TAPE_MAX) {
+                r = max(a, b);
+            } else {
+                const float h = max(k - abs(a - b), 0.0) * (1.0 / k);
+                r = op == KERF_TAPE_SMOOTH_MIN ? min(a, b) - h * h * (k * 0.25) : max(a, b) + h * h * (k * 0.25);
+            }
+            s0 = r;
+            s1 = s2; s2 = s3; s3 = s4; s4 = s5; s5 = s6; s6 = s7;
+        } else if (op == KERF_TAPE_NEGATE) {
+            s0 = -s0;
+        } else if (op == KERF_TAPE_OFFSET) {
+            s0 = s0 - k;
+        } else {
+            s0 = max(s0, -(s0 + k));
+        }
+    }
+    return s0;
+}
+
+// ---- Its gradient (TileTape.cpp, evaluateTileTapeGradient): dual numbers
+// as vec4, x the value, yzw the gradient ----
+
+vec4 dConst(float c) { return vec4(c, 0.0, 0.0, 0.0); }
+vec4 dMul(vec4 a, vec4 b)
+{
+    return vec4(a.x * b.x, a.y * b.x + a.x * b.y, a.z * b.x + a.x * b.z, a.w * b.x + a.x * b.w);
+}
+vec4 dSq(vec4 a) { return dMul(a, a); }
+vec4 dSqrt(vec4 a)
+{
+    const float s = sqrt(a.x);
+    const float k = s > 0.0 ? 0.5 / s : 0.0;
+    return vec4(s, a.y * k, a.z * k, a.w * k);
+}
+vec4 dAbs(vec4 a) { return a.x < 0.0 ? -a : a; }
+vec4 dMin(vec4 a, vec4 b) { return b.x < a.x ? b : a; }
+vec4 dMax(vec4 a, vec4 b) { return a.x < b.x ? b : a; }
+
+vec4 boxGradient(vec4 lx, vec4 ly, vec4 lz, float bx, float by, float bz, float round)
+{
+    const vec4 qx = dAbs(lx) - dConst(bx), qy = dAbs(ly) - dConst(by), qz = dAbs(lz) - dConst(bz);
+    const vec4 outside = dSqrt(dSq(dMax(qx, dConst(0.0))) + dSq(dMax(qy, dConst(0.0))) + dSq(dMax(qz, dConst(0.0))));
+    const vec4 inside = dMin(dMax(qx, dMax(qy, qz)), dConst(0.0));
+    return outside + inside - dConst(round);
+}
+
+vec4 cylinderGradient(vec4 lx, vec4 ly, vec4 lz, float radius, float halfHeight)
+{
+    const vec4 dr = dSqrt(dSq(lx) + dSq(ly)) - dConst(radius);
+    const vec4 dz = dAbs(lz) - dConst(halfHeight);
+    return dMin(dMax(dr, dz), dConst(0.0)) + dSqrt(dSq(dMax(dr, dConst(0.0))) + dSq(dMax(dz, dConst(0.0))));
+}
+
+vec4 coneGradient(vec4 lx, vec4 ly, vec4 lz, float r1, float r2, float h, float k2x, float k2y, float invK2)
+{
+    const vec4 qx = dSqrt(dSq(lx) + dSq(ly));
+    const vec4 qy = lz;
+    const float rr = qy.x < 0.0 ? r1 : r2;
+    const vec4 cax = qx - dMin(qx, dConst(rr));
+    const vec4 cay = dAbs(qy) - dConst(h);
+    const vec4 t = dMin(dMax(((dConst(r2) - qx) * k2x + (dConst(h) - qy) * k2y) * invK2, dConst(0.0)), dConst(1.0));
+    const vec4 cbx = qx - dConst(r2) + t * k2x;
+    const vec4 cby = qy - dConst(h) + t * k2y;
+    const float s = (cbx.x < 0.0 && cay.x < 0.0) ? -1.0 : 1.0;
+    return dSqrt(dMin(dSq(cax) + dSq(cay), dSq(cbx) + dSq(cby))) * s;
+}
+
+vec4 polygonGradient(uint t, uint first, uint count, vec4 x, vec4 y)
+{
+    vec4 d = dSq(x - dConst(tapeFloat(t, first))) + dSq(y - dConst(tapeFloat(t, first + 1u)));
+    bool inside = false;
+    for (uint i = 0u, j = count - 1u; i < count; j = i++) {
+        const float vix = tapeFloat(t, first + 2u * i), viy = tapeFloat(t, first + 2u * i + 1u);
+        const float vjx = tapeFloat(t, first + 2u * j), vjy = tapeFloat(t, first + 2u * j + 1u);
+        const float ex = vjx - vix, ey = vjy - viy;
+        const vec4 wx = x - dConst(vix), wy = y - dConst(viy);
+        const vec4 s = dMin(dMax((wx * ex + wy * ey) * (1.0 / (ex * ex + ey * ey)), dConst(0.0)), dConst(1.0));
+        d = dMin(d, dSq(wx - s * ex) + dSq(wy - s * ey));
+        const bool c1 = y.x >= viy, c2 = y.x < vjy, c3 = ex * wy.x > ey * wx.x;
+        if ((c1 && c2 && c3) || (!c1 && !c2 && !c3)) inside = !inside;
+    }
+    const vec4 dist = dSqrt(d);
+    return inside ? -dist : dist;
+}
+
+vec4 shapeGradient(uint t, uint s, vec3 p)
+{
+    // Each local coordinate's gradient is its row of the frame.
+    const uint f = s + KERF_TAPE_SHAPE_FRAME;
+    const vec4 lx = vec4(localCoordinate(t, f, 0u, p), tapeFloat(t, f), tapeFloat(t, f + 1u), tapeFloat(t, f + 2u));
+    const vec4 ly = vec4(localCoordinate(t, f, 1u, p), tapeFloat(t, f + 3u), tapeFloat(t, f + 4u),
+                         tapeFloat(t, f + 5u));
+    const vec4 lz = vec4(localCoordinate(t, f, 2u, p), tapeFloat(t, f + 6u), tapeFloat(t, f + 7u),
+                         tapeFloat(t, f + 8u));
+    const uint a = s + KERF_TAPE_SHAPE_PARAMS;
+    const uint kind = tapeWord(t, s);
+    if (kind == KERF_SHAPE_BOX)
+        return boxGradient(lx, ly, lz, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u),
+                           tapeFloat(t, a + 3u));
+    if (kind == KERF_SHAPE_SPHERE) return dSqrt(dSq(lx) + dSq(ly) + dSq(lz)) - dConst(tapeFloat(t, a));
+    if (kind == KERF_SHAPE_CYLINDER) return cylinderGradient(lx, ly, lz, tapeFloat(t, a), tapeFloat(t, a + 1u));
+    if (kind == KERF_SHAPE_CONE)
+        return coneGradient(lx, ly, lz, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u),
+                            tapeFloat(t, a + 3u), tapeFloat(t, a + 4u), tapeFloat(t, a + 5u));
+    if (kind == KERF_SHAPE_TORUS) {
+        const vec4 q = dSqrt(dSq(lx) + dSq(ly)) - dConst(tapeFloat(t, a));
+        return dSqrt(dSq(q) + dSq(lz)) - dConst(tapeFloat(t, a + 1u));
+    }
+    if (kind == KERF_SHAPE_EXTRUDE) {
+        const vec4 d2 = polygonGradient(t, tapeWord(t, a + 1u), tapeWord(t, a + 2u), lx, ly);
+        const vec4 wz = dAbs(lz) - dConst(tapeFloat(t, a));
+        return dMin(dMax(d2, wz), dConst(0.0)) + dSqrt(dSq(dMax(d2, dConst(0.0))) + dSq(dMax(wz, dConst(0.0))));
+    }
+    return lx * tapeFloat(t, a) + ly * tapeFloat(t, a + 1u) + lz * tapeFloat(t, a + 2u) - dConst(tapeFloat(t, a + 3u));
+}
+
+vec4 evaluateTileTapeGradient(uint t, vec3 p, out uint feature)
+{
+    const uint count = tapeWord(t, 0u);
+    const uint shapes = KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * count;
+    vec4 s0 = vec4(0.0), s1 = vec4(0.0), s2 = vec4(0.0), s3 = vec4(0.0), s4 = vec4(0.0), s5 = vec4(0.0),
+         s6 = vec4(0.0), s7 = vec4(0.0);
+    uint f0 = 0u, f1 = 0u, f2 = 0u, f3 = 0u, f4 = 0u, f5 = 0u, f6 = 0u, f7 = 0u;
+    for (uint i = 0u; i < count; ++i) {
+        const uint code = tapeWord(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i);
+        const float k = tapeFloat(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);
+        const uint op = code & 0xFFu;
+        if (op == KERF_TAPE_PRIMITIVE) {
+            const uint s = shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS;
+            s7 = s6; s6 = s5; s5 = s4; s4 = s3; s3 = s2; s2 = s1; s1 = s0;
+            f7 = f6; f6 = f5; f5 = f4; f4 = f3; f3 = f2; f2 = f1; f1 = f0;
+            s0 = shapeGradient(t, s, p);
+            f0 = tapeWord(t, s + 1u);
+        } else if (op <= KERF_TAPE_SMOOTH_MAX) {
+            const vec4 b = s0, a = s1;
+            const bool isMin = op == KERF_TAPE_MIN || op == KERF_TAPE_SMOOTH_MIN;
+            const uint f = (isMin ? b.x < a.x : a.x < b.x) ? f0 : f1;
+            vec4 r;
+            if (op == KERF_TAPE_MIN) {
+                r = dMin(a, b);
+            } else if (op == KERF_TAPE_MAX) {
+                r = dMax(a, b);
+            } else {
+                const vec4 h = dMax(dConst(k) - dAbs(a - b), dConst(0.0)) * (1.0 / k);
+                r = op == KERF_TAPE_SMOOTH_MIN ? dMin(a, b) - dSq(h) * (k * 0.25) : dMax(a, b) + dSq(h) * (k * 0.25);
+            }
+            s0 = r;
+            f0 = f;
+            s1 = s2; s2 = s3; s3 = s4; s4 = s5; s5 = s6; s6 = s7;
+            f1 = f2; f2 = f3; f3 = f4; f4 = f5; f5 = f6; f6 = f7;
+        } else if (op == KERF_TAPE_NEGATE) {
+            s0 = -s0;
+        } else if (op == KERF_TAPE_OFFSET) {
+            s0 = s0 - dConst(k);
+        } else {
+            s0 = dMax(s0, -(s0 + dConst(k)));
+        }
+    }
+    feature = f0;
+    return s0;
+}
+
+// ---- The hybrid refinement (ReferenceTracer.cpp, exactCrossing) ----
+
+float exactAt(uint tape, vec3 e, vec3 dir, float tileSize, float s)
+{
+    return evaluateTileTape(tape, (e + s * dir) * tileSize) / tileSize;
+}
+
+const int kStart = 0, kBack = 1, kProbe = 2, kMarch = 3, kEnd = 4, kRefine = 5;
+const int kMaxEvaluations = 3 + KERF_EXACT_STEPS + KERF_EXACT_REFINEMENTS;
+
+float exactCrossing(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float s1, float sTileEnd, float voxelEdge,
+                    float sTrilinear, inout float searched)
+{
+    const float margin = float(KERF_EXACT_MARGIN) * voxelEdge;
+    const float eps = float(KERF_EXACT_EPSILON) * voxelEdge;
+    const float a = max(searched, s0 - margin);
+    const float b = min(s1 + margin, sTileEnd);
+    if (!(a < b)) return -1.0;
+    int phase = kStart, count = 0;
+    float at = a;
+    float lo = a, gLo = 0.0;
+    float hi = -1.0, gHi = 0.0;
+    int side = 0;
+    for (int k = 0; k < kMaxEvaluations; ++k) {
+        const float g = exactAt(tape, e, dir, tileSize, at);
+        if (phase == kStart) {
+            if (g <= 0.0) {
+                phase = kBack;
+            } else {
+                gLo = g;
+                phase = sTrilinear > a && sTrilinear < b ? kProbe : kMarch;
+                if (phase == kProbe) {
+                    at = sTrilinear;
+                    continue;
+                }
+            }
+        } else if (phase == kProbe) {
+            if (g <= 0.0) {
+                hi = sTrilinear;
+                gHi = g;
+            }
+            phase = kMarch;
+        } else if (phase == kMarch) {
+            if (g <= 0.0) {
+                hi = at;
+                gHi = g;
+                phase = kRefine;
+                count = 0;
+            } else {
+                lo = at;
+                gLo = g;
+            }
+        } else if (phase == kEnd) {
+            if (g <= 0.0) {
+                hi = b;
+                gHi = g;
+            }
+            if (hi < 0.0) {
+                searched = lo;
+                return -1.0;
+            }
+            phase = kRefine;
+            count = 0;
+        } else if (phase == kRefine) {
+            if (abs(g) < eps) return at;
+            if (g <= 0.0) {
+                hi = at;
+                gHi = g;
+                if (side == 1) gLo *= 0.5;
+                side = 1;
+            } else {
+                lo = at;
+                gLo = g;
+                if (side == -1) gHi *= 0.5;
+                side = -1;
+            }
+            ++count;
+        }
+        if (phase == kBack) {
+            if (count < KERF_EXACT_STEPS && g < -eps && at > searched) {
+                at = max(at + g, searched);
+                ++count;
+                continue;
+            }
+            return at;
+        }
+        if (phase == kMarch) {
+            if (gLo < eps) return lo;
+            if (lo + gLo >= b) {
+                searched = b;
+                return -1.0;
+            }
+            if (count < (hi < 0.0 ? KERF_EXACT_STEPS : KERF_EXACT_BRACKETED_STEPS)) {
+                at = lo + gLo;
+                ++count;
+                if (hi < 0.0 || at < hi) continue;
+                phase = kRefine;
+                count = 0;
+            } else if (hi < 0.0) {
+                phase = kEnd;
+                at = b;
+                continue;
+            } else {
+                phase = kRefine;
+                count = 0;
+            }
+        }
+        if (count < KERF_EXACT_REFINEMENTS) {
+            at = hi - gHi * (hi - lo) / (gHi - gLo);
+            if (!(at > lo && at < hi)) at = 0.5 * (lo + hi);
+            continue;
+        }
+        return hi;
+    }
+    return hi;
+}
+
+bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 invDir, float tileSize, float tEnter,
                inout Hit hit)
 {
     const uint eNode = word(P.entries, entry * 8u + 0u);
@@ -185,6 +585,9 @@ bool traceTile(uint entry, ivec3 tile, vec3 origin, vec3 dir, vec3 invDir, float
     const vec3 e = clamp((origin - vec3(tile) * tileSize + tEnter * dir) * invTile, 0.0, 1.0);
     ivec3 cell = clamp(ivec3(floor(e * fn)), ivec3(0), ivec3(n - 1));
     float s = 0.0;
+    const vec3 sFaces = (vec3(greaterThan(dir, vec3(0.0))) - e) * invDir;
+    const float sTileEnd = min(sFaces.x, min(sFaces.y, sFaces.z));
+    float searched = 0.0;
 
     const int maxIterations = 3 * n + 3;
     for (int iteration = 0; iteration < maxIterations; ++iteration) {
@@ -247,6 +650,19 @@ bool traceTile(uint entry, ivec3 tile, vec3 origin, vec3 dir, vec3 invDir, float
                 capPending = false;
             }
             const float w = firstCrossing(along, wEnd);
+            if (kHybrid && tape != KERF_NO_TAPE) {
+                const float voxelEdge = 1.0 / voxelScale;
+                const float sHit = exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
+                                                 w >= 0.0 ? s + w / voxelScale : -1.0, searched);
+                if (sHit >= 0.0) {
+                    hit.tape = tape;
+                    hit.point = (e + max(sHit - float(KERF_EXACT_EPSILON) * voxelEdge, 0.0) * dir) * tileSize;
+                    hit.normal = -dir;
+                    hit.feature = kNoFeature;
+                    hit.depth = tEnter + sHit * tileSize;
+                    return true;
+                }
+            }
             if (w >= 0.0) {
                 const vec3 u = clamp(o + w * dir, 0.0, 1.0);
                 vec3 nrm = vec3(0.0);
@@ -295,6 +711,8 @@ Hit traceRay(vec3 origin, vec3 direction)
     hit.depth = kInf;
     hit.normal = vec3(0.0);
     hit.feature = kNoFeature;
+    hit.tape = KERF_NO_TAPE;
+    hit.point = vec3(0.0);
 
     const vec3 dir = vec3(nonZero(direction.x), nonZero(direction.y), nonZero(direction.z));
     const vec3 invDir = 1.0 / dir;
@@ -350,11 +768,14 @@ Hit traceRay(vec3 origin, vec3 direction)
             hit.feature = kNoFeature;
             return hit;
         }
-        if (value != kEmptyTile && traceTile(value, tile, origin, dir, invDir, tileSize, tEnter, hit)) {
+        const uint tape =
+            kHybrid && value != kEmptyTile && P.options.x == 1u ? word(P.entries, value * 8u + 5u) : KERF_NO_TAPE;
+        if (value != kEmptyTile && traceTile(value, tape, tile, origin, dir, invDir, tileSize, tEnter, hit)) {
             if (hit.depth > tLeave) { // past the section plane: in the part cut away
                 hit.depth = kInf;
                 hit.normal = vec3(0.0);
                 hit.feature = kNoFeature;
+                hit.tape = KERF_NO_TAPE;
             }
             return hit;
         }
@@ -388,6 +809,14 @@ void main()
         direction = normalize(P.forward.xyz + (u * halfHeight) * P.right.xyz + (v * halfHeight) * P.up.xyz);
     }
     Hit h = traceRay(origin, direction);
+    if (kHybrid && h.tape != KERF_NO_TAPE) {
+        // The exact field's gradient at the refined hit (ReferenceTracer.cpp, traceRay).
+        uint feature = kNoFeature;
+        const vec4 fg = evaluateTileTapeGradient(h.tape, h.point, feature);
+        const float len = length(fg.yzw);
+        h.normal = len > 0.0 ? fg.yzw / len : h.normal;
+        h.feature = feature;
+    }
     const uint i = px.x + P.image.x * px.y;
     Floats(P.outDepth).f[i] = h.depth;
     Vec4s(P.outNormal).v[i] = vec4(h.normal, 0.0);

@@ -287,6 +287,14 @@ TEST(TracerAgreement, TilesOfMixedDepths)
     const double coarse = layout.voxelSizeAt(layout.levels - 1);
     expectAgreement(tape, buffers, coarse, "iso", 160, 120, 0.9);
     expectAgreement(tape, buffers, coarse, "front", 160, 120, 0.9);
+    // The hybrid refinement sees through a tile's depth to the exact field:
+    // coarse and fine tiles alike agree to a hundredth of a coarse voxel.
+    const Camera camera = Camera::standardView(tape.bounds(), "iso", 160, 120);
+    const Agreement a = compare(traceVoxels(buffers, camera, 2, {}, TraceQuality::Exact),
+                                traceExact(tape, camera, 1e-3, 2), 0.01 * coarse, 2.0);
+    EXPECT_GE(a.maskAgree, 0.999);
+    EXPECT_GE(a.depthWithin, 0.99);
+    EXPECT_GE(a.normalWithin, 0.99);
 }
 
 // A section view is the exact image of the part intersected with the kept
@@ -334,6 +342,186 @@ TEST(TracerSection, MatchesTheExactImageOfTheClippedPart)
     // Disabled: the same picture as without a section.
     const Camera camera = Camera::standardView(tape.bounds(), "iso", 80, 60);
     EXPECT_EQ(traceVoxels(buffers, camera, 2, Section{}).depth, traceVoxels(buffers, camera, 2).depth);
+}
+
+// ---- The hybrid refinement (TraceQuality::Exact) ----
+
+// How an image departs from the exact one, over every pixel and over the
+// pixels at the exact image's edges (silhouettes, creases, rims: where a
+// neighbour misses or turns by more than 20 degrees).
+struct Departure {
+    double maskAgree = 0.0, meanDepth = 0.0, normalWithin = 0.0; // all pixels (depth, normals: hit both ways)
+    double edgeMaskAgree = 0.0, edgeMeanDepth = 0.0, edgeNormalWithin = 0.0;
+    int edgePixels = 0;
+};
+
+Departure departure(const TraceImage& img, const TraceImage& exact, double normalDegrees = 2.0)
+{
+    const double cosMax = std::cos(normalDegrees * std::numbers::pi / 180.0);
+    const double cosEdge = std::cos(20.0 * std::numbers::pi / 180.0);
+    struct Sums {
+        int pixels = 0, agree = 0, both = 0, normalOk = 0;
+        double depth = 0.0;
+    } all, edge;
+    for (int y = 0; y < exact.height; ++y)
+        for (int x = 0; x < exact.width; ++x) {
+            const std::size_t i = exact.index(x, y);
+            bool isEdge = false;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int nx = x + dx, ny = y + dy;
+                    if (nx < 0 || ny < 0 || nx >= exact.width || ny >= exact.height) continue;
+                    const std::size_t j = exact.index(nx, ny);
+                    if (exact.hit(i) != exact.hit(j) ||
+                        (exact.hit(i) && glm::dot(exact.normal[i], exact.normal[j]) < cosEdge))
+                        isEdge = true;
+                }
+            for (Sums* s : {&all, isEdge ? &edge : nullptr}) {
+                if (!s) continue;
+                ++s->pixels;
+                s->agree += img.hit(i) == exact.hit(i);
+                if (!img.hit(i) || !exact.hit(i)) continue;
+                ++s->both;
+                s->depth += std::abs(double(img.depth[i]) - double(exact.depth[i]));
+                s->normalOk += glm::dot(img.normal[i], exact.normal[i]) >= cosMax;
+            }
+        }
+    Departure d;
+    d.maskAgree = double(all.agree) / std::max(1, all.pixels);
+    d.meanDepth = all.depth / std::max(1, all.both);
+    d.normalWithin = double(all.normalOk) / std::max(1, all.both);
+    d.edgePixels = edge.pixels;
+    d.edgeMaskAgree = double(edge.agree) / std::max(1, edge.pixels);
+    d.edgeMeanDepth = edge.depth / std::max(1, edge.both);
+    d.edgeNormalWithin = double(edge.normalOk) / std::max(1, edge.both);
+    std::printf("    mask %.4f, mean depth error %.4f mm, normals within 2 deg %.4f; %d edge pixels: mask %.4f, "
+                "depth %.4f mm, normals %.4f\n",
+                d.maskAgree, d.meanDepth, d.normalWithin, d.edgePixels, d.edgeMaskAgree, d.edgeMeanDepth,
+                d.edgeNormalWithin);
+    return d;
+}
+
+// A part made of sharp edges, rims and creases: two boxes meeting at an
+// angle (a concave crease where they intersect), less a tilted cylinder
+// (a hole with a sharp rim), voxelized coarsely (2 mm voxels on a 60 mm part).
+const char* kSharpPart = R"({"id":"d","type":"difference","children":[
+    {"id":"u","type":"union","children":[
+      {"id":"b","type":"box","size":[60,40,30],"transform":{"rotate":[0,0,20]}},
+      {"id":"c","type":"box","size":[20,50,12],"transform":{"translate":[-18,-10,14],"rotate":[30,0,0]}}]},
+    {"id":"h","type":"cylinder","radius":9,"height":50,"transform":{"translate":[8,2,0],"rotate":[10,0,0]}}]})";
+
+TEST(TracerExact, SharpensEdgesAndIntersections)
+{
+    const Tape tape = compileTape(doc(kSharpPart));
+    const FlatVoxelBuffers buffers = voxels(tape, 2.0);
+    ASSERT_FALSE(buffers.tapes.empty());
+    for (const char* view : {"iso", "top", "front"}) {
+        SCOPED_TRACE(view);
+        const Camera camera = Camera::standardView(tape.bounds(), view, 320, 240);
+        const TraceImage exact = traceExact(tape, camera, 1e-3, 2);
+        std::printf("  %s, voxels:\n", view);
+        const Departure v = departure(traceVoxels(buffers, camera, 2, {}, TraceQuality::Voxels), exact);
+        std::printf("  %s, hybrid:\n", view);
+        const Departure h = departure(traceVoxels(buffers, camera, 2, {}, TraceQuality::Exact), exact);
+        ASSERT_GT(h.edgePixels, 1000);
+        // Everywhere: depth to a hundredth of a millimetre (the voxels:
+        // a tenth), normals within 2 degrees on nearly every pixel.
+        EXPECT_LT(h.meanDepth, 0.01);
+        EXPECT_LT(h.meanDepth, v.meanDepth / 5.0);
+        EXPECT_GE(h.maskAgree, 0.999);
+        EXPECT_GE(h.normalWithin, 0.995);
+        EXPECT_GT(h.normalWithin, v.normalWithin + 0.1);
+        // At the edges, where the voxels round off and fill in (there about
+        // 80% of the pixels agree in coverage, 15% in normal).
+        EXPECT_GE(h.edgeMaskAgree, 0.98);
+        EXPECT_GT(h.edgeMaskAgree, v.edgeMaskAgree + 0.1);
+        EXPECT_LT(h.edgeMeanDepth, v.edgeMeanDepth / 10.0);
+        EXPECT_GE(h.edgeNormalWithin, 0.97);
+        EXPECT_GT(h.edgeNormalWithin, v.edgeNormalWithin + 0.5);
+    }
+}
+
+TEST(TracerExact, AgreesWithTheExactTracerOnEveryShape)
+{
+    // The voxel agreement tests, held to a tighter standard. Depth is
+    // compared across the surface (the depth difference times the cosine
+    // of the incidence): along rays grazing a silhouette the two tracers'
+    // stopping rules (field below 1e-3 mm, below 1e-3 voxel) put equally
+    // good hits far apart in depth.
+    const Tape sphere = sphereTape(25.0);
+    const Tape chair = compileTape(Document::load(fs::path(KERF_EXAMPLES_DIR) / "side-chair.kerf"));
+    const Tape rotated = compileTape(doc(R"({"id":"b","type":"box","size":[60,40,25],"round":2,)"
+                                         R"("transform":{"rotate":[0,0,30]}})"));
+    for (const auto& [tape, featureSize] :
+         {std::pair<const Tape*, double>{&sphere, 1.0}, {&rotated, 1.0}, {&chair, 2.0}}) {
+        const FlatVoxelBuffers buffers = voxels(*tape, featureSize);
+        for (const char* view : {"iso", "right"}) {
+            SCOPED_TRACE(view);
+            const Camera camera = Camera::standardView(tape->bounds(), view, 200, 150);
+            const TraceImage h = traceVoxels(buffers, camera, 2, {}, TraceQuality::Exact);
+            const TraceImage e = traceExact(*tape, camera, 1e-3, 2);
+            const Agreement a = compare(h, e, 0.02 * featureSize, 2.0);
+            int both = 0, across = 0;
+            for (int y = 0; y < camera.height(); ++y)
+                for (int x = 0; x < camera.width(); ++x) {
+                    const std::size_t i = h.index(x, y);
+                    if (!h.hit(i) || !e.hit(i)) continue;
+                    ++both;
+                    const double cosine = std::abs(glm::dot(glm::dvec3(e.normal[i]), camera.ray(x, y).direction));
+                    across += std::abs(double(h.depth[i]) - double(e.depth[i])) * cosine <= 0.01 * featureSize;
+                }
+            EXPECT_GE(a.maskAgree, 0.999);
+            EXPECT_GE(double(across), 0.999 * both);
+            EXPECT_GE(a.normalWithin, 0.99);
+            EXPECT_GE(a.featureAgree, 0.99);
+        }
+    }
+}
+
+TEST(TracerExact, TilesWithoutATapeAreTracedOnTheirVoxels)
+{
+    const Tape tape = compileTape(doc(kSharpPart));
+    FlatVoxelBuffers buffers = voxels(tape, 2.0);
+    const Camera camera = Camera::standardView(tape.bounds(), "iso", 160, 120);
+    const TraceImage voxelOnly = traceVoxels(buffers, camera, 2);
+    const TraceImage hybrid = traceVoxels(buffers, camera, 2, {}, TraceQuality::Exact);
+    EXPECT_NE(voxelOnly.depth, hybrid.depth) << "the refinement should change the picture";
+    // The voxel path does not look at the tapes.
+    FlatVoxelBuffers stripped = buffers;
+    for (TileEntry& e : stripped.entries) e.tape = voxel::kNoTape;
+    stripped.tapes.clear();
+    EXPECT_EQ(traceVoxels(stripped, camera, 2).depth, voxelOnly.depth);
+    // Without tapes, the exact quality falls back to the voxels, tile by tile.
+    const TraceImage fallback = traceVoxels(stripped, camera, 2, {}, TraceQuality::Exact);
+    EXPECT_EQ(fallback.depth, voxelOnly.depth);
+    EXPECT_EQ(fallback.feature, voxelOnly.feature);
+    // The cost measure: exact evaluations only where the refinement runs.
+    const Ray centre = camera.ray(80, 60);
+    EXPECT_EQ(traceRay(buffers, centre).evaluations, 0u);
+    const RayHit refined = traceRay(buffers, centre, {}, TraceQuality::Exact);
+    ASSERT_TRUE(refined.hit());
+    EXPECT_GT(refined.evaluations, 7u); // at least the normal's and the feature's
+}
+
+TEST(TracerExact, SectionsAndCapsStillMatchTheExactImage)
+{
+    const char* part = R"({"id":"u","type":"difference","children":[)"
+                       R"({"id":"b","type":"box","size":[60,40,30],"round":3,"transform":{"rotate":[0,0,20]}},)"
+                       R"({"id":"h","type":"cylinder","radius":6,"height":50,"transform":{"translate":[5,2,0]}}]})";
+    const Tape tape = compileTape(doc(part));
+    const FlatVoxelBuffers buffers = voxels(tape, 1.0);
+    const Section section = Section::alongAxis(0, 3.0);
+    const Tape clipped = compileTape(doc(std::string(R"({"id":"i","type":"intersection","children":[)") + part +
+                                         R"(,{"id":"cut","type":"halfspace","normal":[1,0,0],"offset":3}]})"));
+    const Camera camera = Camera::standardView(tape.bounds(), "right", 160, 120);
+    const TraceImage v = traceVoxels(buffers, camera, 2, section, TraceQuality::Exact);
+    const Agreement a = compare(v, traceExact(clipped, camera, 1e-3, 2), 0.05, 5.0);
+    EXPECT_GE(a.maskAgree, 0.995);
+    EXPECT_GE(a.depthWithin, 0.99);
+    EXPECT_GE(a.normalWithin, 0.98);
+    std::size_t caps = 0;
+    for (std::uint32_t f : v.feature) caps += f == kSectionCap;
+    EXPECT_GT(caps, 1000u);
 }
 
 TEST(TracerImage, ShadesHitsAndBackground)

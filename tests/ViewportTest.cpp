@@ -87,36 +87,41 @@ TEST_P(EveryExample, MatchesTheCpuReferenceTracer)
     const double extent = std::max({tape.bounds().size().x, tape.bounds().size().y, tape.bounds().size().z});
     const GridLayout layout = GridLayout::choose(tape.bounds(), extent / 400.0);
     const FlatVoxelBuffers buffers = FlatVoxelBuffers::flatten(voxelize(tape, layout));
+    ASSERT_FALSE(buffers.tapes.empty()) << "surface tiles carry their exact tapes";
     vk::ComputeTracer tracer(*context);
     tracer.setVoxels(buffers);
-    for (const char* view : {"iso", "front", "top"}) {
-        const Camera camera = Camera::standardView(tape.bounds(), view, 320, 240);
-        const TraceImage gpu = tracer.trace(camera);
-        const TraceImage cpu = traceVoxels(buffers, camera);
-        // Float arithmetic may differ in the last bits between the compilers
-        // (fused multiply-adds): allow a hundredth of a voxel in depth.
+    // Both qualities: the voxels alone, and the hybrid refinement on the exact tapes.
+    for (const TraceQuality quality : {TraceQuality::Voxels, TraceQuality::Exact}) {
+        SCOPED_TRACE(std::string(traceQualityName(quality)));
+        for (const char* view : {"iso", "front", "top"}) {
+            const Camera camera = Camera::standardView(tape.bounds(), view, 320, 240);
+            const TraceImage gpu = tracer.trace(camera, nullptr, {}, quality);
+            const TraceImage cpu = traceVoxels(buffers, camera, 0, {}, quality);
+            // Float arithmetic may differ in the last bits between the compilers
+            // (fused multiply-adds): allow a hundredth of a voxel in depth.
+            const Comparison c = compare(gpu, cpu, 0.01 * layout.voxelSize + 1e-4 * extent);
+            SCOPED_TRACE(std::string(view) + " view");
+            EXPECT_GT(c.bothHit, 400u) << "the part should show (thin parts seen edge-on fill little of the image)";
+            EXPECT_LE(c.holes, c.pixels / 1000) << "pixels where the reference has surface and the GPU none";
+            EXPECT_LE(c.extra, c.pixels / 1000);
+            EXPECT_GE(double(c.depthClose), 0.995 * double(c.bothHit));
+            EXPECT_GE(double(c.normalClose), 0.99 * double(c.bothHit));
+            EXPECT_GE(double(c.featureSame), 0.99 * double(c.bothHit));
+        }
+        // A section through the middle, seen from the cut side: caps and all.
+        const Section section = Section::alongAxis(0, tape.bounds().center().x);
+        const Camera camera = Camera::standardView(tape.bounds(), "right", 320, 240);
+        const TraceImage gpu = tracer.trace(camera, nullptr, section, quality);
+        const TraceImage cpu = traceVoxels(buffers, camera, 0, section, quality);
         const Comparison c = compare(gpu, cpu, 0.01 * layout.voxelSize + 1e-4 * extent);
-        SCOPED_TRACE(std::string(view) + " view");
-        EXPECT_GT(c.bothHit, 400u) << "the part should show (thin parts seen edge-on fill little of the image)";
-        EXPECT_LE(c.holes, c.pixels / 1000) << "pixels where the reference has surface and the GPU none";
+        std::size_t caps = 0;
+        for (std::uint32_t f : cpu.feature) caps += f == kSectionCap;
+        EXPECT_GT(caps, 0u) << "the plane through the middle cuts the part";
+        EXPECT_LE(c.holes, c.pixels / 1000);
         EXPECT_LE(c.extra, c.pixels / 1000);
         EXPECT_GE(double(c.depthClose), 0.995 * double(c.bothHit));
-        EXPECT_GE(double(c.normalClose), 0.99 * double(c.bothHit));
         EXPECT_GE(double(c.featureSame), 0.99 * double(c.bothHit));
     }
-    // A section through the middle, seen from the cut side: caps and all.
-    const Section section = Section::alongAxis(0, tape.bounds().center().x);
-    const Camera camera = Camera::standardView(tape.bounds(), "right", 320, 240);
-    const TraceImage gpu = tracer.trace(camera, nullptr, section);
-    const TraceImage cpu = traceVoxels(buffers, camera, 0, section);
-    const Comparison c = compare(gpu, cpu, 0.01 * layout.voxelSize + 1e-4 * extent);
-    std::size_t caps = 0;
-    for (std::uint32_t f : cpu.feature) caps += f == kSectionCap;
-    EXPECT_GT(caps, 0u) << "the plane through the middle cuts the part";
-    EXPECT_LE(c.holes, c.pixels / 1000);
-    EXPECT_LE(c.extra, c.pixels / 1000);
-    EXPECT_GE(double(c.depthClose), 0.995 * double(c.bothHit));
-    EXPECT_GE(double(c.featureSame), 0.99 * double(c.bothHit));
     EXPECT_EQ(context->validationErrors(), 0) << (context->validationMessages().empty()
                                                       ? std::string()
                                                       : context->validationMessages().front());
@@ -181,6 +186,8 @@ TEST_F(VulkanTracer, StreamsUnderTheBudgetAndSwitchesOnlyWhenEveryTileIsResident
     vk::ComputeTracer tracer(*context);
     tracer.setVoxels(FlatVoxelBuffers::flatten(*a));
     const TraceImage imageA = tracer.trace(camera);
+    const TraceImage exactA = tracer.trace(camera, nullptr, {}, TraceQuality::Exact);
+    ASSERT_FALSE(sameImage(imageA, exactA)) << "the hybrid refinement should show";
     tracer.setVoxels(FlatVoxelBuffers::flatten(*b));
     const TraceImage imageB = tracer.trace(camera);
     ASSERT_FALSE(sameImage(imageA, imageB)) << "the edit should show";
@@ -208,6 +215,8 @@ TEST_F(VulkanTracer, StreamsUnderTheBudgetAndSwitchesOnlyWhenEveryTileIsResident
     }
     EXPECT_GT(frames, 10) << "the budget should spread the upload over many frames";
     EXPECT_TRUE(sameImage(tracer.trace(camera, streamer.resident()), imageA));
+    // The tiles' exact tapes travel in their blobs: the hybrid sees the same tapes.
+    EXPECT_TRUE(sameImage(tracer.trace(camera, streamer.resident(), nullptr, {}, TraceQuality::Exact), exactA));
 
     // The edit: only the changed tiles travel, and the old picture stays
     // until they are all there.
@@ -406,6 +415,12 @@ TEST_F(VulkanTracer, TracesOnlyWhenTheViewOrTheVoxelsChange)
     EXPECT_TRUE(renderer.lastFrameTraced());
     tracer.setVoxels(FlatVoxelBuffers::flatten(voxelize(tape, GridLayout::choose(tape.bounds(), 1.0))));
     renderer.render(tracer, tracer.voxels(), Camera::standardView(tape.bounds(), "top", 200, 120), tape.features());
+    EXPECT_TRUE(renderer.lastFrameTraced());
+    // The quality switch: traced again.
+    vk::SceneOptions exact;
+    exact.quality = TraceQuality::Exact;
+    renderer.render(tracer, tracer.voxels(), Camera::standardView(tape.bounds(), "top", 200, 120), tape.features(),
+                    exact);
     EXPECT_TRUE(renderer.lastFrameTraced());
     EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
 }

@@ -25,7 +25,8 @@ namespace kerf {
 namespace {
 
 const char* kRenderHelp = R"(Usage: kerf render FILE.kerf -o OUT.png [--size WxH] [--view NAME]
-                   [--feature-size MM] [--ortho] [--cpu] [--json]
+                   [--feature-size MM] [--quality voxels|exact] [--ortho] [--cpu]
+                   [--json]
 
 Voxelizes the part and traces it with the Vulkan compute tracer, without a
 window, then writes a shaded PNG.
@@ -35,6 +36,9 @@ Options:
   --size WxH            image size in pixels (default 1280x960)
   --view NAME           iso (default), front, back, left, right, top, bottom
   --feature-size MM     voxel size (default: the document's)
+  --quality Q           voxels (default): the surface interpolated in the
+                        voxels; exact: refined on the exact field near the
+                        surface, for sharp edges and intersections (slower)
   --ortho               orthographic instead of perspective projection
   --cpu                 use the CPU reference tracer instead of Vulkan
   --json                print the figures as one JSON object
@@ -76,7 +80,7 @@ double msSince(std::chrono::steady_clock::time_point t)
 int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
 {
     try {
-        const Arguments a(args, {"-o", "--output", "--size", "--view", "--feature-size"},
+        const Arguments a(args, {"-o", "--output", "--size", "--view", "--feature-size", "--quality"},
                           {"--ortho", "--cpu", "--json", "--help", "-h"});
         if (a.has("--help") || a.has("-h")) {
             out << kRenderHelp;
@@ -87,6 +91,9 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
         if (!output) throw UsageError("needs -o OUT.png");
         const Size size = a.value("--size") ? parseSize(*a.value("--size")) : Size{};
         const std::string view = a.value("--view").value_or("iso");
+        const std::string qualityName = a.value("--quality").value_or("voxels");
+        const std::optional<TraceQuality> quality = parseTraceQuality(qualityName);
+        if (!quality) throw UsageError("--quality must be voxels or exact, not '" + qualityName + "'");
         const std::filesystem::path file = a.positional()[0];
 
         const Document doc = Document::load(file);
@@ -133,10 +140,11 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
                 t0 = std::chrono::steady_clock::now();
                 vk::SceneOptions options;
                 options.lights = ShadeOptions::forCamera(camera);
+                options.quality = *quality;
                 picture = renderer.render(tracer, tracer.voxels(), camera, tape.features(), options);
                 traceMs = msSince(t0);
                 gpuMs = tracer.lastTiming().gpuMilliseconds;
-                image = tracer.trace(camera); // for the figures below
+                image = tracer.trace(camera, nullptr, {}, *quality); // for the figures below
                 device = ctx.deviceDescription();
                 usedVulkan = true;
             } catch (const vk::VulkanError& e) {
@@ -146,7 +154,7 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
         }
         if (!usedVulkan) {
             t0 = std::chrono::steady_clock::now();
-            image = traceVoxels(buffers, camera);
+            image = traceVoxels(buffers, camera, 0, {}, *quality);
             traceMs = msSince(t0);
             device = "CPU reference tracer";
             picture = shade(image, tape.features(), ShadeOptions::forCamera(camera));
@@ -163,6 +171,7 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
             j["width"] = size.width;
             j["height"] = size.height;
             j["view"] = view;
+            j["quality"] = qualityName;
             j["device"] = device;
             j["vulkan"] = usedVulkan;
             j["feature_size_mm"] = layout.voxelSize;
@@ -174,7 +183,7 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
             out << j.dump(2) << "\n";
         } else {
             out << *output << ": " << size.width << "x" << size.height << " " << view << " view of " << file.string()
-                << "\n  device:       " << device << "\n  voxels:       " << snap.populatedVoxels() << " of "
+                << "\n  quality:      " << qualityName << "\n  device:       " << device << "\n  voxels:       " << snap.populatedVoxels() << " of "
                 << layout.voxelSize << " mm, " << snap.bytes() / 1024 << " KiB, built in " << long(voxelizeMs)
                 << " ms\n  trace:        " << traceMs << " ms";
             if (gpuMs >= 0.0) out << " (GPU " << gpuMs << " ms)";

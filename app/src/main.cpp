@@ -28,8 +28,10 @@ Commands:
                        write it as STL, binary by default; print triangles,
                        time and the mesh's closedness
   render FILE.kerf -o OUT.png [--size WxH] [--view iso|front|top|...]
+         [--quality voxels|exact]
                        voxelize and trace the part with the Vulkan compute
-                       tracer, headless, and write the image
+                       tracer, headless, and write the image; exact refines
+                       the surface on the exact field (sharp edges)
 
 Options:
   --help               show this help (also: kerf COMMAND --help)

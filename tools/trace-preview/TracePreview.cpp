@@ -4,8 +4,9 @@
 //
 //   kerf_trace_preview FILE.kerf OUT.png [--view iso] [--size 800x600]
 //       [--feature-size MM] [--exact] [--ortho] [--threads N] [--repeat N]
-//       [--diff DIFF.png] [--target X,Y,Z] [--zoom F]
+//       [--diff DIFF.png] [--target X,Y,Z] [--zoom F] [--quality voxels|exact]
 //
+// --quality exact turns on the hybrid refinement (kerf/tracer/TraceQuality.hpp).
 // --target looks at that world point (mm) instead of the part's centre, from
 // the same direction; --zoom F brings the camera F times closer (perspective)
 // or shows an F times smaller field (orthographic), for close-ups.
@@ -55,6 +56,7 @@ struct Options {
     std::string diff;
     std::optional<glm::dvec3> target;
     double zoom = 1.0;
+    kerf::TraceQuality quality = kerf::TraceQuality::Voxels;
 };
 
 struct UsageError {
@@ -66,7 +68,7 @@ void usage(std::ostream& out)
     out << "usage: kerf_trace_preview FILE.kerf OUT.png [--view iso|front|back|left|right|top|bottom]\n"
            "                          [--size WxH] [--feature-size MM] [--exact] [--ortho]\n"
            "                          [--threads N] [--repeat N] [--diff DIFF.png]\n"
-           "                          [--target X,Y,Z] [--zoom F]\n";
+           "                          [--target X,Y,Z] [--zoom F] [--quality voxels|exact]\n";
 }
 
 double parseNumber(const std::string& flag, const std::string& text)
@@ -113,6 +115,11 @@ Options parse(int argc, char** argv)
         } else if (a == "--zoom") {
             o.zoom = parseNumber(a, value());
             if (!(o.zoom > 0.0)) throw UsageError{"--zoom must be positive"};
+        } else if (a == "--quality") {
+            const std::string q = value();
+            const auto quality = kerf::parseTraceQuality(q);
+            if (!quality) throw UsageError{"--quality must be voxels or exact, not " + q};
+            o.quality = *quality;
         } else if (a == "--diff") {
             o.diff = value();
         } else if (a == "--exact") {
@@ -148,6 +155,7 @@ void writeDiff(const kerf::TraceImage& voxel, const kerf::TraceImage& exact, dou
     out.height = voxel.height;
     out.pixels.assign(voxel.depth.size() * 4, 255);
     long onlyVoxel = 0, onlyExact = 0, both = 0, depthOff = 0, normalOff = 0;
+    std::vector<double> depthErrors, angleErrors; // of pixels hit both ways: mm, degrees
     const float cos10 = std::cos(10.0f * 3.14159265f / 180.0f);
     for (std::size_t i = 0; i < voxel.depth.size(); ++i) {
         const bool hv = voxel.hit(i), he = exact.hit(i);
@@ -169,6 +177,8 @@ void writeDiff(const kerf::TraceImage& voxel, const kerf::TraceImage& exact, dou
             ++both;
             const float dn = voxel.normal[i].x * exact.normal[i].x + voxel.normal[i].y * exact.normal[i].y +
                              voxel.normal[i].z * exact.normal[i].z;
+            depthErrors.push_back(std::abs(double(voxel.depth[i]) - double(exact.depth[i])));
+            angleErrors.push_back(std::acos(std::clamp(double(dn), -1.0, 1.0)) * 180.0 / 3.14159265358979);
             if (std::abs(double(voxel.depth[i]) - double(exact.depth[i])) > voxelSize) {
                 ++depthOff;
                 set(240, 200, 0);
@@ -187,6 +197,19 @@ void writeDiff(const kerf::TraceImage& voxel, const kerf::TraceImage& exact, dou
                 onlyVoxel, onlyExact, 100.0 * (1.0 - double(onlyVoxel + onlyExact) / px), both,
                 both ? 100.0 * double(depthOff) / double(both) : 0.0, voxelSize,
                 both ? 100.0 * double(normalOff) / double(both) : 0.0);
+    auto quantile = [](std::vector<double> v, double q) {
+        if (v.empty()) return 0.0;
+        std::sort(v.begin(), v.end());
+        return v[std::min(v.size() - 1, std::size_t(q * double(v.size())))];
+    };
+    double depthSum = 0.0, angleSum = 0.0;
+    for (double d : depthErrors) depthSum += d;
+    for (double a : angleErrors) angleSum += a;
+    const double n = std::max<double>(1.0, double(depthErrors.size()));
+    std::printf("depth error mm: mean %.4g, median %.4g, p99 %.4g; normal error degrees: mean %.3g, median %.3g, "
+                "p99 %.3g\n",
+                depthSum / n, quantile(depthErrors, 0.5), quantile(depthErrors, 0.99), angleSum / n,
+                quantile(angleErrors, 0.5), quantile(angleErrors, 0.99));
     kerf::writePng(path, out);
 }
 
@@ -240,16 +263,32 @@ int run(const Options& o)
         const kerf::VoxelSnapshot snapshot = kerf::voxelize(tape, layout, vo);
         const kerf::FlatVoxelBuffers buffers = kerf::FlatVoxelBuffers::flatten(snapshot);
         std::printf("grid %dx%dx%d tiles of %.3f mm, %d levels, voxel %.4f mm; %zu surface tiles, %zu voxels, "
-                    "%.1f MB; voxelized in %.0f ms\n",
+                    "%.1f MB (of which exact tapes %.3f MB); voxelized in %.0f ms\n",
                     layout.dims.x, layout.dims.y, layout.dims.z, layout.tileSize, layout.levels, layout.voxelSize,
-                    buffers.entries.size(), buffers.leafData.size(), double(buffers.bytes()) / 1e6, msSince(t0));
+                    buffers.entries.size(), buffers.leafData.size(), double(buffers.bytes()) / 1e6,
+                    double(buffers.tapes.size() * sizeof(std::uint32_t)) / 1e6, msSince(t0));
         double best = 1e300;
         for (int r = 0; r < o.repeat; ++r) {
             const auto t1 = Clock::now();
-            image = kerf::traceVoxels(buffers, camera, o.threads);
+            image = kerf::traceVoxels(buffers, camera, o.threads, {}, o.quality);
             best = std::min(best, msSince(t1));
         }
-        std::printf("voxel trace %dx%d: %.1f ms (best of %d)\n", o.width, o.height, best, o.repeat);
+        std::printf("voxel trace (quality %s) %dx%d: %.1f ms (best of %d)\n",
+                    std::string(kerf::traceQualityName(o.quality)).c_str(), o.width, o.height, best, o.repeat);
+        if (o.quality == kerf::TraceQuality::Exact) {
+            // The refinement's cost in exact tape evaluations (one gradient counts as one).
+            std::size_t evaluations = 0, hits = 0, refined = 0;
+            for (int y = 0; y < o.height; ++y)
+                for (int x = 0; x < o.width; ++x) {
+                    const kerf::RayHit h = kerf::traceRay(buffers, camera.ray(x, y), {}, o.quality);
+                    evaluations += h.evaluations;
+                    hits += h.hit();
+                    refined += h.hit() && h.evaluations > 0;
+                }
+            std::printf("exact evaluations: %.2f per pixel, %.2f per pixel hit; %zu of %zu hits refined\n",
+                        double(evaluations) / (double(o.width) * o.height),
+                        double(evaluations) / double(std::max<std::size_t>(hits, 1)), refined, hits);
+        }
         if (!o.diff.empty()) {
             const auto t2 = Clock::now();
             const kerf::TraceImage exact = kerf::traceExact(tape, camera, 1e-3, o.threads);

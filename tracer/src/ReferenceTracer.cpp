@@ -1,5 +1,8 @@
 #include "kerf/tracer/ReferenceTracer.hpp"
 
+#include "kerf/tracer/ExactRefinement.h"
+#include "kerf/voxelizer/TileTape.hpp"
+
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -140,6 +143,154 @@ float firstCrossing(const Cubic& c, float wEnd)
 // and the slab and cell exits need no special case (1e-20 bends nothing).
 float nonZero(float v) { return std::fabs(v) < 1e-20f ? (v < 0.0f ? -1e-20f : 1e-20f) : v; }
 
+// The hybrid refinement (TraceQuality::Exact). The ray inside a tile is
+// e + s * dir in tile units; the tile's exact tape takes tile-relative
+// millimetres.
+
+// The exact field at ray parameter s, in tile edges.
+float exactAt(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& dir, float tileSize, float s,
+              std::uint32_t& evaluations)
+{
+    ++evaluations;
+    return voxel::evaluateTileTape(tape, (e + s * dir) * tileSize) / tileSize;
+}
+
+// The ray's first crossing of the exact surface around a populated voxel
+// whose segment is [s0, s1]: searched on [s0 - margin, s1 + margin] within
+// the tile, and not before `searched` (up to where an earlier search found
+// the field positive, moved on when this one finds nothing). `sTrilinear`
+// is the trilinear crossing in the voxel (or -1): where the exact field is
+// inside there, it brackets the crossing. Returns the crossing's parameter,
+// or -1 when the window holds none.
+//
+// From the window's start the search either walks back (the start is
+// inside: the surface was crossed where no voxel is populated, an edge
+// sharper than the voxels; a step of |g| never passes the crossing, nor
+// goes back before what is known outside) or sphere-traces forward, which
+// never passes a crossing (the field is 1-Lipschitz) but closes in on one
+// slowly unless the ray meets the surface head-on. So once a crossing is
+// bracketed (the trilinear crossing is inside, a step landed inside, or the
+// steps ran out and the window's end is inside) a few more steps tighten
+// the bracket from the outside and the Illinois variant of regula falsi
+// finishes it.
+//
+// Written as one loop with one evaluation per iteration, whose phase says
+// what the value means and where the next one goes: the GPU compiler then
+// inlines the tape interpreter once.
+constexpr int kStart = 0, kBack = 1, kProbe = 2, kMarch = 3, kEnd = 4, kRefine = 5;
+constexpr int kMaxEvaluations = 3 + KERF_EXACT_STEPS + KERF_EXACT_REFINEMENTS;
+
+float exactCrossing(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& dir, float tileSize, float s0,
+                    float s1, float sTileEnd, float voxelEdge, float sTrilinear, float& searched,
+                    std::uint32_t& evaluations)
+{
+    const float margin = float(KERF_EXACT_MARGIN) * voxelEdge;
+    const float eps = float(KERF_EXACT_EPSILON) * voxelEdge;
+    const float a = glm::max(searched, s0 - margin);
+    const float b = glm::min(s1 + margin, sTileEnd);
+    if (!(a < b)) return -1.0f;
+    int phase = kStart, count = 0;
+    float at = a;                 // where the field is evaluated next
+    float lo = a, gLo = 0.0f;     // outside: the march's point, or the bracket's outer end
+    float hi = -1.0f, gHi = 0.0f; // inside, ahead: the bracket's inner end (hi < 0: none)
+    int side = 0;                 // regula falsi: the end moved last (-1 lo, 1 hi)
+    for (int k = 0; k < kMaxEvaluations; ++k) {
+        const float g = exactAt(tape, e, dir, tileSize, at, evaluations);
+        // What the value says.
+        if (phase == kStart) {
+            if (g <= 0.0f) {
+                phase = kBack;
+            } else {
+                gLo = g;
+                phase = sTrilinear > a && sTrilinear < b ? kProbe : kMarch;
+                if (phase == kProbe) {
+                    at = sTrilinear;
+                    continue;
+                }
+            }
+        } else if (phase == kProbe) {
+            if (g <= 0.0f) {
+                hi = sTrilinear;
+                gHi = g;
+            }
+            phase = kMarch;
+        } else if (phase == kMarch) {
+            if (g <= 0.0f) {
+                hi = at; // landed inside (a sliver of float): bracketed
+                gHi = g;
+                phase = kRefine;
+                count = 0;
+            } else {
+                lo = at;
+                gLo = g;
+            }
+        } else if (phase == kEnd) {
+            if (g <= 0.0f) {
+                hi = b;
+                gHi = g;
+            }
+            if (hi < 0.0f) {
+                searched = lo;
+                return -1.0f;
+            }
+            phase = kRefine;
+            count = 0;
+        } else if (phase == kRefine) {
+            if (glm::abs(g) < eps) return at;
+            // Illinois: an end kept twice in a row has its value halved.
+            if (g <= 0.0f) {
+                hi = at;
+                gHi = g;
+                if (side == 1) gLo *= 0.5f;
+                side = 1;
+            } else {
+                lo = at;
+                gLo = g;
+                if (side == -1) gHi *= 0.5f;
+                side = -1;
+            }
+            ++count;
+        }
+        // Where the next one goes.
+        if (phase == kBack) {
+            if (count < KERF_EXACT_STEPS && g < -eps && at > searched) {
+                at = glm::max(at + g, searched);
+                ++count;
+                continue;
+            }
+            return at;
+        }
+        if (phase == kMarch) {
+            if (gLo < eps) return lo;
+            if (lo + gLo >= b) {
+                searched = b;
+                return -1.0f;
+            }
+            if (count < (hi < 0.0f ? KERF_EXACT_STEPS : KERF_EXACT_BRACKETED_STEPS)) {
+                at = lo + gLo;
+                ++count;
+                if (hi < 0.0f || at < hi) continue;
+                phase = kRefine; // at or past the bracket's inner end: close in on it
+                count = 0;
+            } else if (hi < 0.0f) {
+                phase = kEnd;
+                at = b;
+                continue;
+            } else {
+                phase = kRefine;
+                count = 0;
+            }
+        }
+        if (count < KERF_EXACT_REFINEMENTS) {
+            at = hi - gHi * (hi - lo) / (gHi - gLo);
+            if (!(at > lo && at < hi)) at = 0.5f * (lo + hi);
+            continue;
+        }
+        return hi;
+    }
+    return hi; // not reached: every phase ends within its steps
+}
+
 // A section's cap, pending while the ray, started on the section plane, has
 // met no populated voxel yet: until then no surface was crossed, so the
 // first voxel's value at the ray's entry says whether the plane point was
@@ -160,8 +311,19 @@ struct CapState {
 // Traces inside one surface tile, from ray parameter tEnter (where the ray is
 // in the tile) until it leaves the tile. Returns true with `hit` filled when
 // it finds the surface (or a section's cap).
-bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const glm::ivec3& tile, const glm::vec3& origin,
-               const glm::vec3& dir, const glm::vec3& invDir, float tileSize, float tEnter, RayHit& hit, CapState& cap)
+// Where a hit of the hybrid refinement lies: its tile's tape and the point,
+// tile-relative (mm). Its normal and feature are the exact field's there,
+// evaluated once the ray is done (outside the loops: on the GPU their state
+// would otherwise stay live across the gradient's evaluation).
+struct ExactPoint {
+    const std::uint32_t* tape = nullptr;
+    glm::vec3 point{0.0f};
+};
+
+// `tape`: the tile's exact tape when the hybrid refinement is on, else null.
+bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uint32_t* tape, const glm::ivec3& tile,
+               const glm::vec3& origin, const glm::vec3& dir, const glm::vec3& invDir, float tileSize, float tEnter,
+               RayHit& hit, CapState& cap, ExactPoint& exact)
 {
     const int levels = int(entry.levels);
     const int n = 1 << (2 * levels); // finest cells per tile edge
@@ -174,6 +336,11 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const glm::ive
     const glm::vec3 e = glm::clamp((origin - glm::vec3(tile) * tileSize + tEnter * dir) * invTile, 0.0f, 1.0f);
     glm::ivec3 cell = glm::clamp(glm::ivec3(glm::floor(e * fn)), glm::ivec3(0), glm::ivec3(n - 1));
     float s = 0.0f;
+    // Hybrid refinement: where the ray leaves the tile, and up to where the
+    // exact field is known to be outside.
+    const glm::vec3 sFaces = (glm::vec3(glm::greaterThan(dir, glm::vec3(0.0f))) - e) * invDir;
+    const float sTileEnd = glm::min(sFaces.x, glm::min(sFaces.y, sFaces.z));
+    float searched = 0.0f;
 
     // Each iteration moves at least one cell coordinate one step along the
     // ray, so 3n iterations cross the whole tile.
@@ -233,6 +400,26 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const glm::ive
                 cap.pending = false;
             }
             const float w = firstCrossing(along, wEnd);
+            if (tape) {
+                // Near the surface: the exact field decides, the trilinear
+                // crossing only brackets it; where the exact field has no
+                // crossing nearby, the voxels' stands (never a hole where
+                // the voxels show surface).
+                const float voxelEdge = 1.0f / voxelScale;
+                const float sHit = exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
+                                                 w >= 0.0f ? s + w / voxelScale : -1.0f, searched, hit.evaluations);
+                if (sHit >= 0.0f) {
+                    // The normal is taken a hair in front of the hit: exactly
+                    // on the surface some fields have no derivative (a
+                    // cone's cap is a sqrt(0) there).
+                    exact.tape = tape;
+                    exact.point = (e + glm::max(sHit - float(KERF_EXACT_EPSILON) * voxelEdge, 0.0f) * dir) * tileSize;
+                    hit.normal = -dir;
+                    hit.feature = kNoFeature;
+                    hit.depth = tEnter + sHit * tileSize;
+                    return true;
+                }
+            }
             if (w >= 0.0f) {
                 const glm::vec3 u = glm::clamp(o + w * dir, 0.0f, 1.0f);
                 glm::vec3 nrm(0.0f);
@@ -277,10 +464,9 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const glm::ive
     return false;
 }
 
-} // namespace
-
-RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction,
-                const glm::vec4& plane)
+// traceRay() but for the exact normal and feature of a refined hit.
+RayHit traceGrid(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction, const glm::vec4& plane,
+                 TraceQuality quality, ExactPoint& exact)
 {
     RayHit hit;
     const GridLayout& layout = b.layout;
@@ -349,9 +535,16 @@ RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::v
             return hit;
         }
         if (value != voxel::kEmptyTile &&
-            traceTile(b, b.entries[value], tile, origin, dir, invDir, tileSize, tEnter, hit, cap)) {
+            traceTile(b, b.entries[value],
+                      quality == TraceQuality::Exact && b.entries[value].tape != voxel::kNoTape
+                          ? b.tapes.data() + b.entries[value].tape
+                          : nullptr,
+                      tile, origin, dir, invDir, tileSize, tEnter, hit, cap, exact)) {
             // A hit past the section plane is in the part cut away.
-            if (hit.depth > tLeave) hit = RayHit{};
+            if (hit.depth > tLeave) {
+                hit = RayHit{};
+                exact.tape = nullptr;
+            }
             return hit;
         }
         if (tExitTile >= tLeave) break;
@@ -364,6 +557,26 @@ RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::v
     return hit;
 }
 
+} // namespace
+
+RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction, const glm::vec4& plane,
+                TraceQuality quality)
+{
+    ExactPoint exact;
+    RayHit hit = traceGrid(b, origin, direction, plane, quality, exact);
+    if (exact.tape) {
+        // The exact field's gradient at the refined hit, by forward differentiation.
+        std::uint32_t feature = kNoFeature;
+        const glm::vec4 fg = voxel::evaluateTileTapeGradient(exact.tape, exact.point, feature);
+        ++hit.evaluations;
+        const glm::vec3 g(fg.y, fg.z, fg.w);
+        const float len = glm::length(g);
+        hit.normal = len > 0.0f ? g / len : hit.normal;
+        hit.feature = feature;
+    }
+    return hit;
+}
+
 glm::vec4 localPlane(const GridLayout& layout, const Section& section)
 {
     if (!section.enabled) return glm::vec4(0.0f);
@@ -371,13 +584,14 @@ glm::vec4 localPlane(const GridLayout& layout, const Section& section)
     return glm::vec4(glm::vec3(section.normal), float(section.offset - glm::dot(section.normal, layout.origin)));
 }
 
-RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray, const Section& section)
+RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray, const Section& section, TraceQuality quality)
 {
     return traceRay(buffers, glm::vec3(ray.origin - buffers.layout.origin), glm::vec3(ray.direction),
-                    localPlane(buffers.layout, section));
+                    localPlane(buffers.layout, section), quality);
 }
 
-TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, int threads, const Section& section)
+TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, int threads, const Section& section,
+                       TraceQuality quality)
 {
     TraceImage image(camera.width(), camera.height());
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
@@ -385,7 +599,7 @@ TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, in
         tbb::parallel_for(tbb::blocked_range<int>(0, image.height), [&](const tbb::blocked_range<int>& rows) {
             for (int y = rows.begin(); y != rows.end(); ++y)
                 for (int x = 0; x < image.width; ++x) {
-                    const RayHit h = traceRay(buffers, camera.ray(x, y), section);
+                    const RayHit h = traceRay(buffers, camera.ray(x, y), section, quality);
                     const std::size_t i = image.index(x, y);
                     image.depth[i] = h.depth;
                     image.normal[i] = h.normal;

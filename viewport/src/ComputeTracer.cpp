@@ -16,7 +16,7 @@ VoxelAddresses VoxelAddresses::of(const ResidentSet& r)
     a.grid = r.layout;
     a.tiles = r.tiles;
     a.entries = r.entries;
-    a.nodes = a.leafIndirections = a.leafData = a.vertices = r.heap;
+    a.nodes = a.leafIndirections = a.leafData = a.vertices = a.tapes = r.heap;
     a.version = r.snapshotVersion;
     return a;
 }
@@ -25,10 +25,11 @@ struct ComputeTracer::Impl {
     const Context& ctx;
     ShaderModule module;
     PipelineLayout layout;
-    Pipeline pipeline;
+    Pipeline voxelPipeline;  // trace.comp without the hybrid refinement's code
+    Pipeline hybridPipeline; // with it; made when first asked for
     QueryPool timestamps;
     GridLayout grid;
-    GpuBuffer tiles, entries, nodes, leafIndirections, leafData, vertices;
+    GpuBuffer tiles, entries, nodes, leafIndirections, leafData, vertices, tapes;
     std::size_t resident = 0;
     std::uint64_t uploads = 0; // setVoxels() calls: the version of its voxels
     TraceTargets targets;
@@ -36,6 +37,8 @@ struct ComputeTracer::Impl {
 
     explicit Impl(const Context& c) : ctx(c) {}
     void ensureTargets(int w, int h);
+    Pipeline makePipeline(bool hybrid) const;
+    VkPipeline pipelineFor(TraceQuality quality);
 };
 
 void ComputeTracer::Impl::ensureTargets(int w, int h)
@@ -48,6 +51,36 @@ void ComputeTracer::Impl::ensureTargets(int w, int h)
     targets.feature = GpuBuffer(ctx, pixels * sizeof(std::uint32_t), usage, GpuBuffer::Kind::DeviceLocal, "trace feature");
     targets.width = w;
     targets.height = h;
+}
+
+Pipeline ComputeTracer::Impl::makePipeline(bool hybrid) const
+{
+    // trace.comp's specialization constant 0, kHybrid.
+    const VkBool32 value = hybrid ? VK_TRUE : VK_FALSE;
+    const VkSpecializationMapEntry entry{0, 0, sizeof value};
+    VkSpecializationInfo special{};
+    special.mapEntryCount = 1;
+    special.pMapEntries = &entry;
+    special.dataSize = sizeof value;
+    special.pData = &value;
+    VkComputePipelineCreateInfo cpci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    cpci.stage.module = module;
+    cpci.stage.pName = "main";
+    cpci.stage.pSpecializationInfo = &special;
+    cpci.layout = layout;
+    VkPipeline p;
+    check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &cpci, nullptr, &p),
+          hybrid ? "vkCreateComputePipelines (trace, hybrid)" : "vkCreateComputePipelines (trace)");
+    return Pipeline(ctx.device(), p);
+}
+
+VkPipeline ComputeTracer::Impl::pipelineFor(TraceQuality quality)
+{
+    if (quality != TraceQuality::Exact) return voxelPipeline;
+    if (!hybridPipeline) hybridPipeline = makePipeline(true);
+    return hybridPipeline;
 }
 
 ComputeTracer::ComputeTracer(const Context& ctx) : impl_(std::make_unique<Impl>(ctx))
@@ -68,15 +101,7 @@ ComputeTracer::ComputeTracer(const Context& ctx) : impl_(std::make_unique<Impl>(
     check(vkCreatePipelineLayout(dev, &plci, nullptr, &pl), "vkCreatePipelineLayout");
     impl_->layout = PipelineLayout(dev, pl);
 
-    VkComputePipelineCreateInfo cpci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    cpci.stage.module = sm;
-    cpci.stage.pName = "main";
-    cpci.layout = pl;
-    VkPipeline p;
-    check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cpci, nullptr, &p), "vkCreateComputePipelines (trace)");
-    impl_->pipeline = Pipeline(dev, p);
+    impl_->voxelPipeline = impl_->makePipeline(false);
 
     VkQueryPoolCreateInfo qpci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     qpci.queryType = VK_QUERY_TYPE_TIMESTAMP;
@@ -108,6 +133,7 @@ void ComputeTracer::setVoxels(const FlatVoxelBuffers& b)
     impl_->leafIndirections = up(b.leafIndirections, "leaf indirections");
     impl_->leafData = up(b.leafData, "leaf data");
     impl_->vertices = up(b.vertices, "vertices");
+    impl_->tapes = up(b.tapes, "tile tapes");
     impl_->grid = b.layout;
     impl_->resident = b.bytes();
     ++impl_->uploads;
@@ -124,12 +150,13 @@ VoxelAddresses ComputeTracer::voxels() const
     a.leafIndirections = impl_->leafIndirections.address();
     a.leafData = impl_->leafData.address();
     a.vertices = impl_->vertices.address();
+    a.tapes = impl_->tapes.address();
     a.version = impl_->uploads;
     return a;
 }
 
 void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const VoxelAddresses& addr,
-                           const Section& section)
+                           const Section& section, TraceQuality quality)
 {
     const int w = camera.width(), h = camera.height();
     impl_->ensureTargets(w, h);
@@ -141,6 +168,7 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
     p.leafIndirections = addr.leafIndirections;
     p.leafData = addr.leafData;
     p.vertices = addr.vertices;
+    p.tapes = addr.tapes;
     p.outDepth = t.depth.address();
     p.outNormal = t.normal.address();
     p.outFeature = t.feature.address();
@@ -158,6 +186,8 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
     p.image = {std::uint32_t(w), std::uint32_t(h), 0, 0};
     const glm::vec4 plane = localPlane(addr.grid, section);
     p.section = {plane.x, plane.y, plane.z, plane.w};
+    // Without tapes (none built, none uploaded) the hybrid has nothing to refine with.
+    p.options = {quality == TraceQuality::Exact && addr.tapes ? 1u : 0u, 0, 0, 0};
     vkCmdUpdateBuffer(cb, impl_->params.buffer(), 0, sizeof p, &p);
     VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     before.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
@@ -167,7 +197,7 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
 
     const std::uint64_t address = impl_->params.address();
     vkCmdResetQueryPool(cb, impl_->timestamps, 0, 2);
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, impl_->pipeline);
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, impl_->pipelineFor(TraceQuality(p.options.x)));
     vkCmdPushConstants(cb, impl_->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof address, &address);
     vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, impl_->timestamps, 0);
     const std::uint32_t g = KERF_TRACE_LOCAL_SIZE;
@@ -192,13 +222,14 @@ TraceTiming ComputeTracer::lastTiming() const
     return t;
 }
 
-TraceImage ComputeTracer::trace(const Camera& camera, TraceTiming* timing, const Section& section)
+TraceImage ComputeTracer::trace(const Camera& camera, TraceTiming* timing, const Section& section,
+                                TraceQuality quality)
 {
-    return trace(camera, ResidentSet{}, timing, section);
+    return trace(camera, ResidentSet{}, timing, section, quality);
 }
 
 TraceImage ComputeTracer::trace(const Camera& camera, const ResidentSet& voxels, TraceTiming* timing,
-                                const Section& section)
+                                const Section& section, TraceQuality quality)
 {
     const Context& ctx = impl_->ctx;
     const VoxelAddresses addr = voxels.valid() ? VoxelAddresses::of(voxels) : this->voxels();
@@ -208,7 +239,7 @@ TraceImage ComputeTracer::trace(const Camera& camera, const ResidentSet& voxels,
     GpuBuffer normal(ctx, pixels * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback, "normal");
     GpuBuffer feature(ctx, pixels * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback, "feature");
     ctx.submitAndWait([&](VkCommandBuffer cb) {
-        record(cb, camera, addr, section);
+        record(cb, camera, addr, section, quality);
         const TraceTargets& t = impl_->targets;
         VkBufferCopy d{0, 0, pixels * sizeof(float)}, n{0, 0, pixels * 16}, f{0, 0, pixels * 4};
         vkCmdCopyBuffer(cb, t.depth.buffer(), depth.buffer(), 1, &d);

@@ -122,6 +122,7 @@ struct SceneRenderer::Impl {
         int width = 0, height = 0;
         bool ortho = false;
         Section section;
+        TraceQuality quality = TraceQuality::Voxels;
         bool operator==(const TraceKey&) const = default;
     };
     std::optional<TraceKey> traced;
@@ -469,9 +470,10 @@ void SceneRenderer::record(VkCommandBuffer cb, ComputeTracer& tracer, const Voxe
 
     const Impl::TraceKey key{&tracer,      voxels.tiles,     voxels.entries, voxels.nodes, voxels.version,
                              camera.eye(), camera.forward(), camera.up(),    camera.halfHeight(),
-                             w,            h,                ortho,          section};
+                             w,            h,                ortho,          section,
+                             options.quality};
     impl_->lastTraced = !(impl_->traced && *impl_->traced == key);
-    if (impl_->lastTraced) tracer.record(cb, camera, voxels, section);
+    if (impl_->lastTraced) tracer.record(cb, camera, voxels, section, options.quality);
     impl_->traced = key;
 
     gpu::ShadeParams s{};

@@ -135,6 +135,7 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
     options.grid = scene.grid;
     options.axes = scene.axes;
     options.edges = scene.edges;
+    options.quality = scene.quality;
     if (scene.selectedFeatureNodes && !scene.selectedFeatureNodes->empty())
         for (std::uint32_t i = 0; i < features.size(); ++i)
             if (scene.selectedFeatureNodes->count(features[i].nodeId)) options.selectedFeatures.push_back(i);

@@ -15,16 +15,18 @@ constexpr std::size_t kAlign = 24; // lcm of the record sizes 12 and 8
 std::size_t alignUp(std::size_t v) { return (v + kAlign - 1) / kAlign * kAlign; }
 
 // A tile's records, laid out as one blob: nodes, leaf indirections, leaf
-// data, vertices, each part starting on a 24-byte boundary so that its
-// offset is a whole number of records of either size.
+// data, vertices and its exact tape (32-bit words), each part starting on a
+// 24-byte boundary so that its offset is a whole number of records of any
+// of the sizes.
 struct BlobLayout {
-    std::size_t leafIndirections, leafData, vertices, total;
+    std::size_t leafIndirections, leafData, vertices, tape, total;
     explicit BlobLayout(const TileData& t)
     {
         leafIndirections = alignUp(t.nodes.size() * sizeof(voxel::Node));
         leafData = alignUp(leafIndirections + t.leafIndirections.size() * sizeof(voxel::LeafIndirection));
         vertices = alignUp(leafData + t.leafData.size() * sizeof(voxel::LeafData));
-        total = alignUp(vertices + t.vertices.size() * sizeof(voxel::Vertex));
+        tape = alignUp(vertices + t.vertices.size() * sizeof(voxel::Vertex));
+        total = alignUp(tape + t.tape.size() * sizeof(std::uint32_t));
     }
 };
 
@@ -100,6 +102,8 @@ void VoxelStreamer::beginTarget()
             p.entry.leafData = std::uint32_t((*offset + blob.leafData) / sizeof(voxel::LeafData));
             p.entry.vertex = std::uint32_t((*offset + blob.vertices) / sizeof(voxel::Vertex));
             p.entry.levels = std::uint32_t(t->levels);
+            p.entry.tape =
+                t->tape.empty() ? voxel::kNoTape : std::uint32_t((*offset + blob.tape) / sizeof(std::uint32_t));
             placed_.emplace(t.get(), p);
         }
         pending_.push_back(t.get());
@@ -145,6 +149,8 @@ FrameUpload VoxelStreamer::recordFrame(VkCommandBuffer cb)
                         t->leafIndirections.size() * sizeof(voxel::LeafIndirection));
             std::memcpy(blob_.data() + layout.leafData, t->leafData.data(), t->leafData.size() * sizeof(voxel::LeafData));
             std::memcpy(blob_.data() + layout.vertices, t->vertices.data(), t->vertices.size() * sizeof(voxel::Vertex));
+            if (!t->tape.empty()) // tiles whose tape was too long carry none
+                std::memcpy(blob_.data() + layout.tape, t->tape.data(), t->tape.size() * sizeof(std::uint32_t));
         }
         const std::size_t chunk = std::min(budget, p.bytes - p.uploaded);
         stage(cb, blob_.data() + p.uploaded, chunk, heapBuffer_->buffer(), p.offset + p.uploaded);

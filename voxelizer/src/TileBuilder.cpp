@@ -1,5 +1,7 @@
 #include "kerf/voxelizer/TileBuilder.hpp"
 
+#include "kerf/voxelizer/TileTape.hpp"
+
 #include <glm/glm.hpp>
 
 #include <array>
@@ -180,7 +182,10 @@ std::optional<TileData> buildTile(const Tape& tape, const GridLayout& layout, co
     } catch (const Cancelled&) {
         return std::nullopt;
     }
-    return serialize(root, levels);
+    TileData built = serialize(root, levels);
+    // The tape the tile was built from, for the tracer's exact refinement.
+    built.tape = voxel::encodeTileTape(scratch.levelTapes[0]);
+    return built;
 }
 
 } // namespace kerf

@@ -32,7 +32,8 @@ std::size_t FlatVoxelBuffers::bytes() const
 {
     return tiles.size() * sizeof(std::uint32_t) + entries.size() * sizeof(TileEntry) +
            nodes.size() * sizeof(voxel::Node) + leafIndirections.size() * sizeof(voxel::LeafIndirection) +
-           leafData.size() * sizeof(voxel::LeafData) + vertices.size() * sizeof(voxel::Vertex);
+           leafData.size() * sizeof(voxel::LeafData) + vertices.size() * sizeof(voxel::Vertex) +
+           tapes.size() * sizeof(std::uint32_t);
 }
 
 FlatVoxelBuffers FlatVoxelBuffers::flatten(const VoxelSnapshot& snapshot)
@@ -50,11 +51,14 @@ FlatVoxelBuffers FlatVoxelBuffers::flatten(const VoxelSnapshot& snapshot)
         f.tiles[i] = std::uint32_t(f.entries.size());
         f.entries.push_back({std::uint32_t(f.nodes.size()), std::uint32_t(f.leafIndirections.size()),
                              std::uint32_t(f.leafData.size()), std::uint32_t(f.vertices.size()),
-                             std::uint32_t(t->levels), {0, 0, 0}});
+                             std::uint32_t(t->levels),
+                             t->tape.empty() ? voxel::kNoTape : std::uint32_t(f.tapes.size()),
+                             {0, 0}});
         f.nodes.insert(f.nodes.end(), t->nodes.begin(), t->nodes.end());
         f.leafIndirections.insert(f.leafIndirections.end(), t->leafIndirections.begin(), t->leafIndirections.end());
         f.leafData.insert(f.leafData.end(), t->leafData.begin(), t->leafData.end());
         f.vertices.insert(f.vertices.end(), t->vertices.begin(), t->vertices.end());
+        f.tapes.insert(f.tapes.end(), t->tape.begin(), t->tape.end());
     }
     return f;
 }

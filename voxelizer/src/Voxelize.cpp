@@ -49,7 +49,11 @@ VoxelEstimate estimateVoxels(const Tape& tape, const GridLayout& layout, double 
         const double voxels = double(s.populatedVoxels());
         const double scale = std::pow(16.0, layout.levels - levels);
         e.populatedVoxels = voxels * scale;
-        e.bytes = double(s.bytes()) * scale;
+        // The surface grows 16-fold per level; the tiles' exact tapes do not.
+        std::size_t tapeBytes = 0;
+        for (const auto& t : s.tiles)
+            if (t) tapeBytes += t->tape.size() * sizeof(std::uint32_t);
+        e.bytes = double(s.bytes() - tapeBytes) * scale + double(tapeBytes);
         e.measuredLevels = levels;
         e.exact = levels == layout.levels;
         if (e.exact) e.snapshot = std::move(s);

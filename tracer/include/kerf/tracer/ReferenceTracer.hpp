@@ -30,6 +30,22 @@
 //     cap when its first populated voxel (or a full tile) is entered with
 //     f <= 0: no surface was crossed since the plane, so the plane point was
 //     inside. A cap has the plane's normal and the feature kSectionCap.
+//  7. With TraceQuality::Exact (the hybrid refinement) and a tile that
+//     carries its exact tape (TileTape.hpp), every populated voxel the ray
+//     meets is searched on the exact field, over its segment grown by
+//     KERF_EXACT_MARGIN voxel edges both ways (within the tile, and not
+//     again where an earlier voxel's search found the field positive):
+//     sphere tracing from the window's start (which never passes a
+//     crossing), bisection when a bracket is known (the trilinear crossing
+//     where the exact field is inside there, or the window's end) and the
+//     steps run out, a walk back when the window starts inside (the surface
+//     crossed where no voxel is populated: an edge sharper than the
+//     voxels). A crossing found is the hit, with the exact field's normal
+//     (its gradient by forward differentiation, in tile-relative
+//     millimetres) and deciding feature. Where the window holds no exact crossing, the trilinear one
+//     stands (the voxels never show a hole that the hybrid would open);
+//     where neither exists, the ray moves on. ExactRefinement.h has the
+//     constants. Tiles without a tape are traced on their voxels.
 //  A kFullTile tile (entirely inside) is reported hit at its entry face,
 //  with that face's normal; with consistent voxel data a ray always meets a
 //  populated voxel before, so this is only a safety net.
@@ -42,6 +58,7 @@
 #include "kerf/tracer/Camera.hpp"
 #include "kerf/tracer/Image.hpp"
 #include "kerf/tracer/Section.hpp"
+#include "kerf/tracer/TraceQuality.hpp"
 #include "kerf/voxelizer/VoxelSnapshot.hpp"
 
 #include <glm/vec3.hpp>
@@ -57,7 +74,8 @@ struct RayHit {
     float depth = std::numeric_limits<float>::infinity(); // mm along the ray from its origin; +inf: nothing hit
     glm::vec3 normal{0.0f};                               // unit, grid (= world) frame
     std::uint32_t feature = kNoFeature;
-    std::uint32_t steps = 0; // tiles and contree cells visited (a cost measure)
+    std::uint32_t steps = 0;       // tiles and contree cells visited (a cost measure)
+    std::uint32_t evaluations = 0; // exact tape evaluations (the hybrid refinement's cost)
 
     bool hit() const { return depth < std::numeric_limits<float>::infinity(); }
 };
@@ -66,20 +84,21 @@ struct RayHit {
 /// origin (buffers.layout.origin), in mm; `direction` is of unit length.
 /// `plane`: a section plane in the same coordinates (xyz unit normal, w
 /// offset), or zero for none. Pure function of its arguments; safe from any
-/// thread.
+/// thread. `quality` Exact turns the hybrid refinement on (step 7).
 RayHit traceRay(const FlatVoxelBuffers& buffers, const glm::vec3& origin, const glm::vec3& direction,
-                const glm::vec4& plane = glm::vec4(0.0f));
+                const glm::vec4& plane = glm::vec4(0.0f), TraceQuality quality = TraceQuality::Voxels);
 
 /// A world-space section as traceRay's grid-local plane (zero when disabled).
 glm::vec4 localPlane(const GridLayout& layout, const Section& section);
 
 /// As above for a world-space ray (the subtraction of the grid origin is
 /// done in double, as the GPU path does on the CPU before uploading).
-RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray, const Section& section = {});
+RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray, const Section& section = {},
+                TraceQuality quality = TraceQuality::Voxels);
 
 /// Traces every pixel of `camera`'s image, rows in parallel with oneTBB on
 /// `threads` threads (0: every core). The buffers must not change meanwhile.
 TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, int threads = 0,
-                       const Section& section = {});
+                       const Section& section = {}, TraceQuality quality = TraceQuality::Voxels);
 
 } // namespace kerf

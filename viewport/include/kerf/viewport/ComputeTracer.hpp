@@ -5,11 +5,17 @@
 // device-local depth, normal and feature buffers (TraceTargets), which the
 // shading pass reads in place or trace() reads back.
 //
+// The hybrid refinement (TraceQuality::Exact) runs in a second pipeline of
+// the same shader, made when first asked for; the voxel-only pipeline is
+// compiled without its code (a specialization constant), so it keeps its
+// speed.
+//
 // Threading: one thread at a time. The context must outlive the tracer.
 
 #include "kerf/tracer/Camera.hpp"
 #include "kerf/tracer/Image.hpp"
 #include "kerf/tracer/Section.hpp"
+#include "kerf/tracer/TraceQuality.hpp"
 #include "kerf/viewport/GpuBuffer.hpp"
 #include "kerf/viewport/VoxelStreamer.hpp"
 #include "kerf/viewport/VulkanContext.hpp"
@@ -24,10 +30,10 @@ struct TraceTiming {
 };
 
 /// Where a dispatch finds the voxels: separate arrays (setVoxels) or one heap
-/// for all four record kinds (a streamed ResidentSet).
+/// for all five record kinds (a streamed ResidentSet).
 struct VoxelAddresses {
     GridLayout grid;
-    VkDeviceAddress tiles = 0, entries = 0, nodes = 0, leafIndirections = 0, leafData = 0, vertices = 0;
+    VkDeviceAddress tiles = 0, entries = 0, nodes = 0, leafIndirections = 0, leafData = 0, vertices = 0, tapes = 0;
     /// Changes whenever the data behind the addresses does (a new upload may
     /// reuse the addresses of freed buffers).
     std::uint64_t version = 0;
@@ -55,14 +61,17 @@ public:
     /// Records the trace of `camera`'s image into the targets (resized as
     /// needed), followed by a barrier making them readable by fragment
     /// shaders and transfers. Writes the timestamps read by lastTiming().
-    void record(VkCommandBuffer cb, const Camera& camera, const VoxelAddresses& voxels, const Section& section = {});
+    /// `quality` Exact turns the hybrid refinement on (TraceQuality.hpp).
+    void record(VkCommandBuffer cb, const Camera& camera, const VoxelAddresses& voxels, const Section& section = {},
+                TraceQuality quality = TraceQuality::Voxels);
     const TraceTargets& targets() const;
     TraceTiming lastTiming() const;
 
     /// Traces and reads the image back (waits for the device).
-    TraceImage trace(const Camera& camera, TraceTiming* timing = nullptr, const Section& section = {});
+    TraceImage trace(const Camera& camera, TraceTiming* timing = nullptr, const Section& section = {},
+                     TraceQuality quality = TraceQuality::Voxels);
     TraceImage trace(const Camera& camera, const ResidentSet& voxels, TraceTiming* timing = nullptr,
-                     const Section& section = {});
+                     const Section& section = {}, TraceQuality quality = TraceQuality::Voxels);
 
 private:
     struct Impl;

@@ -39,6 +39,8 @@ struct SceneOptions {
     /// The section plane the trace cut along (for the caps' colour); unused
     /// when the trace had none.
     glm::vec3 capColor{0.80f, 0.16f, 0.12f};
+    /// Voxels, or the hybrid refinement on the exact field (TraceQuality.hpp).
+    TraceQuality quality = TraceQuality::Voxels;
 };
 
 class SceneRenderer {
@@ -53,9 +55,9 @@ public:
 
     /// Traces `voxels` with `tracer`, shades, draws the meshes and reads the
     /// picture back. `features` gives the per-feature colours. The trace is
-    /// recorded only when the camera, the image size, the section or the
-    /// voxels changed since the last frame; shading and meshes are drawn
-    /// every frame.
+    /// recorded only when the camera, the image size, the section, the
+    /// voxels or the quality changed since the last frame; shading and
+    /// meshes are drawn every frame.
     RgbaImage render(ComputeTracer& tracer, const VoxelAddresses& voxels, const Camera& camera,
                      const std::vector<Feature>& features, const SceneOptions& options = {},
                      const Section& section = {});

@@ -38,6 +38,8 @@ struct ViewportScene {
     bool grid = true;
     bool axes = true;
     bool edges = true;
+    /// Voxels, or the hybrid refinement on the exact field (TraceQuality.hpp).
+    TraceQuality quality = TraceQuality::Voxels;
     /// Fraction of the window's resolution the part is traced at (0 < s <= 1).
     double resolutionScale = 1.0;
     /// Reference meshes and markers: replaced when their version changes.

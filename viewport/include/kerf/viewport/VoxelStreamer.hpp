@@ -1,7 +1,7 @@
 #pragma once
 // Streams published voxel snapshots to the GPU under a per-frame byte
 // budget. Tiles live in one device heap (one allocation per tile holding its
-// nodes, leaf indirections, leaf data and vertices); a tile the new snapshot
+// nodes, leaf indirections, leaf data, vertices and exact tape); a tile the new snapshot
 // shares with the resident one (the voxelizer keeps unchanged tiles as the
 // same objects) is not uploaded again.
 //
@@ -33,7 +33,7 @@ struct ResidentSet {
     GridLayout layout;
     VkDeviceAddress tiles = 0;   // u32 per tile
     VkDeviceAddress entries = 0; // TileEntry per surface tile
-    VkDeviceAddress heap = 0;    // base of nodes, leaf indirections, leaf data and vertices alike
+    VkDeviceAddress heap = 0;    // base of nodes, leaf indirections, leaf data, vertices and tapes alike
     std::size_t bytes = 0;       // voxel bytes of this set (tables + its tiles)
     bool valid() const { return tiles != 0; }
 };

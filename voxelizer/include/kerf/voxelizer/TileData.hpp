@@ -18,12 +18,16 @@ struct TileData {
     std::vector<voxel::LeafIndirection> leafIndirections;
     std::vector<voxel::LeafData> leafData; // one per populated voxel
     std::vector<voxel::Vertex> vertices;
+    /// The tile's exact tape in the GPU form (TileTape.hpp), for the hybrid
+    /// refinement; empty when the tile has none.
+    std::vector<std::uint32_t> tape;
 
     std::size_t populatedVoxels() const { return leafData.size(); }
     std::size_t bytes() const
     {
         return nodes.size() * sizeof(voxel::Node) + leafIndirections.size() * sizeof(voxel::LeafIndirection) +
-               leafData.size() * sizeof(voxel::LeafData) + vertices.size() * sizeof(voxel::Vertex);
+               leafData.size() * sizeof(voxel::LeafData) + vertices.size() * sizeof(voxel::Vertex) +
+               tape.size() * sizeof(std::uint32_t);
     }
 };
 

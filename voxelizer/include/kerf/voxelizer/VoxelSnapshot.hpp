@@ -6,6 +6,7 @@
 #include "kerf/evaluator/Tape.hpp"
 #include "kerf/voxelizer/GridLayout.hpp"
 #include "kerf/voxelizer/TileData.hpp"
+#include "kerf/voxelizer/TileTape.hpp"
 
 #include <memory>
 #include <vector>
@@ -36,7 +37,8 @@ struct TileEntry {
     std::uint32_t leafData = 0;
     std::uint32_t vertex = 0;
     std::uint32_t levels = 0;
-    std::uint32_t reserved[3] = {0, 0, 0};
+    std::uint32_t tape = voxel::kNoTape; // first word of the tile's exact tape in `tapes`
+    std::uint32_t reserved[2] = {0, 0};
 };
 static_assert(sizeof(TileEntry) == 32);
 
@@ -48,6 +50,7 @@ struct FlatVoxelBuffers {
     std::vector<voxel::LeafIndirection> leafIndirections;
     std::vector<voxel::LeafData> leafData;
     std::vector<voxel::Vertex> vertices;
+    std::vector<std::uint32_t> tapes; // the tiles' exact tapes (TileTape.hpp), concatenated
 
     std::size_t bytes() const;
     static FlatVoxelBuffers flatten(const VoxelSnapshot& snapshot);
