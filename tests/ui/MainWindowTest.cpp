@@ -421,6 +421,11 @@ void MainWindowTest::viewportShowsThePartAndChangesAfterAnEdit()
     action(w.get(), "action.view.front")->trigger();
     const QImage front = w->viewport()->grabFrame();
     QVERIFY(pictureDifference(second, front) > 0.05);
+    // Exact edges (the hybrid refinement) on: still a picture, still no validation error.
+    action(w.get(), "action.exactEdges")->trigger();
+    const QImage exact = w->viewport()->grabFrame();
+    QVERIFY(!exact.isNull());
+    QVERIFY(woodFraction(exact) > 0.05);
     const auto status = w->viewport()->status();
     QVERIFY(status.frames > 0);
     QVERIFY(!status.device.isEmpty());

@@ -333,9 +333,14 @@ void MainWindow::buildActions()
     axesAct->setCheckable(true);
     axesAct->setChecked(true);
     connect(axesAct, &QAction::toggled, viewport_, &qt::ViewportWidget::setAxesVisible);
+    QAction* exactAct = action(tr("&Exact Edges"), "action.exactEdges", QKeySequence(tr("E")));
+    exactAct->setShortcutContext(Qt::WidgetWithChildrenShortcut);
+    exactAct->setCheckable(true);
+    exactAct->setToolTip(tr("Sharpen edges and intersections from the exact field near the surface (slower)"));
+    connect(exactAct, &QAction::toggled, viewport_, &qt::ViewportWidget::setExactEdges);
     view->addActions({fitAct, orthoAct});
     view->addSeparator();
-    view->addActions({gridAct, axesAct});
+    view->addActions({gridAct, axesAct, exactAct});
     view->addSeparator();
     // Modelling only what the scene requires: tiles as fine as the camera
     // sees them, within a memory budget.
@@ -385,7 +390,7 @@ void MainWindow::buildActions()
     for (QAction* a : operationActions) featureBar->addAction(a);
     QToolBar* viewBar = addToolBar(tr("View"));
     viewBar->setObjectName("toolbar.view");
-    viewBar->addActions({fitAct, orthoAct, measureAction_});
+    viewBar->addActions({fitAct, orthoAct, exactAct, measureAction_});
 
     // The tree's context menu.
     connect(tree_, &QTreeView::customContextMenuRequested, this,

@@ -79,7 +79,7 @@ void CpuViewWidget::work()
         const Aabb bounds = scene.snapshot ? scene.snapshot->layout.bounds() : Aabb::empty();
         const Camera camera = scene.view.camera(w, h, bounds);
         const auto traceStart = std::chrono::steady_clock::now();
-        TraceImage image = scene.snapshot ? traceVoxels(buffers, camera, 0, scene.section) : TraceImage(w, h);
+        TraceImage image = scene.snapshot ? traceVoxels(buffers, camera, 0, scene.section, scene.quality) : TraceImage(w, h);
         const double traceMs =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - traceStart).count();
         // Selected features in the highlight colour; caps in the section colour.

@@ -131,6 +131,7 @@ vk::ViewportScene ViewportWidget::scene() const
     scene.axes = axes_;
     scene.meshes = meshes_;
     scene.markers = markers_;
+    scene.quality = exactEdges_ ? TraceQuality::Exact : TraceQuality::Voxels;
     scene.resolutionScale = interactive_ && status_.traceMs > kInteractiveTraceBudgetMs ? 0.5 : 1.0;
     return scene;
 }
@@ -193,6 +194,12 @@ void ViewportWidget::setSection(const Section& section)
 void ViewportWidget::setGridVisible(bool on)
 {
     grid_ = on;
+    sceneChanged();
+}
+
+void ViewportWidget::setExactEdges(bool on)
+{
+    exactEdges_ = on;
     sceneChanged();
 }
 

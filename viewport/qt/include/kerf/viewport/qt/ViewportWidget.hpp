@@ -92,6 +92,9 @@ public:
     void setSection(const Section& section);
     const Section& section() const { return section_; }
     void setGridVisible(bool on);
+    /// The hybrid refinement: edges and intersections from the exact field
+    /// near the surface (slower; TraceQuality.hpp), or voxels alone.
+    void setExactEdges(bool on);
     void setAxesVisible(bool on);
 
     /// Standard views by name (iso, front, back, left, right, top, bottom),
@@ -152,7 +155,7 @@ private:
     std::shared_ptr<const std::vector<PlacedMesh>> meshes_, markers_;
     std::shared_ptr<const std::unordered_set<std::string>> selected_;
     Section section_;
-    bool grid_ = true, axes_ = true;
+    bool grid_ = true, axes_ = true, exactEdges_ = false;
 
     // Mouse state.
     enum class Drag { None, Pending, Orbit, Pan };
