@@ -5,7 +5,13 @@
 // links, so it can be carried to a machine without Qt or a package registry.
 //
 //   kerf_gpu_bench [--quick] [--frames N] [--json OUT.json] [--examples DIR]
+//   kerf_gpu_bench bench FILE.kerf [kerf bench's options but --plot]
+//
+// The second form runs `kerf bench` itself (the same code, app/TradeBench),
+// so that the speed/accuracy table can be measured on the GPU machine, which
+// has no Qt; --trace-only leaves out the export measurements.
 
+#include "kerf/app/Commands.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/Camera.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
@@ -60,6 +66,8 @@ double median(std::vector<double> v)
 
 int main(int argc, char** argv)
 {
+    if (argc > 1 && std::string(argv[1]) == "bench")
+        return kerf::runBench(std::vector<std::string>(argv + 2, argv + argc), std::cout, std::cerr);
     bool quick = false;
     int frames = 20;
     std::string jsonPath, examples = KERF_EXAMPLES_DIR;
@@ -70,7 +78,8 @@ int main(int argc, char** argv)
         else if (a == "--json" && i + 1 < argc) jsonPath = argv[++i];
         else if (a == "--examples" && i + 1 < argc) examples = argv[++i];
         else {
-            std::cerr << "usage: kerf_gpu_bench [--quick] [--frames N] [--json OUT.json] [--examples DIR]\n";
+            std::cerr << "usage: kerf_gpu_bench [--quick] [--frames N] [--json OUT.json] [--examples DIR]\n"
+                         "       kerf_gpu_bench bench FILE.kerf [kerf bench options]\n";
             return 2;
         }
     }

@@ -2,6 +2,7 @@
 // subcommand kerf opens the desktop application.
 
 #include "kerf/app/Commands.hpp"
+#include "kerf/app/TradePlot.hpp"
 
 #include <iostream>
 #include <string>
@@ -27,6 +28,11 @@ Commands:
   render FILE.kerf -o OUT.png [--size WxH] [--view iso|front|top|...]
                        voxelize and trace the part with the Vulkan compute
                        tracer, headless, and write the image
+  bench [FILE.kerf] [--feature-sizes LIST] [--json OUT.json] [--plot OUT.png]
+                       measure speed against accuracy at each feature size:
+                       voxelize, re-voxelize and trace times, GPU memory, the
+                       picture's and the exported mesh's error against the
+                       exact part (default part: the bundled side chair)
 
 Options:
   --help               show this help (also: kerf COMMAND --help)
@@ -59,6 +65,7 @@ int main(int argc, char** argv)
     if (command == "check") return kerf::runCheck(rest, std::cout, std::cerr);
     if (command == "export") return kerf::runExport(rest, std::cout, std::cerr);
     if (command == "render") return kerf::runRender(rest, std::cout, std::cerr);
+    if (command == "bench") return kerf::runBench(rest, std::cout, std::cerr, kerf::writeTradePlot);
     std::cerr << "kerf: unknown command '" << command << "' (see kerf --help)\n";
     return 2;
 }
