@@ -211,6 +211,23 @@ TEST(SurfaceDistance, AtACreaseTheFieldIsOnlyALowerBoundAndTheWalkFindsTheDistan
     EXPECT_LT(d.upper, 0.12);
 }
 
+TEST(SurfaceDistance, InAHolesMouthTheWalkIsStuckAndAMarchFindsTheRim)
+{
+    // A 20 x 20 x 10 block with a hole of radius 2 that pierces its bottom
+    // face (z = -5) by 1 mm. On the bottom plane inside the hole, 0.75 mm off
+    // the axis, the field is 1 (the hole's cap, 1 mm below) and steps along
+    // its gradient go back and forth between the cap and the face; the
+    // surface nearest is the hole's rim, 1.25 mm away.
+    const Tape tape = tapeOf(R"({"id":"d","type":"difference","children":[
+        {"id":"b","type":"box","size":[20,20,10]},
+        {"id":"h","type":"cylinder","radius":2,"height":8,"transform":{"translate":[0,0,-2]}}]})");
+    const PointDistance d = distancesToSurface(tape, {glm::dvec3(0.75, 0.0, -5.0)})[0];
+    ASSERT_TRUE(d.resolved);
+    EXPECT_NEAR(d.lower, 1.0, 1e-12);
+    EXPECT_GE(d.upper, 1.25 - 1e-9);
+    EXPECT_LT(d.upper, 1.25 + 1e-5);
+}
+
 TEST(SurfaceDistance, AnEmptyPartResolvesNothing)
 {
     const Tape empty =

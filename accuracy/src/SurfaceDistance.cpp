@@ -18,7 +18,8 @@ namespace kerf {
 namespace {
 
 constexpr std::size_t kPacket = 64;   // points evaluated together: one evaluator block
-constexpr int kMaxSteps = 200;        // a walk still going after this many steps found no surface
+constexpr int kMaxSteps = 64;         // a walk still going after this many steps is stuck: march instead
+constexpr int kMaxMarchSteps = 400;   // per direction of the fallback march
 constexpr double kConvergedMm = 1e-8; // |f| this small ends the walk
 constexpr double kBracketMm = 1e-6;   // the sign change must show this close
 constexpr std::size_t kVertexChunk = 4096;
@@ -107,8 +108,7 @@ private:
                 converged_[i] = false;
                 const glm::dvec3 next = q_[i] - f * normal_[i];
                 if (++steps_[i] > kMaxSteps || (valid && !valid->contains(next))) {
-                    needFull[i] = valid && steps_[i] <= kMaxSteps ? 1 : 0;
-                    stop();
+                    stop(); // finished below: with the full tape, then by marching
                     continue;
                 }
                 q_[i] = next;
@@ -140,21 +140,66 @@ private:
             }
             which[brackets++] = i;
         }
-        if (m == 0) return;
-        bracketFirst_[brackets] = m;
-        points_.evaluate(tape, x_.data(), y_.data(), z_.data(), m, f_.data());
-        for (std::size_t k = 0; k < brackets; ++k) {
-            bool inside = false, outside = false;
-            for (std::size_t j = bracketFirst_[k]; j < bracketFirst_[k + 1]; ++j) {
-                inside |= f_[j] <= 0.0;
-                outside |= f_[j] >= 0.0;
-            }
-            if (inside && outside) {
-                const std::size_t i = which[k];
-                out[i].upper = glm::length(q_[i] - p[i]) + kBracketMm;
-                out[i].resolved = true;
+        if (m > 0) {
+            bracketFirst_[brackets] = m;
+            points_.evaluate(tape, x_.data(), y_.data(), z_.data(), m, f_.data());
+            for (std::size_t k = 0; k < brackets; ++k) {
+                bool inside = false, outside = false;
+                for (std::size_t j = bracketFirst_[k]; j < bracketFirst_[k + 1]; ++j) {
+                    inside |= f_[j] <= 0.0;
+                    outside |= f_[j] >= 0.0;
+                }
+                if (inside && outside) {
+                    const std::size_t i = which[k];
+                    out[i].upper = glm::length(q_[i] - p[i]) + kBracketMm;
+                    out[i].resolved = true;
+                }
             }
         }
+        // What the walk did not settle (it left the simplified tape's box,
+        // got stuck between two surfaces of a field that is only a bound
+        // there, or found no sign change) is redone with the full tape, and
+        // failing that settled by straight marches.
+        for (std::size_t i = 0; i < n; ++i) {
+            if (out[i].resolved || !std::isfinite(out[i].lower)) continue;
+            if (valid)
+                needFull[i] = 1;
+            else
+                out[i].upper = march(tape, p[i], out[i].resolved);
+        }
+    }
+
+    // Straight sphere-tracing marches from p along 26 directions (the
+    // neighbours of a cube cell), each stepping by max(|f|, kBracketMm) until
+    // f changes sign; the nearest crossing bounds the distance (the surface
+    // lies on the last step). Slow, and needed only where the field is a
+    // bound that the walk cannot follow (a point in a hole's mouth, between
+    // the hole's bottom and the face it opens through).
+    double march(const Tape& tape, const glm::dvec3& p, bool& resolved)
+    {
+        const glm::dvec3 at = p - tape.origin();
+        const double f0 = points_.evaluate(tape, at.x, at.y, at.z);
+        resolved = false;
+        double best = HUGE_VAL;
+        for (int k = 0; k < 27; ++k) {
+            const glm::dvec3 d(k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1);
+            if (d == glm::dvec3(0.0)) continue;
+            const glm::dvec3 u = glm::normalize(d);
+            double t = 0.0, f = f0;
+            for (int step = 0; step < kMaxMarchSteps; ++step) {
+                t += std::max(std::abs(f), kBracketMm);
+                if (t >= best) break;
+                const glm::dvec3 q = at + t * u;
+                f = points_.evaluate(tape, q.x, q.y, q.z);
+                if (!std::isfinite(f)) break;
+                if (f0 > 0.0 ? f <= 0.0 : f >= 0.0) {
+                    best = t;
+                    resolved = true;
+                    break;
+                }
+            }
+        }
+        return resolved ? best : 0.0;
     }
 
     PointEvaluator<double> points_;

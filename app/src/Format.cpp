@@ -27,7 +27,7 @@ std::string significant(double v, int digits)
 {
     if (v == 0.0 || !std::isfinite(v)) return number(v, 0);
     int magnitude = int(std::floor(std::log10(std::abs(v))));
-    if (magnitude < -6 || magnitude > 12) {
+    if (magnitude < -4 || magnitude > 12) {
         char buf[64];
         std::snprintf(buf, sizeof buf, "%.*e", digits - 1, v);
         return buf;

@@ -26,7 +26,11 @@
 //    CSG edges), the first step lands on the nearest surface point and the
 //    two bounds agree; near a crease where |f| is only a bound (inside a
 //    union, outside an intersection), the walk ends on a surface point near
-//    the nearest one (about 10% farther in the tests).
+//    the nearest one (about 10% farther in the tests). Where the walk gets
+//    stuck (the field a bound that steps back and forth between two
+//    surfaces, as in the mouth of a hole that pierces a face) or finds no
+//    sign change, straight sphere-tracing marches along 26 directions
+//    settle it: the nearest crossing bounds the distance.
 // Sample points: every vertex, and on every triangle its three edge
 // midpoints and its centroid. With the vertices these are the points of the
 // 7-point triangle quadrature rule of degree 3 (weights 1/20 at vertices,
