@@ -137,7 +137,12 @@ void labelPoints(QChart* chart, const std::vector<Curve>& curves)
             box->setBrush(QColor(255, 255, 255, 225));
             box->setPen(Qt::NoPen);
             box->setZValue(1000.0);
-            box->setPos(at + QPointF(9.0, -r.height() - 6.0));
+            // Above and to the right of the point, unless that leaves the plot.
+            const QRectF plot = chart->plotArea();
+            QPointF pos = at + QPointF(9.0, -r.height() - 6.0);
+            if (pos.x() + r.width() > plot.right()) pos.setX(at.x() - 9.0 - r.width());
+            if (pos.y() < plot.top()) pos.setY(at.y() + 6.0);
+            box->setPos(pos);
         }
 }
 
@@ -199,9 +204,10 @@ void writeTradePlot(const TradeReport& report, const std::string& title, const s
     headingFont.setBold(true);
     heading->setFont(headingFont);
     heading->setPos(20, 8);
-    auto* subheading = scene.addSimpleText(QString::fromStdString(
-        "one point per feature size; " + std::to_string(report.width) + "x" + std::to_string(report.height) + " " +
-        report.view + " view traced on " + report.device + "; " + std::to_string(report.threads) + " CPU threads"));
+    auto* subheading = scene.addSimpleText(
+        QString::fromStdString("log scales, one point per feature size; " + std::to_string(report.width) + "x" +
+                               std::to_string(report.height) + " " + report.view + " view traced on " + report.device +
+                               "; " + std::to_string(report.threads) + " CPU threads"));
     QFont subFont = subheading->font();
     subFont.setPointSize(10);
     subheading->setFont(subFont);
