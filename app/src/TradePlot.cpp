@@ -150,10 +150,11 @@ void labelPoints(QChart* chart, const std::vector<Curve>& curves)
 
 void writeTradePlot(const TradeReport& report, const std::string& title, const std::filesystem::path& png)
 {
-    // A QApplication for this call only, on the offscreen platform.
-    static int argc = 3;
-    static char arg0[] = "kerf", arg1[] = "-platform", arg2[] = "offscreen";
-    static char* argv[] = {arg0, arg1, arg2, nullptr};
+    // A QApplication for this call only, on the offscreen platform. Qt keeps
+    // (and edits) argc and argv: they outlive the application.
+    char program[] = "kerf", option[] = "-platform", platform[] = "offscreen";
+    char* argv[] = {program, option, platform, nullptr};
+    int argc = 3;
     std::unique_ptr<QApplication> app;
     if (!QCoreApplication::instance()) app = std::make_unique<QApplication>(argc, argv);
 
