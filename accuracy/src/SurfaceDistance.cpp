@@ -30,8 +30,10 @@ constexpr std::size_t kTriangleChunk = 1024;
 class Marcher {
 public:
     /// Fills out[0..n) for points p[0..n) (world coordinates) with `tape`,
-    /// valid inside `valid` (world coordinates; null: everywhere). Points
-    /// whose walk leaves `valid` get needFull[i] = true instead.
+    /// valid inside `valid` (world coordinates; null: everywhere). With a
+    /// `valid` box, points the walk does not settle get needFull[i] = 1
+    /// instead (to be redone with the full tape); with the full tape, they
+    /// are settled by marching.
     void measure(const Tape& tape, const Aabb* valid, const glm::dvec3* p, std::size_t n, PointDistance* out,
                  std::uint8_t* needFull)
     {
