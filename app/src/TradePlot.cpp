@@ -44,15 +44,18 @@ struct Curve {
     std::vector<PlotPoint> points;
 };
 
-// Ten to the power below `lo` and above `hi`: every axis shows at least two
-// labelled decades.
-std::pair<double, double> decades(double lo, double hi)
+// An axis range around [lo, hi] with room for the points and their labels
+// (a factor of 1.6 each side), and at least two labelled decades: Qt labels
+// a log axis only at powers of ten inside its range.
+std::pair<double, double> axisRange(double lo, double hi)
 {
-    double a = std::pow(10.0, std::floor(std::log10(lo))), b = std::pow(10.0, std::ceil(std::log10(hi)));
-    if (b <= a) b = a * 10.0;
-    // A hair wider: Qt labels a decade only when it lies inside the range,
-    // and pow(10, -2) may land just outside it after rounding.
-    return {a * 0.999, b * 1.001};
+    double a = lo / 1.6, b = hi * 1.6;
+    if (std::floor(std::log10(b)) - std::ceil(std::log10(a)) < 1.0) {
+        // A hair wider than the decades: pow(10, -2) may land just inside otherwise.
+        a = std::pow(10.0, std::floor(std::log10(a))) * 0.999;
+        b = std::pow(10.0, std::ceil(std::log10(b))) * 1.001;
+    }
+    return {a, b};
 }
 
 QChart* makePanel(const QString& title, const QString& xTitle, const std::vector<Curve>& curves)
@@ -90,11 +93,11 @@ QChart* makePanel(const QString& title, const QString& xTitle, const std::vector
         axis->setTitleFont(f);
     }
     if (xhi > 0.0) {
-        const auto [a, b] = decades(xlo, xhi);
+        const auto [a, b] = axisRange(xlo, xhi);
         x->setRange(a, b);
     }
     if (yhi > 0.0) {
-        const auto [a, b] = decades(ylo, yhi);
+        const auto [a, b] = axisRange(ylo, yhi);
         y->setRange(a, b);
     }
     chart->addAxis(x, Qt::AlignBottom);
