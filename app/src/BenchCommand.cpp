@@ -203,12 +203,14 @@ void printReport(std::ostream& out, const std::string& file, const TradeReport& 
         if (e.distance.unresolved) out << "  (" << grouped(e.distance.unresolved) << " samples reached no surface)";
         out << "\n";
     }
-    out << "  distance: sampled at vertices, edge midpoints and centroids, projected onto the surface; the true\n"
-           "  maximum lies between |f| at the samples and the max shown (largest gap: ";
+    // How sure each max is: the true maximum over the samples lies between
+    // the largest |f| (a lower bound) and the max shown (an upper bound).
     double gap = 0.0;
     for (const TradeRow& row : r.rows)
         if (row.exported) gap = std::max(gap, row.exported->distance.max - row.exported->distance.maxLowerBound);
-    out << significant(gap, 2) << " mm)\n";
+    out << "  distance: sampled at vertices, edge midpoints and centroids, projected onto the surface; each max\n"
+           "  is an upper bound, at most "
+        << significant(gap, 2) << " mm above the largest |f| at the samples (a lower bound)\n";
 }
 
 } // namespace
