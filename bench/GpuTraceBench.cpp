@@ -11,7 +11,14 @@
 //
 // --scene and --feature-size keep only that scene and that feature size (for
 // slow devices, where the whole run would take hours).
+//
+//   kerf_gpu_bench bench FILE.kerf [kerf bench's options but --plot]
+//
+// The second form runs `kerf bench` itself (the same code, app/TradeBench),
+// so that the speed/accuracy table can be measured on the GPU machine, which
+// has no Qt; --trace-only leaves out the export measurements.
 
+#include "kerf/app/Commands.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/Camera.hpp"
 #include "kerf/tracer/ExactRefinement.h"
@@ -67,6 +74,8 @@ double median(std::vector<double> v)
 
 int main(int argc, char** argv)
 {
+    if (argc > 1 && std::string(argv[1]) == "bench")
+        return kerf::runBench(std::vector<std::string>(argv + 2, argv + argc), std::cout, std::cerr);
     bool quick = false;
     int frames = 20;
     std::string jsonPath, examples = KERF_EXAMPLES_DIR;
@@ -86,7 +95,8 @@ int main(int argc, char** argv)
             qualities = {*parseTraceQuality(argv[++i])};
         else {
             std::cerr << "usage: kerf_gpu_bench [--quick] [--frames N] [--quality voxels|exact|both] "
-                         "[--scene chair|showcase] [--feature-size MM] [--json OUT.json] [--examples DIR]\n";
+                         "[--scene chair|showcase] [--feature-size MM] [--json OUT.json] [--examples DIR]\n"
+                         "       kerf_gpu_bench bench FILE.kerf [kerf bench options]\n";
             return 2;
         }
     }

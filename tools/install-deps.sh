@@ -17,6 +17,8 @@ packages=(
   # desktop application and its tests
   qt6-base-dev qt6-base-dev-tools libqt6opengl6-dev libqt6openglwidgets6
   qt6-charts-dev libxkbcommon-dev xvfb xauth
+  # kerf bench --plot draws its text offscreen with this font
+  fonts-dejavu-core
   # packaging
   dpkg-dev fakeroot lintian help2man librsvg2-bin desktop-file-utils shared-mime-info
 )

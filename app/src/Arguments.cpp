@@ -61,4 +61,23 @@ double Arguments::parsePositiveMillimetres(const std::string& option, const std:
     return v;
 }
 
+ImageSize Arguments::parseImageSize(const std::string& option, const std::string& text)
+{
+    const auto x = text.find('x');
+    ImageSize s;
+    try {
+        if (x == std::string::npos) throw std::invalid_argument("no x");
+        std::size_t used = 0;
+        s.width = std::stoi(text.substr(0, x), &used);
+        if (used != x) throw std::invalid_argument("width");
+        s.height = std::stoi(text.substr(x + 1), &used);
+        if (used != text.size() - x - 1) throw std::invalid_argument("height");
+    } catch (const std::exception&) {
+        throw UsageError(option + " must be WIDTHxHEIGHT in pixels, like 1920x1080, not '" + text + "'");
+    }
+    if (s.width < 1 || s.height < 1 || s.width > 16384 || s.height > 16384)
+        throw UsageError(option + " must be between 1x1 and 16384x16384, not '" + text + "'");
+    return s;
+}
+
 } // namespace kerf

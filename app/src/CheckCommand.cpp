@@ -4,6 +4,7 @@
 #include "kerf/app/Arguments.hpp"
 #include "kerf/app/Commands.hpp"
 #include "kerf/app/DocumentSummary.hpp"
+#include "kerf/app/Format.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
@@ -33,16 +34,6 @@ Options:
 Exit status: 0 valid, 2 bad usage or a refused document (the reason, naming
 the file, the node id and the field, goes to stderr).
 )";
-
-std::string mm(double v)
-{
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.3f", v);
-    std::string s = buf;
-    while (s.size() > 1 && s.back() == '0') s.pop_back();
-    if (!s.empty() && s.back() == '.') s.pop_back();
-    return s;
-}
 
 std::string point(const glm::dvec3& p) { return "(" + mm(p.x) + ", " + mm(p.y) + ", " + mm(p.z) + ")"; }
 

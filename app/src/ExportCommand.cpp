@@ -6,6 +6,7 @@
 #include "kerf/app/Arguments.hpp"
 #include "kerf/app/Commands.hpp"
 #include "kerf/app/DocumentSummary.hpp"
+#include "kerf/app/Format.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/NodeBounds.hpp"
 #include "kerf/mesher/MeshCheck.hpp"
@@ -46,35 +47,6 @@ Exit status: 0 written; 1 the part is empty or the export failed (nothing is
 written); 2 bad usage or a refused document (the reason, naming the file,
 goes to stderr).
 )";
-
-std::string number(double v, int decimals)
-{
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-    return buf;
-}
-
-// Lengths as `kerf check` prints them: up to 3 decimals, no trailing zeros.
-std::string mm(double v)
-{
-    std::string s = number(v, 3);
-    while (s.size() > 1 && s.back() == '0')
-        s.pop_back();
-    if (!s.empty() && s.back() == '.') s.pop_back();
-    return s;
-}
-
-std::string grouped(std::uint64_t n)
-{
-    std::string digits = std::to_string(n), out;
-    for (std::size_t i = 0; i < digits.size(); ++i) {
-        if (i && (digits.size() - i) % 3 == 0) out += ',';
-        out += digits[i];
-    }
-    return out;
-}
-
-std::string megabytes(std::uint64_t bytes) { return number(double(bytes) / 1e6, 1) + " MB"; }
 
 // Ctrl-C (SIGINT) or SIGTERM while meshing cancels it: nothing is written.
 std::atomic<bool> interrupted{false};

@@ -47,29 +47,6 @@ Options:
 Exit status: 0 written, 1 the work failed, 2 bad usage or a bad input file.
 )";
 
-struct Size {
-    int width = 1280, height = 960;
-};
-
-Size parseSize(const std::string& text)
-{
-    const auto x = text.find('x');
-    Size s;
-    try {
-        if (x == std::string::npos) throw std::invalid_argument("no x");
-        std::size_t used = 0;
-        s.width = std::stoi(text.substr(0, x), &used);
-        if (used != x) throw std::invalid_argument("width");
-        s.height = std::stoi(text.substr(x + 1), &used);
-        if (used != text.size() - x - 1) throw std::invalid_argument("height");
-    } catch (const std::exception&) {
-        throw UsageError("--size must be WIDTHxHEIGHT in pixels, like 1920x1080, not '" + text + "'");
-    }
-    if (s.width < 1 || s.height < 1 || s.width > 16384 || s.height > 16384)
-        throw UsageError("--size must be between 1x1 and 16384x16384, not '" + text + "'");
-    return s;
-}
-
 double msSince(std::chrono::steady_clock::time_point t)
 {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
@@ -89,7 +66,7 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
         if (a.positional().size() != 1) throw UsageError("expects exactly one FILE.kerf");
         const auto output = a.value("-o") ? a.value("-o") : a.value("--output");
         if (!output) throw UsageError("needs -o OUT.png");
-        const Size size = a.value("--size") ? parseSize(*a.value("--size")) : Size{};
+        const ImageSize size = a.value("--size") ? Arguments::parseImageSize("--size", *a.value("--size")) : ImageSize{};
         const std::string view = a.value("--view").value_or("iso");
         const std::string qualityName = a.value("--quality").value_or("voxels");
         const std::optional<TraceQuality> quality = parseTraceQuality(qualityName);

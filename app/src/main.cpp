@@ -2,6 +2,7 @@
 // subcommand kerf opens the desktop application.
 
 #include "kerf/app/Commands.hpp"
+#include "kerf/app/TradePlot.hpp"
 #include "kerf/ui/Desktop.hpp"
 
 #include <filesystem>
@@ -32,6 +33,11 @@ Commands:
                        voxelize and trace the part with the Vulkan compute
                        tracer, headless, and write the image; exact refines
                        the surface on the exact field (sharp edges)
+  bench [FILE.kerf] [--feature-sizes LIST] [--json OUT.json] [--plot OUT.png]
+                       measure speed against accuracy at each feature size:
+                       voxelize, re-voxelize and trace times, GPU memory, the
+                       picture's and the exported mesh's error against the
+                       exact part (default part: the bundled side chair)
 
 Options:
   --help               show this help (also: kerf COMMAND --help)
@@ -82,6 +88,7 @@ int main(int argc, char** argv)
     if (command == "check") return kerf::runCheck(rest, std::cout, std::cerr);
     if (command == "export") return kerf::runExport(rest, std::cout, std::cerr);
     if (command == "render") return kerf::runRender(rest, std::cout, std::cerr);
+    if (command == "bench") return kerf::runBench(rest, std::cout, std::cerr, kerf::writeTradePlot);
     std::cerr << "kerf: unknown command '" << command << "' (see kerf --help)\n";
     return 2;
 }

@@ -15,6 +15,10 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+struct ImageSize {
+    int width = 1280, height = 960;
+};
+
 class Arguments {
 public:
     /// `valueOptions` take a value; `flags` do not. Throws UsageError.
@@ -27,6 +31,8 @@ public:
 
     /// A positive number of millimetres; throws UsageError naming the option.
     static double parsePositiveMillimetres(const std::string& option, const std::string& text);
+    /// WIDTHxHEIGHT in pixels, each in [1, 16384]; throws UsageError naming the option.
+    static ImageSize parseImageSize(const std::string& option, const std::string& text);
 
 private:
     std::vector<std::string> flags_;

@@ -1,0 +1,22 @@
+#pragma once
+// How kerf's commands write numbers for people (the --json output writes
+// plain numbers instead).
+
+#include <cstdint>
+#include <string>
+
+namespace kerf {
+
+/// Fixed decimals: number(3.14159, 2) = "3.14".
+std::string number(double v, int decimals);
+/// A length as kerf prints it: up to 3 decimals, no trailing zeros ("0.5", "12").
+std::string mm(double v);
+/// Significant digits, no exponent from 1e-4 to 1e12: significant(0.012345, 3) = "0.0123",
+/// significant(1e-6, 2) = "1.0e-06".
+std::string significant(double v, int digits);
+/// Thousands separated by commas: grouped(1234567) = "1,234,567".
+std::string grouped(std::uint64_t n);
+/// Decimal megabytes with one decimal: "10.2 MB".
+std::string megabytes(std::uint64_t bytes);
+
+} // namespace kerf

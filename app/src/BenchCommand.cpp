@@ -1,0 +1,320 @@
+// kerf bench [FILE.kerf]: measures the trade between speed and accuracy at a
+// list of feature sizes (TradeBench.hpp says what each figure is) and prints
+// it as two tables, the screen's and the export's; --json and --plot write
+// the same figures to files, whole or not at all.
+
+#include "kerf/app/Arguments.hpp"
+#include "kerf/app/Commands.hpp"
+#include "kerf/app/Format.hpp"
+#include "kerf/app/InstalledResources.hpp"
+#include "kerf/app/TradeBench.hpp"
+#include "kerf/document/AtomicFile.hpp"
+#include "kerf/document/DocumentError.hpp"
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/voxelizer/Voxelize.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <ostream>
+#include <sstream>
+#include <unistd.h>
+
+namespace kerf {
+
+namespace {
+
+const char* kBenchHelp = R"(Usage: kerf bench [FILE.kerf] [--feature-sizes LIST] [--json OUT.json] [--plot OUT.png]
+                  [--size WxH] [--view NAME] [--frames N] [--cpu] [--trace-only]
+
+Measures the trade between speed and accuracy for a part (the bundled side
+chair when no file is given), at each feature size of LIST:
+  screen: cold voxelization time; re-voxelization time after a typical edit
+          (the part's smallest feature moved 5 mm along x, printed); GPU
+          memory of the voxel buffers; trace time per frame on the device
+          used (printed); the traced picture against an exact sphere-traced
+          reference of the same camera: depth error in mm and normal error
+          in degrees (mean, 99th percentile, max) on pixels both hit, and the
+          fraction of pixels only one of them hits;
+  export: triangles and time of the mesh kerf export writes; its distance to
+          the exact surface (sampled on every triangle, mean and max); its
+          volume against the exact field's integral (with its uncertainty).
+docs/accuracy.md explains the methods and what to choose.
+
+Options:
+  --feature-sizes LIST  feature sizes in mm, comma-separated, like 2,1,0.5
+                        (default: 4, 2 and 1 times the document's feature size)
+  --json OUT.json       also write every figure as JSON
+  --plot OUT.png        also draw the trade (error against time and memory)
+  --size WxH            picture size in pixels (default 1280x960)
+  --view NAME           iso (default), front, back, left, right, top, bottom
+  --frames N            frames timed per feature size, after one warm-up (default 5)
+  --cpu                 trace with the CPU reference tracer instead of Vulkan
+  --trace-only          screen figures only: no mesh, no volume reference
+  --help                show this help
+
+Feature sizes that would need more than 40 million voxels are refused.
+Exit status: 0 measured; 1 the part is empty or the work failed; 2 bad usage
+or a bad input file (the reason, naming the file, goes to stderr).
+)";
+
+constexpr double kMaxBenchVoxels = 4e7; // about 1.4 GB of voxels, and a mesh of about 80 M triangles
+
+std::vector<double> parseFeatureSizes(const std::string& text)
+{
+    std::vector<double> sizes;
+    std::stringstream in(text);
+    std::string item;
+    while (std::getline(in, item, ','))
+        sizes.push_back(Arguments::parsePositiveMillimetres("--feature-sizes", item));
+    if (sizes.empty() || text.back() == ',')
+        throw UsageError("--feature-sizes must list millimetres separated by commas, like 2,1,0.5, not '" + text + "'");
+    // Coarse to fine, each once.
+    std::sort(sizes.begin(), sizes.end(), std::greater<>());
+    sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
+    return sizes;
+}
+
+int parseFrames(const std::string& text)
+{
+    char* end = nullptr;
+    const long v = std::strtol(text.c_str(), &end, 10);
+    if (text.empty() || *end != '\0' || v < 1 || v > 1000)
+        throw UsageError("--frames must be a whole number from 1 to 1000, not '" + text + "'");
+    return int(v);
+}
+
+// An output file's folder must exist before minutes of measuring start.
+void checkOutputFolder(const std::string& option, const std::filesystem::path& file)
+{
+    const std::filesystem::path folder = file.has_parent_path() ? file.parent_path() : ".";
+    std::error_code ec;
+    if (!std::filesystem::is_directory(folder, ec))
+        throw UsageError(option + ": the folder '" + folder.string() + "' does not exist");
+}
+
+// Right-aligns `text` in `width` columns.
+std::string right(const std::string& text, std::size_t width)
+{
+    return text.size() >= width ? text : std::string(width - text.size(), ' ') + text;
+}
+
+std::string milliseconds(double ms)
+{
+    if (ms >= 10000.0) return number(ms / 1000.0, 1) + " s";
+    if (ms >= 100.0) return number(ms, 0) + " ms";
+    return significant(ms, 2) + " ms";
+}
+
+std::string triple(const ErrorStats& s, int digits)
+{
+    return significant(s.mean, digits) + " / " + significant(s.p99, digits) + " / " + significant(s.max, digits);
+}
+
+std::string percent(double fraction) { return significant(100.0 * fraction, 2) + "%"; }
+
+void printReport(std::ostream& out, const std::string& file, const TradeReport& r)
+{
+    out << "kerf bench: " << file << "\n";
+    out << "  device:          " << r.device << "\n";
+    if (!r.vulkanProblem.empty()) out << "  (no Vulkan:      " << r.vulkanProblem << ")\n";
+    out << "  threads:         " << r.threads << " (voxelizer and mesher)\n";
+    out << "  picture:         " << r.width << "x" << r.height << " " << r.view
+        << " view; reference: exact sphere tracing (epsilon " << significant(r.referenceEpsilon, 1) << " mm), "
+        << grouped(r.referencePixelsHit) << " pixels hit\n";
+    if (r.edit)
+        out << "  typical edit:    move '" << r.edit->nodeId << "' (" << nodeTypeName(r.edit->type)
+            << (r.edit->instances > 1 ? ", " + grouped(r.edit->instances) + " instances" : std::string()) << ") by "
+            << mm(kTypicalEditMm) << " mm along x, back, and again\n";
+    else
+        out << "  typical edit:    none (the part has no bounded visible primitive to move)\n";
+    if (r.volumeReference) {
+        const VolumeEstimate& v = *r.volumeReference;
+        out << "  volume ref.:     " << number(v.volume, 1) << " mm^3 +- " << significant(v.uncertainty, 2)
+            << " (exact field integrated with " << mm(v.cellSize) << " mm cells; +- is two standard errors)\n";
+    }
+
+    out << "\nScreen: voxels and trace (trace time per frame on the device above)\n";
+    const std::array<std::pair<const char*, std::size_t>, 8> screen{{{"feature", 9},
+                                                                     {"voxelize", 10},
+                                                                     {"re-voxelize", 18},
+                                                                     {"GPU memory", 11},
+                                                                     {"trace", 10},
+                                                                     {"depth err mm mean/p99/max", 28},
+                                                                     {"normal err deg mean/p99/max", 28},
+                                                                     {"silhouette", 11}}};
+    out << " ";
+    for (const auto& [name, width] : screen)
+        out << " " << right(name, width);
+    out << "\n";
+    for (const TradeRow& row : r.rows) {
+        const std::string revox =
+            row.revoxelize ? milliseconds(row.revoxelize->coarseMs) + " / " + milliseconds(row.revoxelize->finalMs)
+                           : "-";
+        const std::array<std::string, 8> cells{mm(row.featureSize) + " mm",
+                                               milliseconds(row.voxelizeMs),
+                                               revox,
+                                               megabytes(row.gpuBytes),
+                                               milliseconds(row.traceMs),
+                                               triple(row.picture.depthMm, 2),
+                                               triple(row.picture.normalDegrees, 2),
+                                               percent(row.picture.mismatchFraction())};
+        out << " ";
+        for (std::size_t i = 0; i < cells.size(); ++i)
+            out << " " << right(cells[i], screen[i].second);
+        out << "\n";
+    }
+    out << "  re-voxelize: to the coarse / the complete publication; silhouette: pixels only one picture hits\n";
+    for (const TradeRow& row : r.rows)
+        if (!row.note.empty()) out << "  " << mm(row.featureSize) << " mm: " << row.note << "\n";
+
+    const bool exported = std::any_of(r.rows.begin(), r.rows.end(), [](const TradeRow& x) { return x.exported; });
+    if (!exported) return;
+    out << "\nExport: marching cubes on the exact field (time excludes writing the STL)\n";
+    const std::array<std::pair<const char*, std::size_t>, 6> exportColumns{{{"feature", 9},
+                                                                            {"triangles", 12},
+                                                                            {"export", 10},
+                                                                            {"distance mm mean / max", 24},
+                                                                            {"volume error", 24},
+                                                                            {"STL size", 11}}};
+    out << " ";
+    for (const auto& [name, width] : exportColumns)
+        out << " " << right(name, width);
+    out << "\n";
+    for (const TradeRow& row : r.rows) {
+        if (!row.exported) continue;
+        const ExportFigures& e = *row.exported;
+        std::string volume = "-";
+        if (r.volumeReference && r.volumeReference->volume > 0.0) {
+            const double err = e.volume - r.volumeReference->volume;
+            volume = significant(err, 2) + " mm^3 (" + significant(100.0 * err / r.volumeReference->volume, 2) + "%)";
+        }
+        const std::array<std::string, 6> cells{mm(row.featureSize) + " mm",
+                                               grouped(e.triangles),
+                                               milliseconds(e.meshMs),
+                                               significant(e.distance.mean, 2) + " / " + significant(e.distance.max, 2),
+                                               volume,
+                                               megabytes(e.stlBytes)};
+        out << " ";
+        for (std::size_t i = 0; i < cells.size(); ++i)
+            out << " " << right(cells[i], exportColumns[i].second);
+        if (!e.watertight) out << "  (not watertight)";
+        if (e.distance.unresolved) out << "  (" << grouped(e.distance.unresolved) << " samples reached no surface)";
+        out << "\n";
+    }
+    // How sure each max is: the true maximum over the samples lies between
+    // the largest |f| (a lower bound) and the max shown (an upper bound).
+    double gap = 0.0;
+    for (const TradeRow& row : r.rows)
+        if (row.exported) gap = std::max(gap, row.exported->distance.max - row.exported->distance.maxLowerBound);
+    out << "  distance: sampled at vertices, edge midpoints and centroids, projected onto the surface; each max\n"
+           "  is an upper bound, at most "
+        << significant(gap, 2) << " mm above the largest |f| at the samples (a lower bound)\n";
+}
+
+} // namespace
+
+int runBench(const std::vector<std::string>& args, std::ostream& out, std::ostream& err, const TradePlotter& plot)
+{
+    std::string file;
+    try {
+        const Arguments a(args, {"--feature-sizes", "--json", "--plot", "--size", "--view", "--frames"},
+                          {"--cpu", "--trace-only", "--help", "-h"});
+        if (a.has("--help") || a.has("-h")) {
+            out << kBenchHelp;
+            return 0;
+        }
+        if (a.positional().size() > 1) throw UsageError("expects at most one FILE.kerf");
+        file = a.positional().empty() ? defaultExample().string() : a.positional()[0];
+        TradeBenchOptions options;
+        if (const auto v = a.value("--size")) {
+            const ImageSize size = Arguments::parseImageSize("--size", *v);
+            options.width = size.width;
+            options.height = size.height;
+        }
+        options.view = a.value("--view").value_or("iso");
+        static constexpr std::array<std::string_view, 7> kViews{"iso",   "front", "back",  "left",
+                                                                "right", "top",   "bottom"};
+        if (std::find(kViews.begin(), kViews.end(), options.view) == kViews.end())
+            throw UsageError("--view: unknown view '" + options.view +
+                             "' (iso, front, back, left, right, top, bottom)");
+        if (const auto v = a.value("--frames")) options.frames = parseFrames(*v);
+        options.cpu = a.has("--cpu");
+        options.traceOnly = a.has("--trace-only");
+        const auto json = a.value("--json");
+        const auto png = a.value("--plot");
+        if (json) checkOutputFolder("--json", *json);
+        if (png) {
+            if (!plot) throw UsageError("--plot: this program was built without plotting (Qt Charts); use kerf");
+            checkOutputFolder("--plot", *png);
+        }
+        const std::optional<std::string> sizes = a.value("--feature-sizes");
+        if (sizes) options.featureSizes = parseFeatureSizes(*sizes);
+
+        const Document doc = Document::load(file);
+        const Tape tape = compileTape(doc);
+        if (tape.empty() || tape.bounds().isEmpty()) {
+            err << "kerf bench: " << file << ": the part is empty (nothing visible); nothing to measure\n";
+            return 1;
+        }
+        if (!tape.bounds().isBounded()) {
+            err << "kerf bench: " << file
+                << ": the part is unbounded (a halfspace nothing clips); nothing to measure\n";
+            return 1;
+        }
+        if (!sizes) {
+            const double base = doc.settings.featureSize.value_or(defaultFeatureSize(tape.bounds()));
+            options.featureSizes = {4.0 * base, 2.0 * base, base};
+        }
+        // Refuse what would take hours and more memory than the machine has.
+        for (double fs : options.featureSizes) {
+            const VoxelEstimate estimate = estimateVoxels(tape, GridLayout::choose(tape.bounds(), fs));
+            if (estimate.populatedVoxels > kMaxBenchVoxels) {
+                const double smallest = fs * std::sqrt(estimate.populatedVoxels / kMaxBenchVoxels);
+                throw UsageError(std::string(sizes ? "--feature-sizes: " : "the default feature sizes: ") + mm(fs) +
+                                 " mm needs about " + significant(estimate.populatedVoxels / 1e6, 2) +
+                                 " million voxels (" + significant(estimate.bytes / 1e9, 2) + " GB) for " + file +
+                                 "; the bench builds at most 40 million: choose " + significant(smallest * 1.05, 2) +
+                                 " mm or more");
+            }
+        }
+
+        const bool terminal = ::isatty(STDERR_FILENO);
+        if (terminal)
+            options.progress = [&](const std::string& what) {
+                err << "\r\033[Kkerf bench: " << what << "..." << std::flush;
+            };
+        const TradeReport report = runTradeBench(doc, options);
+        if (terminal) err << "\r\033[K" << std::flush;
+        if (!report.vulkan && !options.cpu)
+            err << "kerf bench: no usable Vulkan device (" << report.vulkanProblem
+                << "); trace times are the CPU reference tracer's\n";
+
+        printReport(out, file, report);
+        if (json) {
+            nlohmann::ordered_json j;
+            j["file"] = file;
+            j.update(tradeReportJson(report));
+            writeFileAtomically(*json, j.dump(2) + "\n");
+            out << "\nwrote " << *json << "\n";
+        }
+        if (png) {
+            plot(report, std::filesystem::path(file).filename().string(), *png);
+            out << (json ? "" : "\n") << "wrote " << *png << "\n";
+        }
+        return 0;
+    } catch (const UsageError& e) {
+        err << "kerf bench: " << e.what() << " (see kerf bench --help)\n";
+        return 2;
+    } catch (const DocumentError& e) {
+        err << "kerf bench: " << e.what() << "\n";
+        return 2;
+    } catch (const std::exception& e) {
+        err << "kerf bench: " << (file.empty() ? "" : file + ": ") << e.what() << "\n";
+        return 1;
+    }
+}
+
+} // namespace kerf

@@ -1,0 +1,33 @@
+# Runs `kerf bench` (KERF, ARGS as a ;-list), expects exit status 0, then
+# checks the files it wrote: JSON (every field of JSON_FIELDS, a ;-list of
+# dotted paths with numeric array indices, must exist and not be null, and
+# "results" must hold RESULTS entries) and PNG (the PNG signature, and a
+# plot's size: more than 20 kB).
+execute_process(COMMAND ${KERF} ${ARGS} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT code EQUAL 0)
+  message(FATAL_ERROR "exit status ${code}, expected 0\nstdout: ${out}\nstderr: ${err}")
+endif()
+if(JSON)
+  file(READ ${JSON} json)
+  string(JSON results LENGTH "${json}" results)
+  if(NOT results EQUAL RESULTS)
+    message(FATAL_ERROR "${JSON}: ${results} results, expected ${RESULTS}")
+  endif()
+  foreach(field ${JSON_FIELDS})
+    string(REPLACE "." ";" path "${field}")
+    string(JSON value ERROR_VARIABLE problem GET "${json}" ${path})
+    if(problem OR value STREQUAL "null" OR value STREQUAL "")
+      message(FATAL_ERROR "${JSON}: no value at ${field} (${problem})")
+    endif()
+  endforeach()
+endif()
+if(PNG)
+  file(READ ${PNG} signature LIMIT 8 HEX)
+  if(NOT signature STREQUAL "89504e470d0a1a0a")
+    message(FATAL_ERROR "${PNG} is not a PNG file (starts with ${signature})")
+  endif()
+  file(SIZE ${PNG} bytes)
+  if(bytes LESS 20000)
+    message(FATAL_ERROR "${PNG} has only ${bytes} bytes: not a plot")
+  endif()
+endif()
