@@ -6,6 +6,8 @@
 #include "TraceShared.h"
 #include "trace.comp.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cstring>
 
 namespace kerf::vk {
@@ -258,6 +260,21 @@ TraceImage ComputeTracer::trace(const Camera& camera, const ResidentSet& voxels,
     const float* nrm = static_cast<const float*>(normal.mapped());
     for (std::size_t i = 0; i < pixels; ++i) image.normal[i] = {nrm[4 * i], nrm[4 * i + 1], nrm[4 * i + 2]};
     return image;
+}
+
+double ComputeTracer::sustainedMilliseconds(const Camera& camera, int frames, TraceQuality quality)
+{
+    frames = std::max(frames, 1);
+    const VoxelAddresses addr = voxels();
+    double ms = 0.0;
+    for (int batch = 0; batch < 2; ++batch) {
+        const auto t0 = std::chrono::steady_clock::now();
+        impl_->ctx.submitAndWait([&](VkCommandBuffer cb) {
+            for (int f = 0; f < frames; ++f) record(cb, camera, addr, {}, quality);
+        });
+        ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / frames;
+    }
+    return ms;
 }
 
 } // namespace kerf::vk

@@ -73,6 +73,14 @@ public:
     TraceImage trace(const Camera& camera, const ResidentSet& voxels, TraceTiming* timing = nullptr,
                      const Section& section = {}, TraceQuality quality = TraceQuality::Voxels);
 
+    /// Milliseconds per frame of `frames` traces of the resident voxels
+    /// recorded back to back in one submission (no read-back), timed on the
+    /// host: the second of two batches, the first bringing the clocks up.
+    /// What a viewport drawing continuously sees; a single frame followed by
+    /// a wait (lastTiming()) lets the GPU idle and clock down, and its time
+    /// swings several-fold from run to run on a discrete GPU.
+    double sustainedMilliseconds(const Camera& camera, int frames, TraceQuality quality = TraceQuality::Voxels);
+
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
