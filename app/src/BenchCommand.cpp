@@ -51,8 +51,8 @@ Options:
   --size WxH            picture size in pixels (default 1280x960)
   --view NAME           iso (default), front, back, left, right, top, bottom
   --frames N            frames timed per feature size (default 5); on Vulkan
-                        they run back to back, as a viewport draws (after a
-                        first batch that brings the GPU's clocks up)
+                        they run back to back, as a viewport draws (after
+                        300 ms of warm-up that brings the GPU's clocks up)
   --cpu                 trace with the CPU reference tracer instead of Vulkan
   --trace-only          screen figures only: no mesh, no volume reference
   --help                show this help

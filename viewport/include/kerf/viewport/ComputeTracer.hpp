@@ -75,7 +75,7 @@ public:
 
     /// Milliseconds per frame of `frames` traces of the resident voxels
     /// recorded back to back in one submission (no read-back), timed on the
-    /// host: the second of two batches, the first bringing the clocks up.
+    /// host, after at least 300 ms of the same work that brings the clocks up.
     /// What a viewport drawing continuously sees; a single frame followed by
     /// a wait (lastTiming()) lets the GPU idle and clock down, and its time
     /// swings several-fold from run to run on a discrete GPU.
