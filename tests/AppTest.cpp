@@ -120,6 +120,9 @@ TEST(TradeBench, FinerFeatureSizesCostMoreAndErrLess)
         EXPECT_LT(std::abs(row.exported->volume - exact), std::abs(coarser.exported->volume - exact));
     }
 
+    for (const TradeRow& row : r.rows)
+        EXPECT_FALSE(row.exactEdges); // not asked for
+
     const auto j = tradeReportJson(r);
     EXPECT_EQ(j["results"].size(), 3u);
     EXPECT_EQ(j["edit"]["node"], "hole");
@@ -146,6 +149,45 @@ TEST(TradeBench, TraceOnlyLeavesTheExportOut)
     ASSERT_EQ(h.rows.size(), 1u);
     EXPECT_FALSE(h.rows[0].revoxelize);
     EXPECT_GT(h.rows[0].picture.bothHit, 100u);
+}
+
+TEST(TradeBench, ExactEdgesSharpenTheSamePicture)
+{
+    // Two boxes meeting at a crease, less a tilted cylinder: edges the voxels
+    // round off at a coarse feature size and the exact field keeps.
+    const Document part = doc(R"({"id":"d","type":"difference","children":[
+        {"id":"u","type":"union","children":[
+            {"id":"a","type":"box","size":[40,30,20]},
+            {"id":"b","type":"box","size":[30,30,30],"transform":{"translate":[15,0,5],"rotate":[0,35,0]}}]},
+        {"id":"hole","type":"cylinder","radius":5,"height":80,"transform":{"rotate":[20,0,10]}}]})");
+    TradeBenchOptions options;
+    options.featureSizes = {4.0, 2.0};
+    options.width = 120;
+    options.height = 90;
+    options.frames = 1;
+    options.cpu = true;
+    options.traceOnly = true;
+    options.exactEdges = true;
+    const TradeReport r = runTradeBench(part, options);
+    ASSERT_EQ(r.rows.size(), 2u);
+    for (const TradeRow& row : r.rows) {
+        SCOPED_TRACE(row.featureSize);
+        ASSERT_TRUE(row.exactEdges);
+        const ImageError& voxels = row.picture;
+        const ImageError& exact = row.exactEdges->picture;
+        EXPECT_GT(row.exactEdges->traceMs, 0.0);
+        // Same voxels, refined: the picture is several times closer to the
+        // exact part in depth and normal, and the silhouette agrees better.
+        EXPECT_LT(exact.depthMm.p99, voxels.depthMm.p99 / 4.0);
+        EXPECT_LT(exact.depthMm.mean, voxels.depthMm.mean / 4.0);
+        EXPECT_LT(exact.normalDegrees.mean, voxels.normalDegrees.mean / 4.0);
+        EXPECT_LE(exact.mismatchFraction(), voxels.mismatchFraction());
+        // And within a fraction of a voxel everywhere but a few pixels.
+        EXPECT_LT(exact.depthMm.p99, 0.05 * row.voxelSize);
+    }
+    const auto j = tradeReportJson(r);
+    EXPECT_TRUE(j["results"][0]["exact_edges"]["picture"]["depth_error_mm"].contains("p99"));
+    EXPECT_GT(j["results"][0]["exact_edges"]["trace_ms"].get<double>(), 0.0);
 }
 
 } // namespace

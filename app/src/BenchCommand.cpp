@@ -28,6 +28,7 @@ namespace {
 
 const char* kBenchHelp = R"(Usage: kerf bench [FILE.kerf] [--feature-sizes LIST] [--json OUT.json] [--plot OUT.png]
                   [--size WxH] [--view NAME] [--frames N] [--cpu] [--trace-only]
+                  [--exact-edges]
 
 Measures the trade between speed and accuracy for a part (the bundled side
 chair when no file is given), at each feature size of LIST:
@@ -37,7 +38,8 @@ chair when no file is given), at each feature size of LIST:
           used (printed); the traced picture against an exact sphere-traced
           reference of the same camera: depth error in mm and normal error
           in degrees (mean, 99th percentile, max) on pixels both hit, and the
-          fraction of pixels only one of them hits;
+          fraction of pixels only one of them hits; with --exact-edges, the
+          same for the voxels refined on the exact field near each hit;
   export: triangles and time of the mesh kerf export writes; its distance to
           the exact surface (sampled on every triangle, mean and max); its
           volume against the exact field's integral (with its uncertainty).
@@ -55,6 +57,9 @@ Options:
                         300 ms of warm-up that brings the GPU's clocks up)
   --cpu                 trace with the CPU reference tracer instead of Vulkan
   --trace-only          screen figures only: no mesh, no volume reference
+  --exact-edges         also trace with the hybrid refinement (kerf render
+                        --quality exact, the viewport's Exact Edges): its
+                        trace time and picture error, in a second table
   --help                show this help
 
 Feature sizes that would need more than 40 million voxels are refused.
@@ -172,6 +177,35 @@ void printReport(std::ostream& out, const std::string& file, const TradeReport& 
     for (const TradeRow& row : r.rows)
         if (!row.note.empty()) out << "  " << mm(row.featureSize) << " mm: " << row.note << "\n";
 
+    if (std::any_of(r.rows.begin(), r.rows.end(), [](const TradeRow& x) { return x.exactEdges; })) {
+        out << "\nScreen, exact edges: the same voxels, the surface refined on the exact field near each hit\n";
+        const std::array<std::pair<const char*, std::size_t>, 6> exact{{{"feature", 9},
+                                                                        {"trace", 10},
+                                                                        {"vs voxels", 10},
+                                                                        {"depth err mm mean/p99/max", 28},
+                                                                        {"normal err deg mean/p99/max", 28},
+                                                                        {"silhouette", 11}}};
+        out << " ";
+        for (const auto& [name, width] : exact)
+            out << " " << right(name, width);
+        out << "\n";
+        for (const TradeRow& row : r.rows) {
+            if (!row.exactEdges) continue;
+            const PictureFigures& e = *row.exactEdges;
+            const std::array<std::string, 6> cells{
+                mm(row.featureSize) + " mm",
+                milliseconds(e.traceMs),
+                row.traceMs > 0.0 ? significant(e.traceMs / row.traceMs, 2) + "x" : std::string("-"),
+                triple(e.picture.depthMm, 2),
+                triple(e.picture.normalDegrees, 2),
+                percent(e.picture.mismatchFraction())};
+            out << " ";
+            for (std::size_t i = 0; i < cells.size(); ++i)
+                out << " " << right(cells[i], exact[i].second);
+            out << "\n";
+        }
+    }
+
     const bool exported = std::any_of(r.rows.begin(), r.rows.end(), [](const TradeRow& x) { return x.exported; });
     if (!exported) return;
     out << "\nExport: marching cubes on the exact field (time excludes writing the STL)\n";
@@ -223,7 +257,7 @@ int runBench(const std::vector<std::string>& args, std::ostream& out, std::ostre
     std::string file;
     try {
         const Arguments a(args, {"--feature-sizes", "--json", "--plot", "--size", "--view", "--frames"},
-                          {"--cpu", "--trace-only", "--help", "-h"});
+                          {"--cpu", "--trace-only", "--exact-edges", "--help", "-h"});
         if (a.has("--help") || a.has("-h")) {
             out << kBenchHelp;
             return 0;
@@ -245,6 +279,7 @@ int runBench(const std::vector<std::string>& args, std::ostream& out, std::ostre
         if (const auto v = a.value("--frames")) options.frames = parseFrames(*v);
         options.cpu = a.has("--cpu");
         options.traceOnly = a.has("--trace-only");
+        options.exactEdges = a.has("--exact-edges");
         const auto json = a.value("--json");
         const auto png = a.value("--plot");
         if (json) checkOutputFolder("--json", *json);

@@ -154,25 +154,38 @@ TradeReport runTradeBench(const Document& doc, const TradeBenchOptions& options)
             row.gpuBytes = buffers.bytes();
 
             progress("tracing" + at);
-            std::vector<double> frameMs;
-            TraceImage image;
             if (report.vulkan) {
                 t0 = Clock::now();
                 tracer->setVoxels(buffers);
                 row.uploadMs = msSince(t0);
-                image = tracer->trace(camera);
-                // Back to back, as a viewport draws: a frame followed by a
-                // wait lets a discrete GPU clock down (sustainedMilliseconds).
-                frameMs.push_back(tracer->sustainedMilliseconds(camera, options.frames));
-            } else {
-                for (int f = 0; f <= options.frames; ++f) {
-                    t0 = Clock::now();
-                    image = traceVoxels(buffers, camera);
-                    if (f > 0) frameMs.push_back(msSince(t0));
-                }
             }
-            row.traceMs = median(frameMs);
-            row.picture = compareImages(image, reference);
+            const auto measure = [&](TraceQuality quality) {
+                PictureFigures figures;
+                TraceImage image;
+                if (report.vulkan) {
+                    image = tracer->trace(camera, nullptr, {}, quality);
+                    // Back to back, as a viewport draws: a frame followed by
+                    // a wait lets a discrete GPU clock down.
+                    figures.traceMs = tracer->sustainedMilliseconds(camera, options.frames, quality);
+                } else {
+                    std::vector<double> frameMs;
+                    for (int f = 0; f <= options.frames; ++f) {
+                        t0 = Clock::now();
+                        image = traceVoxels(buffers, camera, 0, {}, quality);
+                        if (f > 0) frameMs.push_back(msSince(t0)); // the first is a warm-up
+                    }
+                    figures.traceMs = median(frameMs);
+                }
+                figures.picture = compareImages(image, reference);
+                return figures;
+            };
+            const PictureFigures voxels = measure(TraceQuality::Voxels);
+            row.traceMs = voxels.traceMs;
+            row.picture = voxels.picture;
+            if (options.exactEdges) {
+                progress("tracing with exact edges" + at);
+                row.exactEdges = measure(TraceQuality::Exact);
+            }
         }
         if (report.edit) {
             progress("re-voxelizing after moving '" + report.edit->nodeId + "'" + at);
@@ -244,10 +257,14 @@ nlohmann::ordered_json tradeReportJson(const TradeReport& r)
         x["gpu_bytes"] = row.gpuBytes;
         if (r.vulkan) x["upload_ms"] = row.uploadMs;
         x["trace_ms"] = row.traceMs;
-        const ImageError& p = row.picture;
-        x["picture"] = {{"pixels_both_hit", p.bothHit},         {"pixels_only_voxels", p.onlyImage},
-                        {"pixels_only_exact", p.onlyReference}, {"mismatch_fraction", p.mismatchFraction()},
-                        {"depth_error_mm", stats(p.depthMm)},   {"normal_error_deg", stats(p.normalDegrees)}};
+        const auto picture = [&](const ImageError& p) {
+            return J{{"pixels_both_hit", p.bothHit},         {"pixels_only_voxels", p.onlyImage},
+                     {"pixels_only_exact", p.onlyReference}, {"mismatch_fraction", p.mismatchFraction()},
+                     {"depth_error_mm", stats(p.depthMm)},   {"normal_error_deg", stats(p.normalDegrees)}};
+        };
+        x["picture"] = picture(row.picture);
+        if (row.exactEdges)
+            x["exact_edges"] = {{"trace_ms", row.exactEdges->traceMs}, {"picture", picture(row.exactEdges->picture)}};
         if (row.exported) {
             const ExportFigures& e = *row.exported;
             J m;

@@ -12,9 +12,14 @@
 //    edit (TypicalEdit.hpp), the median of three edits (+d, -d, +d): the time
 //    to the coarse publication and to the complete one, and the tiles rebuilt.
 //  - gpuBytes: FlatVoxelBuffers::bytes(), what the tracer uploads.
-//  - traceMs: the median of `frames` traces after one warm-up, from GPU
-//    timestamps around the dispatch (Vulkan) or the wall clock of the CPU
-//    reference tracer; `device` says which.
+//  - traceMs: per frame, `frames` traces back to back after a warm-up
+//    (ComputeTracer::sustainedMilliseconds, Vulkan) or the median of
+//    `frames` traces after one warm-up on the wall clock (the CPU reference
+//    tracer); `device` says which.
+//  - exactEdges (when asked for): the same voxels traced with the hybrid
+//    refinement (TraceQuality::Exact: the exact field near each hit, what
+//    `kerf render --quality exact` and the viewport's Exact Edges draw),
+//    its trace time and picture error measured the same way.
 //  - picture: the traced image (as read back from the device) against the
 //    exact sphere trace of the same camera (ImageError.hpp).
 //  - export: meshTape() at the feature size (the mesh `kerf export` writes;
@@ -45,6 +50,7 @@ struct TradeBenchOptions {
     int frames = 5;
     bool cpu = false;       // trace with the CPU reference tracer even when Vulkan works
     bool traceOnly = false; // leave out the export measurements (mesh, distance, volume)
+    bool exactEdges = false; // also trace with the hybrid refinement
     /// Told what is being measured, one short phrase at a time (for a
     /// progress line); called on the calling thread.
     std::function<void(const std::string&)> progress;
@@ -68,6 +74,12 @@ struct RevoxelizeFigures {
     std::size_t tiles = 0;
 };
 
+/// A trace of the voxels at one quality: its time per frame and its error.
+struct PictureFigures {
+    double traceMs = 0.0;
+    ImageError picture;
+};
+
 struct TradeRow {
     double featureSize = 0.0; // mm, as asked
     double voxelSize = 0.0;   // mm, as built (larger only when the grid had to coarsen)
@@ -79,7 +91,8 @@ struct TradeRow {
     double uploadMs = 0.0;                       // Vulkan only: the whole buffers through staging, waiting
     double traceMs = 0.0;
     ImageError picture;
-    std::optional<ExportFigures> exported; // none with traceOnly
+    std::optional<PictureFigures> exactEdges; // only when asked for
+    std::optional<ExportFigures> exported;    // none with traceOnly
 };
 
 struct TradeReport {
