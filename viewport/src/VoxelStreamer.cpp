@@ -2,7 +2,12 @@
 
 #include "kerf/viewport/VulkanError.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <unordered_set>
 
@@ -29,6 +34,35 @@ struct BlobLayout {
         total = alignUp(tape + t.tape.size() * sizeof(std::uint32_t));
     }
 };
+
+// Writes bytes [from, from + bytes) of `t`'s blob to `out`: the records
+// where the layout has them, zeros in the padding between the parts. Straight
+// from the tile's arrays into the staging ring, without assembling the blob.
+void copyBlobRange(const TileData& t, const BlobLayout& layout, std::size_t from, std::size_t bytes, std::uint8_t* out)
+{
+    struct Part {
+        std::size_t start;
+        const void* data;
+        std::size_t size;
+        std::size_t end; // where the next part starts: [start + size, end) is padding
+    };
+    const std::array<Part, 5> parts{{
+        {0, t.nodes.data(), t.nodes.size() * sizeof(voxel::Node), layout.leafIndirections},
+        {layout.leafIndirections, t.leafIndirections.data(), t.leafIndirections.size() * sizeof(voxel::LeafIndirection),
+         layout.leafData},
+        {layout.leafData, t.leafData.data(), t.leafData.size() * sizeof(voxel::LeafData), layout.vertices},
+        {layout.vertices, t.vertices.data(), t.vertices.size() * sizeof(voxel::Vertex), layout.tape},
+        {layout.tape, t.tape.data(), t.tape.size() * sizeof(std::uint32_t), layout.total},
+    }};
+    const std::size_t to = from + bytes;
+    for (const Part& part : parts) {
+        const std::size_t dataEnd = part.start + part.size;
+        if (const std::size_t a = std::max(from, part.start), b = std::min(to, dataEnd); a < b)
+            std::memcpy(out + (a - from), static_cast<const std::uint8_t*>(part.data) + (a - part.start), b - a);
+        if (const std::size_t a = std::max(from, dataEnd), b = std::min(to, part.end); a < b)
+            std::memset(out + (a - from), 0, b - a);
+    }
+}
 
 } // namespace
 
@@ -137,31 +171,42 @@ FrameUpload VoxelStreamer::recordFrame(VkCommandBuffer cb)
     FrameUpload up;
     std::size_t budget = perFrame;
     std::size_t done = 0;
+    // Which bytes of which tiles go this frame, and where in the ring.
+    struct Piece {
+        const TileData* tile;
+        std::size_t from, bytes, staging;
+    };
+    std::vector<Piece> pieces;
+    std::vector<VkBufferCopy> regions;
     for (const TileData* t : pending_) {
         if (budget == 0) break;
         Placement& p = placed_.at(t);
-        if (p.uploaded == 0 || blob_.size() != p.bytes) {
-            // Assemble the tile's blob (cheap next to the copy itself).
-            const BlobLayout layout(*t);
-            blob_.assign(layout.total, 0);
-            std::memcpy(blob_.data(), t->nodes.data(), t->nodes.size() * sizeof(voxel::Node));
-            std::memcpy(blob_.data() + layout.leafIndirections, t->leafIndirections.data(),
-                        t->leafIndirections.size() * sizeof(voxel::LeafIndirection));
-            std::memcpy(blob_.data() + layout.leafData, t->leafData.data(), t->leafData.size() * sizeof(voxel::LeafData));
-            std::memcpy(blob_.data() + layout.vertices, t->vertices.data(), t->vertices.size() * sizeof(voxel::Vertex));
-            if (!t->tape.empty()) // tiles whose tape was too long carry none
-                std::memcpy(blob_.data() + layout.tape, t->tape.data(), t->tape.size() * sizeof(std::uint32_t));
-        }
         const std::size_t chunk = std::min(budget, p.bytes - p.uploaded);
-        stage(cb, blob_.data() + p.uploaded, chunk, heapBuffer_->buffer(), p.offset + p.uploaded);
+        if (stagingHead_ + chunk > staging_.size()) stagingHead_ = 0; // wrap: that space is frames old
+        pieces.push_back({t, p.uploaded, chunk, stagingHead_});
+        regions.push_back({stagingHead_, p.offset + p.uploaded, chunk});
+        stagingHead_ += chunk;
         p.uploaded += chunk;
         budget -= chunk;
         up.bytes += chunk;
         if (p.uploaded < p.bytes) break; // the budget ran out inside this tile
         ++done;
         ++up.tilesCompleted;
-        blob_.clear();
     }
+    // The copies into the ring are the frame's CPU cost: spread them over the
+    // cores. Isolated, so that this thread, while it waits, does not pick up
+    // a voxelizer task and hold the frame for a tile's build.
+    auto* ring = static_cast<std::uint8_t*>(staging_.mapped());
+    tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pieces.size()), [&](const auto& range) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                const Piece& piece = pieces[i];
+                copyBlobRange(*piece.tile, BlobLayout(*piece.tile), piece.from, piece.bytes, ring + piece.staging);
+            }
+        });
+    });
+    if (!regions.empty())
+        vkCmdCopyBuffer(cb, staging_.buffer(), heapBuffer_->buffer(), std::uint32_t(regions.size()), regions.data());
     pending_.erase(pending_.begin(), pending_.begin() + long(done));
     up.tilesPending = pending_.size();
 

@@ -92,7 +92,6 @@ private:
     std::unordered_map<const TileData*, Placement> placed_; // tiles in heapBuffer_
     std::shared_ptr<const VoxelSnapshot> residentSnapshot_, target_;
     std::vector<const TileData*> pending_; // target tiles not fully uploaded, in upload order
-    std::vector<std::uint8_t> blob_;       // scratch: one tile's bytes
 
     GpuBuffer staging_;
     std::size_t stagingHead_ = 0;
