@@ -1,5 +1,7 @@
 #include "kerf/voxelizer/RefinementPlan.hpp"
 
+#include "kerf/voxelizer/OcclusionMap.hpp"
+
 #include <glm/glm.hpp>
 
 #include <algorithm>
@@ -78,6 +80,17 @@ RefinementPlan planRefinement(const GridLayout& layout, const std::vector<std::s
     std::vector<double> distance(n, 0.0);
     std::vector<std::int8_t> needed(n, 0);
     double total = 0.0;
+    // The picture may show a surface as coarse as the coarsest tile: a finer
+    // one may lie up to that voxel's diagonal behind it.
+    const OcclusionMap* occlusion =
+        options.view && options.occlusion && options.occlusion->view == *options.view ? options.occlusion.get() : nullptr;
+    double occlusionMargin = 0.0;
+    if (occlusion) {
+        int shallowest = layout.levels;
+        for (const auto& t : tiles)
+            if (t && t->state == TileState::Surface) shallowest = std::min(shallowest, int(t->levels));
+        occlusionMargin = layout.voxelSizeAt(std::max(shallowest, 1)) * std::sqrt(3.0);
+    }
     for (std::size_t i = 0; i < n; ++i) {
         const auto& t = tiles[i];
         if (!t || t->state != TileState::Surface) continue;
@@ -89,6 +102,10 @@ RefinementPlan planRefinement(const GridLayout& layout, const std::vector<std::s
                 level = coarse;
                 distance[i] = std::numeric_limits<double>::infinity();
                 ++plan.outsideView;
+            } else if (occlusion && occlusion->hides(box, occlusionMargin)) {
+                level = coarse;
+                distance[i] = std::numeric_limits<double>::infinity();
+                ++plan.hidden;
             } else {
                 const double allowed = v.pixelSizeAt(v.depthOf(box)) * v.pixelsPerVoxel;
                 level = coarse;

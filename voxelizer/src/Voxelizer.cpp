@@ -68,6 +68,29 @@ void Voxelizer::setView(std::optional<ViewRequirement> view)
     changed_.notify_all();
 }
 
+void Voxelizer::setOcclusion(std::shared_ptr<const OcclusionMap> picture)
+{
+    bool queued = false;
+    {
+        std::lock_guard lock(mutex_);
+        occlusion_ = std::move(picture);
+        ++occlusionGeneration_;
+        queued = !processing_ && replanForPictureLocked();
+    }
+    if (queued) changed_.notify_all();
+}
+
+bool Voxelizer::replanForPictureLocked()
+{
+    if (!planHides_ || plannedGeneration_ == occlusionGeneration_ || pending_ || !latestDocument_ || !view_ ||
+        !occlusion_ || !(occlusion_->view == *view_))
+        return false;
+    const std::uint64_t revision = latestRevision_.load() + 1;
+    latestRevision_ = revision;
+    pending_ = Request{*latestDocument_, revision, std::chrono::steady_clock::now(), false};
+    return true;
+}
+
 void Voxelizer::setMemoryBudget(std::size_t bytes)
 {
     std::lock_guard lock(mutex_);
@@ -119,8 +142,17 @@ void Voxelizer::run()
             if (stopping_) return;
             request = std::move(*pending_);
             pending_.reset();
+            processing_ = true;
         }
         process(std::move(request));
+        bool queued = false;
+        {
+            // A picture that came while this worked may show tiles its plan hid.
+            std::lock_guard lock(mutex_);
+            processing_ = false;
+            queued = replanForPictureLocked();
+        }
+        if (queued) changed_.notify_all();
     }
 }
 
@@ -312,6 +344,11 @@ void Voxelizer::process(Request request)
     ro.focus = focus;
     RefinementPlan plan;
     for (int round = 0; round < 3; ++round) {
+        {
+            std::lock_guard lock(mutex_); // the newest picture, each round
+            ro.occlusion = occlusion_;
+            plannedGeneration_ = occlusionGeneration_;
+        }
         plan = planRefinement(layout, current->tiles, ro);
         const bool overBudget = plan.coarsenedForBudget > 0;
         // Stale tiles, those shallower than planned and, over the budget,
@@ -354,6 +391,7 @@ void Voxelizer::process(Request request)
                 current->complete = false;
                 current->coarsenedForBudget = plan.coarsenedForBudget;
                 current->outsideView = plan.outsideView;
+                current->hiddenTiles = plan.hidden;
                 publish(current);
                 current = std::make_shared<VoxelSnapshot>(*current);
             }
@@ -361,9 +399,15 @@ void Voxelizer::process(Request request)
         stale.clear();
     }
     stats.coarsenedForBudget = plan.coarsenedForBudget;
+    stats.hiddenTiles = plan.hidden;
+    {
+        std::lock_guard lock(mutex_);
+        planHides_ = plan.hidden > 0;
+    }
     current->complete = true;
     current->coarsenedForBudget = plan.coarsenedForBudget;
     current->outsideView = plan.outsideView;
+    current->hiddenTiles = plan.hidden;
     unfinishedTiles_.clear();
     stats.fineMs = millisecondsSince(request.submitted);
     if (stats.coarseMs == 0.0) stats.coarseMs = stats.fineMs;

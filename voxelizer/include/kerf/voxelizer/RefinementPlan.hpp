@@ -12,10 +12,13 @@
 //   the view first) lose a level at a time until the estimate fits or
 //   nothing can coarsen further; the plan says how many were coarsened.
 //
+// - A tile inside the picture that the last picture of the same view shows
+//   hidden (OcclusionMap.hpp: every ray that could reach it met the part
+//   sooner, by more than the coarsest voxels' diagonal) stays at the coarse
+//   depth too; the next picture refines it if it comes into sight.
+//
 // Estimates: a surface tile's bytes grow 16x per level (its surface is
 // sampled 4x finer along two dimensions), from the tile's data as it is.
-// Occlusion is not considered: a tile hidden behind another but inside the
-// frustum is refined like a visible one.
 
 #include "kerf/voxelizer/GridLayout.hpp"
 #include "kerf/voxelizer/TileData.hpp"
@@ -28,6 +31,8 @@
 #include <vector>
 
 namespace kerf {
+
+struct OcclusionMap;
 
 /// What the viewer needs, from the camera: its frame and how large a pixel is.
 struct ViewRequirement {
@@ -61,6 +66,9 @@ struct RefinementOptions {
     int coarseLevels = 1;
     /// Where "far" is measured from without a view (the focus point).
     glm::dvec3 focus{0.0};
+    /// The last picture of `view`, when there is one (a map of another view
+    /// is not used).
+    std::shared_ptr<const OcclusionMap> occlusion;
 };
 
 struct RefinementPlan {
@@ -68,6 +76,7 @@ struct RefinementPlan {
     std::size_t estimatedBytes = 0;  // of the tiles' records at their target depths
     std::size_t coarsenedForBudget = 0; // tiles planned below what the view needs
     std::size_t outsideView = 0;        // surface tiles the camera does not see
+    std::size_t hidden = 0;             // surface tiles in the picture but behind the part
 };
 
 /// Plans every tile's depth. `tiles` holds the tiles' present data (null:

@@ -19,6 +19,7 @@ struct VoxelSnapshot {
     bool complete = false;              // every tile at the depth planned for it
     std::size_t coarsenedForBudget = 0; // tiles shallower than the view needs, to fit the memory budget
     std::size_t outsideView = 0;        // surface tiles kept coarse because the camera does not see them
+    std::size_t hiddenTiles = 0;        // surface tiles kept coarse because the part hides them (OcclusionMap)
     GridLayout layout;
     std::vector<std::shared_ptr<const TileData>> tiles; // layout.tileCount() entries, null = empty
     std::shared_ptr<const std::vector<Feature>> features;

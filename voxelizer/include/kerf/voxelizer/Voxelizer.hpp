@@ -5,8 +5,10 @@
 //
 // Depth per tile (RefinementPlan.hpp): full depth everywhere without a view;
 // with one (setView), only as fine as the camera can see, refined when the
-// view changes; and within the memory budget, the farthest tiles coarsened
-// first when a scene would exceed it.
+// view changes; tiles the last picture showed hidden behind the part
+// (setOcclusion) stay coarse until a picture shows them; and within the
+// memory budget, the farthest tiles coarsened first when a scene would
+// exceed it.
 //
 // Threading: setDocument() and every other public function return at once
 // and may be called from any thread (the GUI thread, typically). Work runs on
@@ -19,6 +21,7 @@
 
 #include "kerf/document/Document.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/voxelizer/OcclusionMap.hpp"
 #include "kerf/voxelizer/RefinementPlan.hpp"
 #include "kerf/voxelizer/VoxelSnapshot.hpp"
 
@@ -53,6 +56,7 @@ struct VoxelizerStats {
     std::size_t dirtyTiles = 0;   // tiles the edit reached (rebuilt for the new document)
     std::size_t refinedTiles = 0; // tiles rebuilt at another depth (the view or the budget asked)
     std::size_t coarsenedForBudget = 0; // tiles below what the view needs, to fit the budget
+    std::size_t hiddenTiles = 0;  // tiles kept coarse as hidden behind the part
     double coarseMs = 0.0;        // from the request to the coarse publication
     double fineMs = 0.0;          // from the request to the complete publication
     bool cancelled = false;
@@ -83,6 +87,11 @@ public:
     /// What the viewer needs (none: full depth everywhere). A changed view
     /// refines (or, over budget, coarsens) the tiles it concerns.
     void setView(std::optional<ViewRequirement> view);
+    /// The last picture of the view (null: none). Used while its view is the
+    /// one set; when the last plan kept tiles coarse as hidden, a newer
+    /// picture plans the present document again, so that the tiles it shows
+    /// refine (after the work under way, which it does not interrupt).
+    void setOcclusion(std::shared_ptr<const OcclusionMap> picture);
     /// The memory budget (0: none); applies from the next request on.
     void setMemoryBudget(std::size_t bytes);
 
@@ -103,6 +112,9 @@ private:
         bool documentChanged = true; // false: the same document, a new view or budget
     };
     void queue(Request request);
+    /// Queues a new plan of the present document when a picture newer than
+    /// the last plan's may show hidden tiles (mutex_ held).
+    bool replanForPictureLocked();
     void run();
     void process(Request request);
     void publish(std::shared_ptr<VoxelSnapshot> snap);
@@ -116,6 +128,11 @@ private:
     VoxelizerStats stats_;
     glm::dvec3 focus_{0.0};
     std::optional<ViewRequirement> view_;      // guarded by mutex_
+    std::shared_ptr<const OcclusionMap> occlusion_; // guarded by mutex_
+    std::uint64_t occlusionGeneration_ = 0;    // guarded by mutex_: counts setOcclusion() calls
+    std::uint64_t plannedGeneration_ = 0;      // guarded by mutex_: the picture the last plan used
+    bool planHides_ = false;                   // guarded by mutex_: the last plan kept tiles hidden
+    bool processing_ = false;                  // guarded by mutex_: a request is being worked on
     std::optional<Document> latestDocument_;   // guarded by mutex_: the newest setDocument()
     std::atomic<std::uint64_t> latestRevision_{0};
     std::atomic<bool> stopping_{false};
