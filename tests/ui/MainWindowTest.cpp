@@ -203,6 +203,7 @@ private slots:
     void refusedFilesChangeNothing();
     void dragAndDropRegroupsInTheTree();
     void modelsOnlyWhatTheViewNeedsWithinTheBudget();
+    void keepsWhatThePartHidesCoarseUntilItShows();
     void promptsBeforeChangesAreLost();
     void dropsDocumentsAndMeshesOntoTheWindow();
     void aClickOnThePartSelectsItsFeature();
@@ -604,6 +605,58 @@ void MainWindowTest::modelsOnlyWhatTheViewNeedsWithinTheBudget()
     QVERIFY(w->voxelizer()->latest()->coarsenedForBudget > 0);
     QVERIFY(w->voxelizer()->latest()->bytes() < (12u << 20));
     QTRY_VERIFY_WITH_TIMEOUT(w->findChild<QLabel*>("status.memory")->text().contains("coarsened"), 10000);
+}
+
+// A plate in front of a ball: seen from the front, the viewport's picture
+// tells the voxelizer that the ball is hidden, and its tiles stay coarse;
+// turned round, the next pictures show the ball and its tiles refine.
+void MainWindowTest::keepsWhatThePartHidesCoarseUntilItShows()
+{
+    const QString file = files_.filePath("plate-and-ball.kerf");
+    {
+        QFile f(file);
+        QVERIFY(f.open(QIODevice::WriteOnly));
+        f.write(R"({"format":"kerf","version":1,"root":{"id":"u","type":"union","children":[
+            {"id":"plate","type":"box","size":[160,10,160],"transform":{"translate":[0,-50,0]}},
+            {"id":"ball","type":"sphere","radius":20}]},"settings":{"feature_size":0.5}})");
+    }
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(file.toStdString()));
+    QVERIFY(action(w.get(), "action.refineForView")->isChecked());
+    QVERIFY(waitForViewport(*w));
+    auto ballLevels = [&] {
+        const auto s = w->voxelizer()->latest();
+        int lo = 99;
+        for (long i = 0; i < s->layout.tileCount(); ++i) {
+            const auto& t = s->tiles[std::size_t(i)];
+            if (t && t->state == TileState::Surface && s->layout.tileBox(s->layout.tileCoord(i)).min.y > -30.0)
+                lo = std::min(lo, t->levels);
+        }
+        return lo;
+    };
+    // From the front the plate hides the ball: once a picture of that view
+    // is taken, an edit of the ball builds its tiles only as deep as the
+    // coarse pass.
+    QSignalSpy pictures(w->viewport(), &qt::ViewportWidget::pictureTaken);
+    w->viewport()->setStandardView("front");
+    QVERIFY(waitForVoxels(*w));
+    auto pictureOfTheView = [&] {
+        if (pictures.isEmpty() || !w->viewport()->settledView()) return false;
+        const auto picture = pictures.last().at(0).value<std::shared_ptr<const OcclusionMap>>();
+        return picture && picture->view == *w->viewport()->settledView();
+    };
+    QTRY_VERIFY_WITH_TIMEOUT(pictureOfTheView(), 60000);
+    w->selectNodes({"ball"});
+    typeInto(field(*w, "radius"), "21");
+    QTRY_VERIFY_WITH_TIMEOUT(w->voxelizer()->latest()->hiddenTiles > 0, 60000);
+    QVERIFY(waitForViewport(*w));
+    const int levels = w->voxelizer()->latest()->layout.levels;
+    QVERIFY2(ballLevels() < levels, "the hidden ball stays coarse");
+    QTRY_VERIFY_WITH_TIMEOUT(w->findChild<QLabel*>("status.memory")->text().contains("hidden"), 10000);
+
+    // From the back the ball is in sight: the pictures refine it.
+    w->viewport()->setStandardView("back");
+    QTRY_VERIFY_WITH_TIMEOUT(ballLevels() == levels, 60000);
 }
 
 void MainWindowTest::promptsBeforeChangesAreLost()

@@ -155,6 +155,9 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
     connect(viewport_, &qt::ViewportWidget::viewSettled, this, [this](const ViewRequirement& v) {
         if (refineForView_->isChecked()) voxelizer_->setView(v);
     });
+    connect(viewport_, &qt::ViewportWidget::pictureTaken, this, [this](std::shared_ptr<const OcclusionMap> picture) {
+        if (refineForView_->isChecked()) voxelizer_->setOcclusion(std::move(picture));
+    });
     connect(voxelizer_, &VoxelizerBridge::published, this, [this](std::shared_ptr<const VoxelSnapshot> s) {
         viewport_->setSnapshot(std::move(s));
         updateStatus();
@@ -1021,6 +1024,8 @@ void MainWindow::updateStatus()
         memory += tr(" — budget of %1 MB reached: %2 distant tiles coarsened")
                       .arg(memoryBudgetBytes() >> 20)
                       .arg(snap->coarsenedForBudget);
+    if (snap && snap->hiddenTiles > 0)
+        memory += tr(" — %n hidden tile(s) kept coarse", "", int(snap->hiddenTiles));
     memoryStatus_->setText(memory);
     memoryStatus_->setStyleSheet(snap && snap->coarsenedForBudget > 0 ? QStringLiteral("color: #b35900;") : QString());
     frameStatus_->setText(v.traceMs >= 0.0 ? tr("Frame %1 ms, trace %2 ms").arg(v.frameMs, 0, 'f', 1).arg(v.traceMs, 0, 'f', 1)

@@ -22,6 +22,7 @@ public:
     std::uint64_t submit(const Document& doc);
     void setFocus(const glm::dvec3& point) { voxelizer_->setFocus(point); }
     void setView(std::optional<ViewRequirement> view) { voxelizer_->setView(std::move(view)); }
+    void setOcclusion(std::shared_ptr<const OcclusionMap> picture) { voxelizer_->setOcclusion(std::move(picture)); }
     std::shared_ptr<const VoxelSnapshot> latest() const { return latest_; }
     VoxelizerStats lastStats() const { return voxelizer_->lastStats(); }
     VoxelizerProgress progress() const { return voxelizer_->progress(); }

@@ -48,6 +48,7 @@ struct ViewportRenderer::Impl {
     std::vector<Semaphore> rendered; // one per swapchain image: presentation may still wait on the last one
     std::shared_ptr<const VoxelSnapshot> target;
     std::shared_ptr<const std::vector<PlacedMesh>> meshes, markers;
+    GpuBuffer depthReadback; // the trace's depth, for the occlusion picture
 
     Impl(const Context& c, VkSurfaceKHR surface, StreamingOptions streaming)
         : ctx(c), swapchain(c, surface), tracer(c), scene(c), streamer(c, streaming)
@@ -142,6 +143,23 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
     const VoxelAddresses voxels = resident.valid() ? VoxelAddresses::of(resident) : VoxelAddresses{};
     m.scene.record(m.cb, m.tracer, voxels, camera, features, options, scene.section);
     st.traced = m.scene.lastFrameTraced();
+    // The voxelizer's occlusion picture: only a full-resolution trace of the
+    // very view it plans for (the record's barrier makes the depth readable).
+    const bool readDepth = st.traced && tw == w && th == h && scene.occlusionView &&
+                           viewRequirement(camera, scene.occlusionView->pixelsPerVoxel) == *scene.occlusionView;
+    const std::size_t depthBytes = std::size_t(tw) * std::size_t(th) * sizeof(float);
+    if (readDepth) {
+        if (m.depthReadback.size() < depthBytes)
+            m.depthReadback = GpuBuffer(m.ctx, depthBytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback,
+                                        "occlusion depth");
+        const VkBufferCopy region{0, 0, depthBytes};
+        vkCmdCopyBuffer(m.cb, m.tracer.targets().depth.buffer(), m.depthReadback.buffer(), 1, &region);
+        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(m.cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
+                             nullptr);
+    }
 
     // Copy (and scale) the picture into the window's image.
     const VkImage target = m.swapchain.image(*index);
@@ -176,6 +194,10 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
     check(vkResetFences(m.ctx.device(), 1, &f), "vkResetFences (viewport)");
 
     if (st.traced) st.traceGpuMs = m.tracer.lastTiming().gpuMilliseconds;
+    if (readDepth)
+        st.picture = std::make_shared<const OcclusionMap>(OcclusionMap::fromDepths(
+            *scene.occlusionView, tw, th,
+            std::span<const float>(static_cast<const float*>(m.depthReadback.mapped()), std::size_t(tw) * std::size_t(th))));
     st.upToDate = m.streamer.upToDate();
     st.shownVersion = shown ? shown->version : 0;
     st.shownRevision = shown ? shown->documentRevision : 0;

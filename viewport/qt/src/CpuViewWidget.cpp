@@ -37,6 +37,7 @@ void CpuViewWidget::show(const vk::ViewportScene& scene)
         scene_ = scene;
         size_ = size() * devicePixelRatioF();
         dirty_ = true;
+        ++sceneSerial_;
     }
     wake_.notify_all();
 }
@@ -47,9 +48,12 @@ QImage CpuViewWidget::grab(const vk::ViewportScene& scene, int timeoutMs)
     scene_ = scene;
     size_ = size() * devicePixelRatioF();
     dirty_ = true;
-    const std::uint64_t after = frames_;
+    // The picture of this scene: a frame under way (of an older scene) that
+    // ends meanwhile does not count.
+    const std::uint64_t wanted = ++sceneSerial_;
     wake_.notify_all();
-    if (!grabbed_.wait_for(lock, std::chrono::milliseconds(timeoutMs), [&] { return frames_ > after || stop_; }))
+    if (!grabbed_.wait_for(lock, std::chrono::milliseconds(timeoutMs),
+                           [&] { return renderedSerial_ >= wanted || stop_; }))
         return {};
     return lastImage_;
 }
@@ -61,12 +65,14 @@ void CpuViewWidget::work()
     for (;;) {
         vk::ViewportScene scene;
         QSize size;
+        std::uint64_t serial = 0;
         {
             std::unique_lock lock(mutex_);
             wake_.wait(lock, [&] { return stop_ || dirty_; });
             if (stop_) return;
             scene = scene_;
             size = size_;
+            serial = sceneSerial_;
             dirty_ = false;
         }
         const auto start = std::chrono::steady_clock::now();
@@ -112,11 +118,18 @@ void CpuViewWidget::work()
         s.shownVersion = scene.snapshot ? scene.snapshot->version : 0;
         s.shownRevision = scene.snapshot ? scene.snapshot->documentRevision : 0;
         s.shownComplete = scene.snapshot && scene.snapshot->complete;
+        // The voxelizer's occlusion picture: a full-resolution trace of the
+        // very view it plans for.
+        if (scene.snapshot && scale == 1.0 && scene.occlusionView &&
+            viewRequirement(camera, scene.occlusionView->pixelsPerVoxel) == *scene.occlusionView)
+            s.picture = std::make_shared<const OcclusionMap>(
+                OcclusionMap::fromDepths(*scene.occlusionView, image.width, image.height, image.depth));
         const glm::dvec3 right = camera.right(), up = camera.up(), forward = camera.forward();
         {
             std::lock_guard lock(mutex_);
             s.frames = ++frames_;
             lastImage_ = picture;
+            renderedSerial_ = serial;
         }
         grabbed_.notify_all();
         QMetaObject::invokeMethod(

@@ -50,7 +50,8 @@ private:
     vk::ViewportScene scene_;
     QSize size_;
     bool dirty_ = false, stop_ = false;
-    std::uint64_t frames_ = 0, grabAfter_ = 0;
+    std::uint64_t frames_ = 0;
+    std::uint64_t sceneSerial_ = 0, renderedSerial_ = 0; // scenes handed in; the last one drawn
     QImage lastImage_;
     std::thread worker_;
 };

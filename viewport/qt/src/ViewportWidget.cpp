@@ -100,8 +100,10 @@ void ViewportWidget::onFrame(const ViewportStatus& s)
     if (s.vulkan != status_.vulkan) return; // a late frame of a backend that is gone
     const QString reason = status_.fallbackReason;
     status_ = s;
+    status_.picture.reset(); // handed on, not kept
     if (!s.vulkan) status_.fallbackReason = reason;
     emit frameDrawn();
+    if (s.picture) emit pictureTaken(s.picture);
 }
 
 QSize ViewportWidget::pixelSize() const
@@ -133,22 +135,28 @@ vk::ViewportScene ViewportWidget::scene() const
     scene.markers = markers_;
     scene.quality = exactEdges_ ? TraceQuality::Exact : TraceQuality::Voxels;
     scene.resolutionScale = interactive_ && status_.traceMs > kInteractiveTraceBudgetMs ? 0.5 : 1.0;
+    // At rest, each new trace of the settled view tells the voxelizer what
+    // the part hides.
+    if (!interactive_) scene.occlusionView = settledView_;
     return scene;
 }
 
 void ViewportWidget::sceneChanged()
 {
     if (!backend_) return;
-    backend_->show(scene());
-    // At rest, the voxelizer learns what this view needs.
+    // At rest, the voxelizer learns what this view needs (before the frame,
+    // whose trace of this view becomes its occlusion picture).
+    bool settled = false;
     if (!interactive_) {
         const QSize px = pixelSize();
         const ViewRequirement v = viewRequirement(view_.camera(px.width(), px.height(), partBounds()));
         if (!settledView_ || !(*settledView_ == v)) {
             settledView_ = v;
-            emit viewSettled(v);
+            settled = true;
         }
     }
+    backend_->show(scene());
+    if (settled) emit viewSettled(*settledView_);
 }
 
 void ViewportWidget::setSnapshot(std::shared_ptr<const VoxelSnapshot> snapshot)

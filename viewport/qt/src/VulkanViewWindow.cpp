@@ -159,6 +159,7 @@ void VulkanViewWindow::renderLoop()
             s.shownRevision = f.shownRevision;
             s.shownComplete = f.shownComplete;
             s.streaming = !f.upToDate;
+            s.picture = f.picture;
             s.validationErrors = context_->validationErrors();
             if (s.validationErrors > 0) {
                 const auto messages = context_->validationMessages();

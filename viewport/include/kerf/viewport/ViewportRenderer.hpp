@@ -21,6 +21,7 @@
 #include "kerf/viewport/SceneRenderer.hpp"
 #include "kerf/viewport/Swapchain.hpp"
 #include "kerf/viewport/VoxelStreamer.hpp"
+#include "kerf/voxelizer/OcclusionMap.hpp"
 
 #include <memory>
 #include <string>
@@ -42,6 +43,9 @@ struct ViewportScene {
     TraceQuality quality = TraceQuality::Voxels;
     /// Fraction of the window's resolution the part is traced at (0 < s <= 1).
     double resolutionScale = 1.0;
+    /// The view the voxelizer was given: a full-resolution trace of exactly
+    /// this view is read back as the voxelizer's occlusion picture.
+    std::optional<ViewRequirement> occlusionView;
     /// Reference meshes and markers: replaced when their version changes.
     std::shared_ptr<const std::vector<PlacedMesh>> meshes;
     std::shared_ptr<const std::vector<PlacedMesh>> markers;
@@ -61,6 +65,9 @@ struct FrameStats {
     std::size_t heapBytes = 0;        // device memory held for voxels
     int width = 0, height = 0;        // window pixels
     int traceWidth = 0, traceHeight = 0;
+    /// This frame's trace as an occlusion picture (when it traced
+    /// scene.occlusionView at full resolution), else null.
+    std::shared_ptr<const OcclusionMap> picture;
 };
 
 class ViewportRenderer {

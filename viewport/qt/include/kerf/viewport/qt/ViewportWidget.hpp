@@ -20,6 +20,7 @@
 #include "kerf/tracer/Section.hpp"
 #include "kerf/tracer/ViewController.hpp"
 #include "kerf/viewport/ReferenceMesh.hpp"
+#include "kerf/voxelizer/OcclusionMap.hpp"
 #include "kerf/voxelizer/VoxelSnapshot.hpp"
 
 #include <QImage>
@@ -61,6 +62,9 @@ struct ViewportStatus {
     std::uint64_t frames = 0;         // frames drawn so far
     int validationErrors = 0;         // Vulkan validation errors seen (with KERF_VULKAN_VALIDATION set)
     QString lastValidationMessage;    // the newest validation message, if any
+    /// The frame's trace as the voxelizer's occlusion picture (a full
+    /// resolution trace of the settled view), else null.
+    std::shared_ptr<const OcclusionMap> picture;
 };
 
 /// A click on the viewport: what is under the cursor (nothing when the
@@ -127,6 +131,9 @@ signals:
     /// The camera came to rest somewhere new (or the window changed size):
     /// what the voxelizer should refine for.
     void viewSettled(const kerf::ViewRequirement& view);
+    /// A picture of the settled view: what hides what, for the voxelizer
+    /// (Voxelizer::setOcclusion).
+    void pictureTaken(std::shared_ptr<const kerf::OcclusionMap> picture);
 
 public:
     // For the drawing surfaces (VulkanViewWindow, CpuViewWidget): input
