@@ -15,6 +15,7 @@
 #include <glm/glm.hpp>
 
 #include <chrono>
+#include <filesystem>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -227,6 +228,50 @@ TEST(Voxelizer, KeepsHiddenTilesCoarseUntilAPictureShowsThem)
     ballLevels(lo, hi);
     EXPECT_EQ(lo, vox.snapshot()->layout.levels) << "every tile of the ball in sight is at full depth";
     EXPECT_EQ(vox.snapshot()->hiddenTiles, 0u);
+}
+
+// What the occlusion saves must not show: the chair seen close up, built
+// with the view alone and with the view and a picture of it (taken from
+// coarser voxels, as the viewport's last frame would be), traces the same
+// picture: the hidden tiles are never reached.
+TEST(Voxelizer, HiddenTilesDoNotChangeThePicture)
+{
+    Document doc = Document::load(std::filesystem::path(KERF_EXAMPLES_DIR) / "side-chair.kerf");
+    doc.settings.featureSize = 1.0;
+    const Tape tape = compileTape(doc);
+    ViewController controller;
+    controller.setStandardView("iso", tape.bounds(), 4.0 / 3.0);
+    controller.zoom(1.0 / 4.0, glm::dvec3(225.0, -240.0, 450.0)); // the seat's front corner
+    const Camera camera = controller.camera(480, 360, tape.bounds());
+    ViewRequirement view = viewRequirement(camera);
+    view.pixelsPerVoxel = 0.25; // finer than the pixels: every tile in sight at full depth
+    const TraceImage coarse =
+        traceVoxels(FlatVoxelBuffers::flatten(voxelize(tape, GridLayout::choose(tape.bounds(), 4.0))), camera);
+    const auto picture = std::make_shared<const OcclusionMap>(
+        OcclusionMap::fromDepths(view, coarse.width, coarse.height, coarse.depth));
+
+    auto build = [&](bool withPicture) {
+        Voxelizer vox({.limits = threeLevels(), .coarseLevelDrop = 2, .threads = 2, .featureSize = 0.0, .onPublish = {}});
+        vox.setView(view);
+        if (withPicture) vox.setOcclusion(picture);
+        EXPECT_TRUE(vox.waitFor(vox.setDocument(doc), true, std::chrono::seconds(120)));
+        return vox.snapshot();
+    };
+    const auto seen = build(false), hidden = build(true);
+    ASSERT_EQ(seen->layout, hidden->layout);
+    ASSERT_GE(seen->layout.levels, 3);
+    EXPECT_EQ(seen->hiddenTiles, 0u);
+    EXPECT_GT(hidden->hiddenTiles, 10u);
+    EXPECT_LT(hidden->bytes(), seen->bytes() * 9 / 10) << "the hidden tiles cost less";
+    const TraceImage a = traceVoxels(FlatVoxelBuffers::flatten(*seen), camera);
+    const TraceImage b = traceVoxels(FlatVoxelBuffers::flatten(*hidden), camera);
+    std::size_t hits = 0, differ = 0;
+    for (std::size_t i = 0; i < a.depth.size(); ++i) {
+        hits += a.hit(i);
+        if (a.hit(i) != b.hit(i) || (a.hit(i) && std::fabs(a.depth[i] - b.depth[i]) > 1e-3f)) ++differ;
+    }
+    EXPECT_GT(hits, a.depth.size() / 4);
+    EXPECT_EQ(differ, 0u) << "of " << hits << " pixels on the part";
 }
 
 } // namespace
