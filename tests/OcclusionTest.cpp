@@ -218,6 +218,15 @@ TEST(Voxelizer, KeepsHiddenTilesCoarseUntilAPictureShowsThem)
     EXPECT_GT(vox.snapshot()->hiddenTiles, 0u);
     EXPECT_EQ(hi, vox.snapshot()->layout.levels - 2) << "hidden: the coarse pass's depth";
 
+    // A picture that shows nothing new (the viewport's next frame) plans
+    // nothing: the loop through the viewport ends there.
+    ASSERT_TRUE(quietWait(vox, revision));
+    const std::uint64_t version = vox.snapshot()->version;
+    vox.setOcclusion(picture());
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    EXPECT_EQ(vox.snapshot()->version, version);
+    EXPECT_EQ(vox.lastStats().revision, revision);
+
     // The plate goes; the next picture sees the ball, and its tiles refine.
     doc.root.find("plate")->visible = false;
     revision = vox.setDocument(doc);

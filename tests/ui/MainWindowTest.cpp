@@ -657,6 +657,16 @@ void MainWindowTest::keepsWhatThePartHidesCoarseUntilItShows()
     // From the back the ball is in sight: the pictures refine it.
     w->viewport()->setStandardView("back");
     QTRY_VERIFY_WITH_TIMEOUT(ballLevels() == levels, 60000);
+
+    // And then all is quiet: pictures that show nothing new plan nothing, so
+    // neither the voxelizer nor the viewport keeps working at rest.
+    QVERIFY(waitForViewport(*w));
+    QTest::qWait(500);
+    const std::uint64_t frames = w->viewport()->status().frames;
+    const std::uint64_t version = w->voxelizer()->latest()->version;
+    QTest::qWait(1500);
+    QCOMPARE(w->voxelizer()->latest()->version, version);
+    QCOMPARE(w->viewport()->status().frames, frames);
 }
 
 void MainWindowTest::promptsBeforeChangesAreLost()

@@ -90,6 +90,7 @@ RefinementPlan planRefinement(const GridLayout& layout, const std::vector<std::s
         for (const auto& t : tiles)
             if (t && t->state == TileState::Surface) shallowest = std::min(shallowest, int(t->levels));
         occlusionMargin = layout.voxelSizeAt(std::max(shallowest, 1)) * std::sqrt(3.0);
+        plan.occlusionMargin = occlusionMargin;
     }
     for (std::size_t i = 0; i < n; ++i) {
         const auto& t = tiles[i];
@@ -106,6 +107,7 @@ RefinementPlan planRefinement(const GridLayout& layout, const std::vector<std::s
                 level = coarse;
                 distance[i] = std::numeric_limits<double>::infinity();
                 ++plan.hidden;
+                plan.hiddenTiles.push_back(long(i));
             } else {
                 const double allowed = v.pixelSizeAt(v.depthOf(box)) * v.pixelsPerVoxel;
                 level = coarse;

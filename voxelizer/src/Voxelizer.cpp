@@ -82,8 +82,12 @@ void Voxelizer::setOcclusion(std::shared_ptr<const OcclusionMap> picture)
 
 bool Voxelizer::replanForPictureLocked()
 {
-    if (!planHides_ || plannedGeneration_ == occlusionGeneration_ || pending_ || !latestDocument_ || !view_ ||
+    if (hiddenBoxes_.empty() || plannedGeneration_ == occlusionGeneration_ || pending_ || !latestDocument_ || !view_ ||
         !occlusion_ || !(occlusion_->view == *view_))
+        return false;
+    plannedGeneration_ = occlusionGeneration_; // judged: the same picture is not judged again
+    if (std::all_of(hiddenBoxes_.begin(), hiddenBoxes_.end(),
+                    [&](const Aabb& box) { return occlusion_->hides(box, hiddenMargin_); }))
         return false;
     const std::uint64_t revision = latestRevision_.load() + 1;
     latestRevision_ = revision;
@@ -402,7 +406,9 @@ void Voxelizer::process(Request request)
     stats.hiddenTiles = plan.hidden;
     {
         std::lock_guard lock(mutex_);
-        planHides_ = plan.hidden > 0;
+        hiddenBoxes_.clear();
+        for (long i : plan.hiddenTiles) hiddenBoxes_.push_back(layout.tileBox(layout.tileCoord(i)));
+        hiddenMargin_ = plan.occlusionMargin;
     }
     current->complete = true;
     current->coarsenedForBudget = plan.coarsenedForBudget;

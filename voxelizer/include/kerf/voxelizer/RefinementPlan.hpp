@@ -77,6 +77,8 @@ struct RefinementPlan {
     std::size_t coarsenedForBudget = 0; // tiles planned below what the view needs
     std::size_t outsideView = 0;        // surface tiles the camera does not see
     std::size_t hidden = 0;             // surface tiles in the picture but behind the part
+    std::vector<long> hiddenTiles;      // ... which they are
+    double occlusionMargin = 0.0;       // mm: how much nearer the picture had to be to hide them
 };
 
 /// Plans every tile's depth. `tiles` holds the tiles' present data (null:

@@ -88,9 +88,11 @@ public:
     /// refines (or, over budget, coarsens) the tiles it concerns.
     void setView(std::optional<ViewRequirement> view);
     /// The last picture of the view (null: none). Used while its view is the
-    /// one set; when the last plan kept tiles coarse as hidden, a newer
-    /// picture plans the present document again, so that the tiles it shows
-    /// refine (after the work under way, which it does not interrupt).
+    /// one set; a picture that shows a tile the last plan kept coarse as
+    /// hidden plans the present document again, so that the tile refines
+    /// (after the work under way, which it does not interrupt). A picture
+    /// that reveals nothing new plans nothing: the loop through the viewport
+    /// ends once the pictures agree with the plan.
     void setOcclusion(std::shared_ptr<const OcclusionMap> picture);
     /// The memory budget (0: none); applies from the next request on.
     void setMemoryBudget(std::size_t bytes);
@@ -113,7 +115,7 @@ private:
     };
     void queue(Request request);
     /// Queues a new plan of the present document when a picture newer than
-    /// the last plan's may show hidden tiles (mutex_ held).
+    /// the last plan's shows a tile that plan hid (mutex_ held).
     bool replanForPictureLocked();
     void run();
     void process(Request request);
@@ -131,7 +133,8 @@ private:
     std::shared_ptr<const OcclusionMap> occlusion_; // guarded by mutex_
     std::uint64_t occlusionGeneration_ = 0;    // guarded by mutex_: counts setOcclusion() calls
     std::uint64_t plannedGeneration_ = 0;      // guarded by mutex_: the picture the last plan used
-    bool planHides_ = false;                   // guarded by mutex_: the last plan kept tiles hidden
+    std::vector<Aabb> hiddenBoxes_;            // guarded by mutex_: the tiles the last plan kept hidden
+    double hiddenMargin_ = 0.0;                // guarded by mutex_: ... and by how much
     bool processing_ = false;                  // guarded by mutex_: a request is being worked on
     std::optional<Document> latestDocument_;   // guarded by mutex_: the newest setDocument()
     std::atomic<std::uint64_t> latestRevision_{0};
