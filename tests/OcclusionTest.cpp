@@ -11,6 +11,8 @@
 #include "kerf/voxelizer/Voxelize.hpp"
 #include "kerf/voxelizer/Voxelizer.hpp"
 
+#include "support/QuietWait.hpp"
+
 #include <gtest/gtest.h>
 #include <glm/glm.hpp>
 
@@ -165,16 +167,6 @@ TEST(RefinementPlan, HiddenTilesStayCoarseAndAnotherViewsPictureIsIgnored)
     EXPECT_EQ(planRefinement(layout, snap.tiles, ro).hidden, 0u);
 }
 
-bool quietWait(const Voxelizer& vox, std::uint64_t revision)
-{
-    for (int i = 0; i < 120000; ++i) {
-        const auto s = vox.lastStats();
-        if (s.revision >= revision && !s.cancelled && !vox.progress().busy) return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    return false;
-}
-
 // The loop the viewport closes: a picture hides the ball, an edit of the
 // ball then builds it coarse; hiding the plate, the next picture shows the
 // ball and it refines, without any other request.
@@ -220,7 +212,7 @@ TEST(Voxelizer, KeepsHiddenTilesCoarseUntilAPictureShowsThem)
 
     // A picture that shows nothing new (the viewport's next frame) plans
     // nothing: the loop through the viewport ends there.
-    ASSERT_TRUE(quietWait(vox, revision));
+    ASSERT_TRUE(QuietWait(vox, revision));
     const std::uint64_t version = vox.snapshot()->version;
     vox.setOcclusion(picture());
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
@@ -231,9 +223,9 @@ TEST(Voxelizer, KeepsHiddenTilesCoarseUntilAPictureShowsThem)
     doc.root.find("plate")->visible = false;
     revision = vox.setDocument(doc);
     ASSERT_TRUE(vox.waitFor(revision, true, std::chrono::seconds(120)));
-    ASSERT_TRUE(quietWait(vox, revision));
+    ASSERT_TRUE(QuietWait(vox, revision));
     vox.setOcclusion(picture());
-    ASSERT_TRUE(quietWait(vox, revision + 1)) << "the picture plans the document again";
+    ASSERT_TRUE(QuietWait(vox, revision + 1)) << "the picture plans the document again";
     ballLevels(lo, hi);
     EXPECT_EQ(lo, vox.snapshot()->layout.levels) << "every tile of the ball in sight is at full depth";
     EXPECT_EQ(vox.snapshot()->hiddenTiles, 0u);

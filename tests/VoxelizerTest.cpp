@@ -11,6 +11,7 @@
 #include "kerf/voxelizer/Voxelize.hpp"
 #include "kerf/voxelizer/RefinementPlan.hpp"
 #include "kerf/voxelizer/Voxelizer.hpp"
+#include "support/QuietWait.hpp"
 #include "support/RandomShapes.hpp"
 
 #include <gtest/gtest.h>
@@ -376,17 +377,6 @@ TEST(Voxelizer, CancelledGridChangesEqualAFullRebuild)
 
 // --- Modelling only what the view needs ---------------------------------------
 
-// Waits until the voxelizer has finished (or been cancelled in) a revision
-// at least `revision`, by its stats.
-bool QuietWait(const Voxelizer& vox, std::uint64_t revision)
-{
-    for (int i = 0; i < 120000; ++i) {
-        const auto s = vox.lastStats();
-        if (s.revision >= revision && !s.cancelled && !vox.progress().busy) return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    return false;
-}
 
 // A camera 30 mm in front of the board's left end, looking along +Y: it sees
 // that end up close (fine voxels); the rest of the part is outside the
