@@ -55,6 +55,10 @@ ViewportWidget::ViewportWidget(QWidget* parent) : QWidget(parent)
     auto* layout = new QVBoxLayout(this);
     layout->setContentsMargins(0, 0, 0, 0);
     setMinimumSize(160, 120);
+    tellView_ = new QTimer(this);
+    tellView_->setSingleShot(true);
+    tellView_->setInterval(500);
+    connect(tellView_, &QTimer::timeout, this, &ViewportWidget::tellSettledView);
     settle_ = new QTimer(this);
     settle_->setSingleShot(true);
     settle_->setInterval(180);
@@ -104,6 +108,9 @@ void ViewportWidget::onFrame(const ViewportStatus& s)
     if (!s.vulkan) status_.fallbackReason = reason;
     emit frameDrawn();
     if (s.picture) emit pictureTaken(s.picture);
+    // The settled view goes with its first picture, or at once while there
+    // are no voxels to take a picture of.
+    if (untoldView_ && ((s.picture && s.picture->view == *untoldView_) || !snapshot_)) tellSettledView();
 }
 
 QSize ViewportWidget::pixelSize() const
@@ -156,7 +163,19 @@ void ViewportWidget::sceneChanged()
         }
     }
     backend_->show(scene());
-    if (settled) emit viewSettled(*settledView_);
+    if (settled) {
+        untoldView_ = settledView_;
+        tellView_->start();
+    }
+}
+
+void ViewportWidget::tellSettledView()
+{
+    tellView_->stop();
+    if (!untoldView_) return;
+    const ViewRequirement v = *untoldView_;
+    untoldView_.reset();
+    emit viewSettled(v);
 }
 
 void ViewportWidget::setSnapshot(std::shared_ptr<const VoxelSnapshot> snapshot)

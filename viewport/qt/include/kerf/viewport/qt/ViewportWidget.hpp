@@ -129,7 +129,9 @@ signals:
     /// The viewport fell back to the CPU tracer (the reason in status()).
     void backendChanged();
     /// The camera came to rest somewhere new (or the window changed size):
-    /// what the voxelizer should refine for.
+    /// what the voxelizer should refine for. Emitted with the first picture
+    /// of that view (pictureTaken just before), or alone when the viewport
+    /// shows no voxels yet or no picture comes within half a second.
     void viewSettled(const kerf::ViewRequirement& view);
     /// A picture of the settled view: what hides what, for the voxelizer
     /// (Voxelizer::setOcclusion).
@@ -173,6 +175,12 @@ private:
     class QTimer* settle_ = nullptr; // ends the interactive (reduced resolution) phase
     bool interactive_ = false;
     std::optional<ViewRequirement> settledView_;
+    // A settled view not yet told: it goes with the first picture of it (so
+    // that the voxelizer's first plan for it knows what the part hides), or
+    // alone when no such picture comes (no voxels yet) or after a while.
+    std::optional<ViewRequirement> untoldView_;
+    class QTimer* tellView_ = nullptr;
+    void tellSettledView();
 
     std::unique_ptr<ViewportBackend> backend_;
     ViewportStatus status_;
