@@ -1,5 +1,5 @@
 #pragma once
-// The feature tree of a Kerf document (../shared/spec/document-format.md).
+// The feature tree of a Kerf document (docs/document-format.md).
 // Plain data: parameters in millimetres and degrees exactly as the file says,
 // plus every field this version does not know, so that a load/save round trip
 // keeps them. Geometry is derived from this tree elsewhere (evaluator).
