@@ -206,7 +206,8 @@ TEST(Extremes, WallsThinnerThanAVoxel)
     EXPECT_LT(c.worstCornerError, 1e-3);
     MeshOptions o;
     o.featureSize = 0.1;
-    const auto mesh = meshPart(d, o);
+    MeshStats stats;
+    const auto mesh = meshPart(d, o, {}, &stats);
     ASSERT_TRUE(mesh);
     const MeshReport r = checkMesh(*mesh);
     EXPECT_TRUE(r.watertight());
@@ -217,7 +218,9 @@ TEST(Extremes, WallsThinnerThanAVoxel)
         ASSERT_TRUE(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z));
         worst = std::max(worst, std::fabs(exact.evaluate(tape, v.x, v.y, v.z)));
     }
-    EXPECT_LT(worst, 1e-6);
+    // On the surface to the root finder's tolerance, the sharp-edge fit's and
+    // the margin that keeps vertices off lattice points (float32 spacing).
+    EXPECT_LT(worst, 2e-6 + stats.edgeMargin);
     // The wall's volume: its area times its thickness, to the cells' chamfer.
     EXPECT_NEAR(r.volume, 0.2 * r.area / 2.0, 0.05 * 0.2 * r.area / 2.0);
 }

@@ -10,6 +10,7 @@
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/mesher/CellPolygons.hpp"
 #include "kerf/mesher/EdgeRoots.hpp"
+#include "kerf/mesher/FilePrecision.hpp"
 #include "kerf/mesher/MeshCheck.hpp"
 #include "kerf/mesher/MeshPart.hpp"
 #include "kerf/mesher/OpenMeshAdapter.hpp"
@@ -70,6 +71,21 @@ double worstVertexField(const Document& doc, const Mesh& mesh)
     for (const glm::dvec3& v : mesh.vertices)
         worst = std::max(worst, std::fabs(eval.evaluate(tape, v.x, v.y, v.z)));
     return worst;
+}
+
+// How far from the surface a vertex may lie (as |f|, the field being
+// 1-Lipschitz): the root finder's tolerance, a vertex on a sharp edge within
+// the crease fit's 1e-5 h, and a root kept off lattice points by the edge
+// margin (eight float32 spacings at the grid's coordinates, so that vertices
+// stay apart in the written file; the grid reaches beyond the mesh, hence
+// twice its extent here).
+double onSurfaceBound(const Mesh& mesh, double h)
+{
+    double magnitude = 0.0;
+    for (const glm::dvec3& v : mesh.vertices)
+        magnitude = std::max({magnitude, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+    const double margin = std::min(0.25 * h, std::max(1e-6 * h, 8.0 * float32Spacing(2.0 * magnitude + 4.0 * h)));
+    return 3e-6 * h + 1e-5 * h + margin;
 }
 
 // Everything a watertight export must satisfy; returns the report.
@@ -285,7 +301,7 @@ TEST(Mesher, SphereIsAClosedGenusZeroSurfaceWithTheRightVolume)
     EXPECT_GE(rep.volume, exact - bound);
     std::printf("sphere r=10 at h=0.5: volume error %.3g mm^3 (%.2g%%, bound %.3g), %zu triangles\n",
                 exact - rep.volume, 100.0 * (exact - rep.volume) / exact, bound, rep.triangles);
-    EXPECT_LE(worstVertexField(doc, mesh), 3e-6 * h);
+    EXPECT_LE(worstVertexField(doc, mesh), onSurfaceBound(mesh, h));
     std::size_t refused = 1;
     const OpenTriMesh om = toOpenMesh(mesh, &refused);
     EXPECT_EQ(refused, 0u) << "OpenMesh found a complex edge or vertex";
@@ -306,7 +322,7 @@ TEST(Mesher, TorusHasGenusOne)
     const double bound = 4.0 * kPi * kPi * 10.0 * 3.0 * h * h / (2.0 * 3.0);
     EXPECT_LE(rep.volume, exact + 1e-9 * exact);
     EXPECT_GE(rep.volume, exact - bound);
-    EXPECT_LE(worstVertexField(doc, mesh), 3e-6 * h);
+    EXPECT_LE(worstVertexField(doc, mesh), onSurfaceBound(mesh, h));
 }
 
 TEST(Mesher, BoardWithFourThroughHolesHasGenusFour)
@@ -317,7 +333,7 @@ TEST(Mesher, BoardWithFourThroughHolesHasGenusFour)
     EXPECT_EQ(rep.components, 1u);
     EXPECT_EQ(rep.eulerCharacteristic, -6);
     EXPECT_EQ(rep.genus(), 4);
-    EXPECT_LE(worstVertexField(doc, mesh), 3e-6 * 1.0);
+    EXPECT_LE(worstVertexField(doc, mesh), onSurfaceBound(mesh, 1.0));
 }
 
 // A box with sharp edges: faces are reproduced exactly (vertices on the face
@@ -339,7 +355,7 @@ TEST(Mesher, BoxVolumeWithinTheEdgeChamferBound)
             EXPECT_NEAR(rep.volume, exact, bound) << placement << " h " << h;
             std::printf("box at %s, h=%.2f: volume error %.3g mm^3 (bound %.3g)\n", placement, h, exact - rep.volume,
                         bound);
-            EXPECT_LE(worstVertexField(doc, mesh), 3e-6 * h);
+            EXPECT_LE(worstVertexField(doc, mesh), onSurfaceBound(mesh, h));
         }
     }
 }
@@ -363,27 +379,24 @@ TEST(Mesher, CylinderVolumeWithinTheSagAndChamferBound)
 // ---------------------------------------------------------------------------
 // Far from the origin
 
+// 100 m away float32 has a spacing of 7.8 um: the mesher keeps vertices
+// eight spacings from lattice points there (so the written file keeps them
+// apart), which the mesh at the origin does not need. The part keeps its
+// topology, and its surface moves by no more than that margin.
 TEST(Mesher, APartOneHundredMetresAwayMeshesAsAtTheOrigin)
 {
     const glm::dvec3 offset(1e5, -1e5, 1e5);
     for (const char* part : {kBoardWithHoles, kTorus}) {
         const double h = 1.0;
         const Document near = parse(part), far = parse(translated(part, offset));
-        const Mesh a = meshOf(near, h), b = meshOf(far, h);
+        MeshStats sa, sb;
+        const Mesh a = meshOf(near, h, &sa), b = meshOf(far, h, &sb);
         const MeshReport ra = expectWatertight(a, "near"), rb = expectWatertight(b, "far");
-        EXPECT_EQ(a.triangles.size(), b.triangles.size());
         EXPECT_EQ(ra.eulerCharacteristic, rb.eulerCharacteristic);
         EXPECT_EQ(ra.components, rb.components);
-        EXPECT_NEAR(ra.volume, rb.volume, 1e-6 * ra.volume);
-        EXPECT_LE(worstVertexField(far, b), 3e-6 * h);
-        if (a.vertices.size() != b.vertices.size()) {
-            ADD_FAILURE() << "vertex counts differ";
-            continue;
-        }
-        double worst = 0.0;
-        for (std::size_t i = 0; i < a.vertices.size(); ++i)
-            worst = std::max(worst, glm::length(b.vertices[i] - offset - a.vertices[i]));
-        EXPECT_LE(worst, 3e-6 * h);
+        EXPECT_GT(sb.edgeMargin, sa.edgeMargin);
+        EXPECT_NEAR(ra.volume, rb.volume, 2.0 * sb.edgeMargin * ra.area + 1e-6 * ra.volume);
+        EXPECT_LE(worstVertexField(far, b), onSurfaceBound(b, h));
     }
 }
 
@@ -402,7 +415,7 @@ TEST(Mesher, GeneratedPartsAreWatertight)
         const Mesh mesh = meshOf(doc, h);
         if (mesh.empty()) continue; // e.g. an intersection of disjoint parts
         expectWatertight(mesh, "seed " + std::to_string(seed));
-        EXPECT_LE(worstVertexField(doc, mesh), 3e-6 * h) << "seed " << seed;
+        EXPECT_LE(worstVertexField(doc, mesh), onSurfaceBound(mesh, h)) << "seed " << seed;
     }
 }
 
@@ -433,7 +446,7 @@ TEST(Mesher, ThinFeaturesAndTouchingPartsStayWatertight)
             const Mesh mesh = meshOf(doc, h, &stats);
             const std::string what = std::string(part).substr(0, 60) + " h " + std::to_string(h);
             expectWatertight(mesh, what);
-            EXPECT_LE(worstVertexField(doc, mesh), 3e-6 * h) << what;
+            EXPECT_LE(worstVertexField(doc, mesh), onSurfaceBound(mesh, h)) << what;
             centreVertices += stats.centreVertices;
         }
     }
@@ -468,7 +481,7 @@ TEST(Mesher, CellSizedBlobsExerciseEveryAmbiguity)
             MeshStats stats;
             const Mesh mesh = meshOf(doc, h, &stats);
             expectWatertight(mesh, "blobs h " + std::to_string(h));
-            EXPECT_LE(worstVertexField(doc, mesh), 3e-6 * h);
+            EXPECT_LE(worstVertexField(doc, mesh), onSurfaceBound(mesh, h));
             centreVertices += stats.centreVertices;
         }
     }
@@ -561,7 +574,7 @@ TEST_P(ExampleExport, IsWatertight)
     MeshStats stats;
     const Mesh mesh = meshOf(doc, h, &stats);
     const MeshReport rep = expectWatertight(mesh, GetParam());
-    EXPECT_LE(worstVertexField(doc, mesh), 3e-6 * h);
+    EXPECT_LE(worstVertexField(doc, mesh), onSurfaceBound(mesh, h));
     std::printf("%s at %.1f mm: %zu triangles, %zu components, genus %ld, %.2f s; %llu seeds, %llu not meshed, "
                 "%llu cells from the flood fill, %d rounds\n",
                 GetParam(), h, rep.triangles, rep.components, rep.genus().value_or(-1), stats.seconds,

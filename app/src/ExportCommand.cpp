@@ -103,7 +103,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
 {
     std::string file;
     try {
-        const Arguments a(args, {"-o", "--output", "--feature-size"}, {"--ascii", "--json", "--help", "-h"});
+        const Arguments a(args, {"-o", "--output", "--feature-size", "--tolerance"}, {"--ascii", "--json", "--help", "-h"});
         if (a.has("--help") || a.has("-h")) {
             out << kExportHelp;
             return 0;
@@ -129,6 +129,8 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const char* source = requested ? "option" : doc.settings.featureSize ? "document" : "default";
         MeshOptions options;
         options.featureSize = requested.value_or(doc.settings.featureSize.value_or(defaultFeatureSize(bounds)));
+        if (const auto v = a.value("--tolerance"))
+            options.tolerance = Arguments::parsePositiveMillimetres("--tolerance", *v);
 
         const bool terminal = ::isatty(STDERR_FILENO);
         const InterruptGuard guard;
@@ -206,6 +208,18 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             j["genus"] = report.genus().value_or(-1);
             j["volume_mm3"] = report.volume;
             j["area_mm2"] = report.area;
+            j["lattice_triangles"] = stats.latticeTriangles;
+            j["feature_vertices"] = stats.featureVertices;
+            j["zero_corners"] = stats.zeroCorners;
+            j["edge_margin_mm"] = stats.edgeMargin;
+            j["collapses"] = stats.collapses;
+            j["splits"] = stats.splits;
+            j["crease_splits"] = stats.creaseSplits;
+            j["worst_sample_mm"] = stats.worstSample;
+            j["triangles_over_tolerance"] = stats.trianglesOverTolerance;
+            j["simplify_seconds"] = stats.simplifySeconds;
+            j["refine_seconds"] = stats.refineSeconds;
+            j["lattice_seconds"] = stats.seedSeconds + stats.cellSeconds;
             j["seconds"] = seconds;
             j["mesh_seconds"] = meshSeconds;
             j["check_seconds"] = checkSeconds;

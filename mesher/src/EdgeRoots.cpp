@@ -5,9 +5,7 @@
 
 namespace kerf {
 
-namespace {
-double clampToEdge(double t) { return std::clamp(t, kEdgeMargin, 1.0 - kEdgeMargin); }
-} // namespace
+double EdgeRootFinder::clampToEdge(double t) const { return std::clamp(t, margin_, 1.0 - margin_); }
 
 std::uint64_t EdgeRootFinder::solve(const Tape& tape, std::span<const EdgeRootJob> jobs, double* roots)
 {
@@ -16,7 +14,7 @@ std::uint64_t EdgeRootFinder::solve(const Tape& tape, std::span<const EdgeRootJo
     active_.clear();
     for (std::size_t i = 0; i < jobs.size(); ++i) {
         const EdgeRootJob& j = jobs[i];
-        // An end exactly on the surface is the root (0 counts as outside).
+        // An end exactly on the surface is the root.
         if (j.f0 == 0.0) {
             roots[i] = clampToEdge(0.0);
             continue;

@@ -32,6 +32,8 @@ void addCounters(const TileCounters& c, MeshStats& stats)
     stats.pointEvaluations += c.pointEvaluations;
     stats.rootEvaluations += c.rootEvaluations;
     stats.centreVertices += c.centreVertices;
+    stats.featureVertices += c.featureVertices;
+    stats.zeroCorners += c.zeroCorners;
     if (c.cellsMeshed) ++stats.surfaceTiles;
 }
 
@@ -55,11 +57,15 @@ void resolveForeign(TileShare& st, const TileShares& shares,
 
 // Copies one tile's vertices and triangles (references made global) to the
 // mesh, freeing each chunk once copied.
-void copyOut(TileShare& st, glm::dvec3* vertices, Triangle* triangles, std::uint32_t vertexOffset)
+void copyOut(TileShare& st, glm::dvec3* vertices, glm::dvec3* normals, Triangle* triangles, std::uint32_t vertexOffset)
 {
     for (std::size_t c = 0; c < st.vertices.chunkCount(); ++c) {
         vertices = std::copy_n(st.vertices.chunk(c), st.vertices.chunkLength(c), vertices);
         st.vertices.releaseChunk(c);
+    }
+    for (std::size_t c = 0; c < st.normals.chunkCount(); ++c) {
+        normals = std::copy_n(st.normals.chunk(c), st.normals.chunkLength(c), normals);
+        st.normals.releaseChunk(c);
     }
     for (std::size_t c = 0; c < st.triangles.chunkCount(); ++c) {
         const Triangle* t = st.triangles.chunk(c);
@@ -75,13 +81,14 @@ void copyOut(TileShare& st, glm::dvec3* vertices, Triangle* triangles, std::uint
         st.triangles.releaseChunk(c);
     }
     st.vertices.clear();
+    st.normals.clear();
     st.triangles.clear();
     std::vector<std::uint32_t>().swap(st.foreignGlobal);
 }
 
 } // namespace
 
-Mesh mergeTiles(TileShares& shares, tbb::task_arena& arena, MeshStats& stats)
+Mesh mergeTiles(TileShares& shares, tbb::task_arena& arena, MeshStats& stats, std::vector<glm::dvec3>& normals)
 {
     const std::vector<TileShare*> order = shares.ordered();
     std::vector<std::uint64_t> vertexOffset(order.size() + 1, 0);
@@ -118,17 +125,20 @@ Mesh mergeTiles(TileShares& shares, tbb::task_arena& arena, MeshStats& stats)
         vertexOffset.back() * sizeof(glm::dvec3) + triangleCount * sizeof(Triangle) >= (std::size_t(512) << 20);
     Mesh mesh;
     mesh.vertices.reserve(vertexOffset.back());
+    normals.clear();
+    normals.reserve(vertexOffset.back());
     mesh.triangles.reserve(triangleCount);
     for (std::size_t first = 0; first < order.size();) {
         std::size_t last = first + 1;
         while (last < order.size() && triangleOffset[last] - triangleOffset[first] < triangleCount / 8)
             ++last;
         mesh.vertices.resize(vertexOffset[last]);
+        normals.resize(vertexOffset[last]);
         mesh.triangles.resize(triangleOffset[last]);
         arena.execute([&] {
             tbb::parallel_for(first, last, [&](std::size_t k) {
-                copyOut(*order[k], mesh.vertices.data() + vertexOffset[k], mesh.triangles.data() + triangleOffset[k],
-                        std::uint32_t(vertexOffset[k]));
+                copyOut(*order[k], mesh.vertices.data() + vertexOffset[k], normals.data() + vertexOffset[k],
+                        mesh.triangles.data() + triangleOffset[k], std::uint32_t(vertexOffset[k]));
             });
         });
         if (trim) trimHeap();

@@ -15,7 +15,8 @@ namespace kerf::mesher {
 
 /// Throws std::logic_error if a foreign vertex has no owner (a broken flood
 /// fill: never expected), std::runtime_error past 2^32 vertices. Adds the
-/// tiles' counters to `stats`.
-Mesh mergeTiles(TileShares& shares, tbb::task_arena& arena, MeshStats& stats);
+/// tiles' counters to `stats`. `normals` receives each vertex's unit normal
+/// (0 for feature vertices).
+Mesh mergeTiles(TileShares& shares, tbb::task_arena& arena, MeshStats& stats, std::vector<glm::dvec3>& normals);
 
 } // namespace kerf::mesher

@@ -1,9 +1,14 @@
 #include "kerf/mesher/MeshPart.hpp"
 
+#include "FeatureFlips.hpp"
 #include "MergeTiles.hpp"
 #include "Seeds.hpp"
+#include "SimplifyToTolerance.hpp"
 #include "TileMesher.hpp"
 #include "TileShares.hpp"
+#include "ToleranceRefiner.hpp"
+
+#include "kerf/mesher/FilePrecision.hpp"
 
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/voxelizer/TileBuilder.hpp"
@@ -59,46 +64,52 @@ void addSeconds(std::atomic<std::int64_t>& total, Clock::time_point since)
 
 } // namespace
 
-std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const MeshProgress& progress,
-                             MeshStats* statsOut)
+namespace {
+
+// How cells meet the file's precision and the part's exact zeros (see
+// CellMeshing in TileMesher.hpp and FilePrecision.hpp).
+CellMeshing cellMeshing(const Lattice& lattice, const GridLayout& layout, double tolerance)
 {
-    const auto start = Clock::now();
-    if (!(options.featureSize > 0.0) || !std::isfinite(options.featureSize))
-        throw std::invalid_argument("mesher: the feature size must be a positive number of millimetres");
-    MeshStats stats;
-    stats.featureSize = options.featureSize;
-    auto finish = [&](Mesh mesh) -> std::optional<Mesh> {
-        stats.vertices = mesh.vertices.size();
-        stats.triangles = mesh.triangles.size();
-        stats.seconds = secondsSince(start);
-        if (statsOut) *statsOut = stats;
-        return mesh;
-    };
-    if (tape.empty() || tape.bounds().isEmpty()) return finish({});
-    if (!tape.bounds().isBounded()) throw std::runtime_error("the part is unbounded: nothing to mesh");
-    const GridLayout layout = GridLayout::choose(tape.bounds(), options.featureSize, options.limits);
-    if (layout.empty()) return finish({});
+    const Aabb grid{layout.origin, layout.origin + glm::dvec3(layout.dims) * layout.tileSize};
+    double magnitude = 0.0;
+    for (int a = 0; a < 3; ++a)
+        magnitude = std::max({magnitude, std::abs(grid.min[a]), std::abs(grid.max[a])});
+    CellMeshing m;
+    const double h = lattice.h;
+    // Vertices stay eight float32 spacings from lattice points: two of them
+    // on edges that meet at a point where the surface passes then stay
+    // apart in the file (and thin bridges and gaps stay open).
+    const double margin = std::max(kEdgeMargin * h, 8.0 * float32Spacing(magnitude));
+    m.edgeMargin = std::min(0.25, margin / h);
+    // "About zero": within rounding of the coordinates; the nudge is far
+    // beyond rounding and far below anything the mesh can show.
+    const double doubleSpacing = magnitude * std::numeric_limits<double>::epsilon();
+    m.zeroBand = std::max(1e-9 * h, 64.0 * doubleSpacing);
+    m.nudge = std::max(1e-6 * h, 1e3 * m.zeroBand);
+    m.featureTolerance = tolerance > 0.0 ? 0.25 * tolerance : 1e-5 * h;
+    return m;
+}
+
+struct LatticeMesh {
+    Mesh mesh;
+    std::vector<glm::dvec3> normals;
+};
+
+// The marching-cubes mesh: every surface cell, closed and oriented.
+std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layout, const MeshOptions& options,
+                                       ProgressReporter& reporter, const std::function<bool()>& cancelled,
+                                       std::atomic<bool>& stop, tbb::task_arena& arena, MeshStats& stats)
+{
     const Lattice lattice = Lattice::fromLayout(layout);
     if (std::max({lattice.dims.x, lattice.dims.y, lattice.dims.z}) >= (std::int64_t(1) << 20))
         throw std::runtime_error("the part is too large to mesh at a feature size of " +
                                  std::to_string(options.featureSize) + " mm");
-    stats.cellSize = layout.voxelSize;
-    stats.note = layout.note;
-    stats.tiles = layout.dims;
-    stats.levels = layout.levels;
-
-    const TileMesher mesher(tape, lattice);
+    const CellMeshing meshing = cellMeshing(lattice, layout, options.tolerance);
+    stats.edgeMargin = meshing.edgeMargin * lattice.h;
+    const TileMesher mesher(tape, lattice, meshing);
     TileShares states(lattice);
-    ProgressReporter reporter(progress);
-    std::atomic<bool> stop{false};
-    const std::function<bool()> cancelled = [&] {
-        if (stop.load(std::memory_order_relaxed)) return true;
-        if (progress.cancelled && progress.cancelled()) stop = true;
-        return stop.load(std::memory_order_relaxed);
-    };
     std::atomic<std::int64_t> seedNanos{0}, cellNanos{0};
     tbb::enumerable_thread_specific<TileScratch> scratch([&] { return TileScratch(tape, lattice); });
-    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     const CancelCheck buildCancelled = [&] { return cancelled(); };
 
     // Round 1: every tile of the voxelizer's grid: seeds from its float
@@ -146,7 +157,7 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
                     seeds[k].clear();
                 }
                 addSeconds(cellNanos, t0);
-                reporter.report(0.9 * double(++tilesDone) / double(tileCount));
+                reporter.report(0.5 * double(++tilesDone) / double(tileCount));
             }
         });
     });
@@ -181,16 +192,102 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
             });
         });
         if (stop || cancelled()) return std::nullopt;
-        reporter.report(std::min(0.95, 0.9 + 0.01 * stats.rounds));
+        reporter.report(std::min(0.55, 0.5 + 0.01 * stats.rounds));
     }
 
     // Merge: global vertex numbers in tile order, shared vertices resolved.
     const auto mergeStart = Clock::now();
     scratch.clear();
-    Mesh mesh = mergeTiles(states, arena, stats);
+    LatticeMesh out;
+    out.mesh = mergeTiles(states, arena, stats, out.normals);
     stats.mergeSeconds = secondsSince(mergeStart);
     stats.seedSeconds = double(seedNanos.load()) * 1e-9;
     stats.cellSeconds = double(cellNanos.load()) * 1e-9;
+    stats.featureFlips = flipFeatureEdges(out.mesh, out.normals);
+    stats.latticeTriangles = out.mesh.triangles.size();
+    reporter.report(0.6);
+    return out;
+}
+
+} // namespace
+
+std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const MeshProgress& progress,
+                             MeshStats* statsOut)
+{
+    const auto start = Clock::now();
+    if (!(options.featureSize > 0.0) || !std::isfinite(options.featureSize))
+        throw std::invalid_argument("mesher: the feature size must be a positive number of millimetres");
+    if (!(options.tolerance >= 0.0) || !std::isfinite(options.tolerance))
+        throw std::invalid_argument("mesher: the tolerance must be a number of millimetres, 0 or more");
+    MeshStats stats;
+    stats.featureSize = options.featureSize;
+    auto finish = [&](Mesh mesh) -> std::optional<Mesh> {
+        stats.vertices = mesh.vertices.size();
+        stats.triangles = mesh.triangles.size();
+        stats.seconds = secondsSince(start);
+        if (statsOut) *statsOut = stats;
+        return mesh;
+    };
+    if (tape.empty() || tape.bounds().isEmpty()) return finish({});
+    if (!tape.bounds().isBounded()) throw std::runtime_error("the part is unbounded: nothing to mesh");
+    const GridLayout layout = GridLayout::choose(tape.bounds(), options.featureSize, options.limits);
+    if (layout.empty()) return finish({});
+    stats.cellSize = layout.voxelSize;
+    stats.note = layout.note;
+    stats.tiles = layout.dims;
+    stats.levels = layout.levels;
+
+    ProgressReporter reporter(progress);
+    std::atomic<bool> stop{false};
+    const std::function<bool()> cancelled = [&] {
+        if (stop.load(std::memory_order_relaxed)) return true;
+        if (progress.cancelled && progress.cancelled()) stop = true;
+        return stop.load(std::memory_order_relaxed);
+    };
+    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    std::optional<LatticeMesh> lattice = latticeMesh(tape, layout, options, reporter, cancelled, stop, arena, stats);
+    if (!lattice) return std::nullopt;
+    if (options.tolerance == 0.0) {
+        reporter.report(1.0);
+        return finish(std::move(lattice->mesh));
+    }
+
+    // Simplify down to the tolerance (never past it), refine where the
+    // marching-cubes triangles stray further, and simplify what the
+    // refinement made.
+    Mesh mesh = std::move(lattice->mesh);
+    std::vector<glm::dvec3> normals = std::move(lattice->normals);
+    lattice.reset();
+    auto t0 = Clock::now();
+    SimplifySettings simplify;
+    simplify.rmsDistance = options.tolerance;
+    simplify.minHeight = 4.0 * float32Spacing(tape.bounds());
+    simplify.cube = 64.0 * stats.cellSize;
+    simplify.placement = 0.25 * options.tolerance;
+    simplify.tolerance = options.tolerance;
+    simplify.microLength = 4.0 * stats.edgeMargin;
+    stats.collapses = simplifyToTolerance(mesh, normals, tape, simplify, arena, cancelled);
+    if (cancelled()) return std::nullopt;
+    stats.simplifySeconds = secondsSince(t0);
+    reporter.report(0.75);
+    t0 = Clock::now();
+    RefineSettings refineSettings;
+    refineSettings.tolerance = options.tolerance;
+    refineSettings.minHeight = simplify.minHeight;
+    refineSettings.maxTriangles = std::max<std::size_t>(16 * mesh.triangles.size(), 1 << 20);
+    RefineStats refine;
+    if (!refineToTolerance(mesh, normals, tape, refineSettings, arena, refine, cancelled)) return std::nullopt;
+    stats.refineSeconds = secondsSince(t0);
+    stats.splits = refine.splits;
+    stats.creaseSplits = refine.creaseSplits;
+    stats.worstSample = refine.worstSample;
+    stats.trianglesOverTolerance = refine.trianglesOverTolerance;
+    reporter.report(0.9);
+    t0 = Clock::now();
+    simplify.microLength = 0.0;
+    if (refine.splits > 0) stats.collapses += simplifyToTolerance(mesh, normals, tape, simplify, arena, cancelled);
+    if (cancelled()) return std::nullopt;
+    stats.simplifySeconds += secondsSince(t0);
     reporter.report(1.0);
     return finish(std::move(mesh));
 }

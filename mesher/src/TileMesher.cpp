@@ -1,5 +1,8 @@
 #include "TileMesher.hpp"
 
+#include "CreaseSnap.hpp"
+#include "FeaturePoint.hpp"
+
 #include "kerf/mesher/CellPolygons.hpp"
 #include "kerf/mesher/Triangulate.hpp"
 
@@ -12,7 +15,51 @@ namespace kerf::mesher {
 
 namespace {
 inline I3 cornerOffset(int q) { return {q & 1, (q >> 1) & 1, q >> 2}; }
+
+// Where a vertex's normal is taken, from its root along its edge, outwards,
+// as a fraction of the edge (see solveRoots).
+constexpr double kNormalOffset = 1e-5;
+
+// Directions for deciding the side of a lattice point where the field is
+// (about) zero. Positive components: the nudged point stays inside the box
+// of the block that owns the lattice point, where that block's tape equals
+// the full field. Irrational ratios and three independent directions: a
+// plane of a part (a board face, the contact of two boards) contains at most
+// two of them, so one of the three always leaves the zero set.
+const glm::dvec3 kNudgeDirections[3] = {
+    glm::normalize(glm::dvec3(1.0, 0.41421356237309515, 0.14159265358979312)),
+    glm::normalize(glm::dvec3(0.71828182845904509, 1.0, 0.7320508075688772)),
+    glm::normalize(glm::dvec3(0.23606797749978981, 0.64575131106459072, 1.0)),
+};
 } // namespace
+
+// Where the field is 0 at a lattice point (the face of a board at a round
+// millimetre, the contact plane of two boards, a tool flush with the face it
+// cuts), the side is that of the nearby point p + nudge * d: a lattice
+// shifted by an infinitesimal generic offset. Taking 0 as outside everywhere
+// would leave a double membrane where two boards of a union touch (the
+// contact is inside the solid on both sides); taking it as inside would do
+// the same where a difference's tool is flush with the body's face. The
+// nudged value (about nudge in size) replaces the corner value, so every
+// later decision (signs, the asymptotic decider, root brackets) agrees.
+double TileMesher::sideOfZero(const Tape& tape, const glm::dvec3& p, TileScratch& s) const
+{
+    for (const glm::dvec3& d : kNudgeDirections) {
+        const glm::dvec3 q = p + meshing_.nudge * d;
+        const double v = s.points.evaluate(tape, q.x, q.y, q.z);
+        if (std::abs(v) > meshing_.zeroBand) return v;
+    }
+    return meshing_.nudge > 0.0 ? meshing_.nudge : 0.0; // zero all around (a sheet of no thickness): outside
+}
+
+glm::dvec3 TileMesher::unitNormal(const Tape& tape, const glm::dvec3& world, TileScratch& s) const
+{
+    const glm::dvec3 p = world - tape.origin();
+    const Dual<double> d = s.gradients.evaluate(tape, p.x, p.y, p.z);
+    const glm::dvec3 g(d.d[0], d.d[1], d.d[2]);
+    const double length = glm::length(g);
+    return length > 0.0 && std::isfinite(length) ? g / length : glm::dvec3(0.0);
+}
 
 // Corner values of the cells in s.wave, with each lattice point's owning
 // block's tape (LatticeTapes.hpp), in one batched call per block. Leaves 8
@@ -71,8 +118,14 @@ void TileMesher::evaluatePending(TileShare& st, TileScratch& s) const
             s.z[k] = p.z;
         }
         s.points.evaluate(tape, s.x.data(), s.y.data(), s.z.data(), count, s.f.data());
-        for (std::size_t k = 0; k < count; ++k)
-            s.pointValue[s.pending[first + k].index] = s.f[k];
+        for (std::size_t k = 0; k < count; ++k) {
+            double v = s.f[k];
+            if (std::abs(v) <= meshing_.zeroBand) {
+                v = sideOfZero(tape, {s.x[k], s.y[k], s.z[k]}, s);
+                ++st.counters.zeroCorners;
+            }
+            s.pointValue[s.pending[first + k].index] = v;
+        }
         first = last;
     }
     st.counters.pointEvaluations += s.pending.size();
@@ -90,6 +143,7 @@ std::uint32_t TileMesher::vertexRef(TileShare& st, const I3& cell, int edge, con
     if (lower.x < n && lower.y < n && lower.z < n) {
         result = std::uint32_t(st.vertices.size());
         st.vertices.push_back(glm::dvec3(0.0));
+        st.normals.push_back(glm::dvec3(0.0));
     } else {
         // The edge's lower end lies on this tile's upper boundary: the next
         // tile up owns it.
@@ -128,15 +182,45 @@ void TileMesher::solveRoots(TileShare& st, TileScratch& s) const
         s.groupJobs.clear();
         for (std::size_t k = first; k < last; ++k)
             s.groupJobs.push_back(s.jobs[s.jobOrder[k].second]);
-        s.groupRoots.resize(s.groupJobs.size());
+        const std::size_t count = s.groupJobs.size();
+        s.groupRoots.resize(count);
         st.counters.rootEvaluations += s.roots.solve(tape, s.groupJobs, s.groupRoots.data());
+        // Normals at the vertices (the exact field's gradient), one batch,
+        // taken a hundred-thousandth of the edge outside the surface: right
+        // at a root a primitive's distance is a length of a vector that is
+        // itself rounding noise (sqrt(min(|q - c|^2, ...)) for a cone's side
+        // or a profile's edge), and so is the direction of its gradient.
+        s.x.resize(count);
+        s.y.resize(count);
+        s.z.resize(count);
+        s.f.resize(count);
+        s.gx.resize(count);
+        s.gy.resize(count);
+        s.gz.resize(count);
+        for (std::size_t k = 0; k < count; ++k) {
+            const EdgeRootJob& job = s.groupJobs[k];
+            const double outward = job.f0 < 0.0 ? kNormalOffset : -kNormalOffset;
+            const glm::dvec3 p = job.at(s.groupRoots[k] + outward) - tape.origin();
+            s.x[k] = p.x;
+            s.y[k] = p.y;
+            s.z[k] = p.z;
+        }
+        s.gradients.evaluate(tape, s.x.data(), s.y.data(), s.z.data(), count, s.f.data(), s.gx.data(), s.gy.data(),
+                             s.gz.data());
         for (std::size_t k = first; k < last; ++k) {
-            const glm::dvec3 p = s.groupJobs[k - first].at(s.groupRoots[k - first]);
+            const std::size_t g = k - first;
+            const glm::dvec3 p = s.groupJobs[g].at(s.groupRoots[g]);
+            const glm::dvec3 gradient(s.gx[g], s.gy[g], s.gz[g]);
+            const double length = glm::length(gradient);
+            const glm::dvec3 n = length > 0.0 && std::isfinite(length) ? gradient / length : glm::dvec3(0.0);
             const std::uint32_t target = s.jobTarget[s.jobOrder[k].second];
-            if (target & kForeign)
+            if (target & kForeign) {
                 st.foreign[target & ~kForeign].position = p;
-            else
+                st.foreign[target & ~kForeign].normal = n;
+            } else {
                 st.vertices[target] = p;
+                st.normals[target] = n;
+            }
         }
         first = last;
     }
@@ -172,14 +256,27 @@ void TileMesher::meshCells(TileShare& st, TileScratch& s) const
     }
     solveRoots(st, s);
 
-    glm::dvec3 points[kMaxPolygon];
+    glm::dvec3 points[kMaxPolygon], normals[kMaxPolygon];
     std::array<std::uint8_t, 3> triangles[kMaxPolygon];
     std::size_t at = 0;
     for (std::size_t k = 0; k < s.polygonSizes.size(); ++k) {
         const int size = s.polygonSizes[k];
         const std::uint32_t* refs = &s.polygonRefs[at];
-        for (int i = 0; i < size; ++i)
-            points[i] = refs[i] & kForeign ? st.foreign[refs[i] & ~kForeign].position : st.vertices[refs[i]];
+        for (int i = 0; i < size; ++i) {
+            const bool foreign = refs[i] & kForeign;
+            points[i] = foreign ? st.foreign[refs[i] & ~kForeign].position : st.vertices[refs[i]];
+            normals[i] = foreign ? st.foreign[refs[i] & ~kForeign].normal : st.normals[refs[i]];
+        }
+        if (meshing_.featureTolerance > 0.0 && smallestNormalCosine(normals, size) < kFeatureCosine) {
+            const std::optional<std::uint32_t> feature =
+                featureVertex(st, fromLocalKey(s.meshed[s.polygonCells[k]]), points, normals, size, s);
+            if (feature) {
+                for (int i = 0; i < size; ++i)
+                    st.triangles.push_back({*feature, refs[i], refs[(i + 1) % size]});
+                at += std::size_t(size);
+                continue;
+            }
+        }
         const int made = triangulatePolygon(points, &s.polygonMasks[at], size, triangles);
         if (made == size - 2) {
             for (int t = 0; t < made; ++t)
@@ -210,7 +307,7 @@ std::uint32_t TileMesher::centreVertex(TileShare& st, const I3& cell, const doub
     const Tape& tape = s.tapes.blockTape(lattice_.blockOf(lower));
     const glm::dvec3 c = centroid - tape.origin();
     const double fc = s.points.evaluate(tape, c.x, c.y, c.z);
-    glm::dvec3 position = centroid;
+    glm::dvec3 position = centroid, normalAt = centroid;
     if (fc != 0.0) {
         EdgeRootJob job;
         double best = std::numeric_limits<double>::infinity();
@@ -226,9 +323,92 @@ std::uint32_t TileMesher::centreVertex(TileShare& st, const I3& cell, const doub
         double t = 0.5;
         st.counters.rootEvaluations += 1 + s.roots.solve(tape, std::span<const EdgeRootJob>(&job, 1), &t);
         position = job.at(t);
+        normalAt = job.at(t + (job.f0 < 0.0 ? kNormalOffset : -kNormalOffset));
     }
     ++st.counters.centreVertices;
     st.vertices.push_back(position);
+    st.normals.push_back(unitNormal(tape, normalAt, s));
+    return std::uint32_t(st.vertices.size() - 1);
+}
+
+// A vertex on the sharp edge or corner that crosses the cell, on the
+// surface; the polygon then becomes a fan around it. Otherwise nothing (the
+// polygon is triangulated as usual: a smooth patch whose normals turn fast,
+// or a feature that cannot be pinned down here, left to the refinement).
+//
+// A corner: the tangent planes of the polygon's vertices meet in a point
+// that lies on all of them (within the feature tolerance: planes that only
+// seem to meet because a curved sheet's normals turn are no corner). An
+// edge: the two vertices whose normals differ most name the two sheets, and
+// CreaseSnap.hpp puts the point on the curve where they meet, across from
+// the polygon's centre. The point may lie up to half a cell outside the
+// cell: where a cell clips a sharp edge near its corner, marching cubes
+// joins the two sides in one polygon while the edge runs just outside.
+std::optional<std::uint32_t> TileMesher::featureVertex(TileShare& st, const I3& cell, const glm::dvec3* points,
+                                                        const glm::dvec3* normals, int size, TileScratch& s) const
+{
+    for (int i = 0; i < size; ++i)
+        if (normals[i] == glm::dvec3(0.0)) return std::nullopt; // a vertex without a normal: no fit
+    const FeatureFit fit = fitTangentPlanes(points, normals, size);
+    if (fit.rank < 2) return std::nullopt;
+    const I3 lower = st.tile * lattice_.n + cell;
+    const Aabb cellBox = lattice_.box(lower, 1);
+    const glm::dvec3 grow(0.5 * lattice_.h);
+    const Aabb box{cellBox.min - grow, cellBox.max + grow};
+    auto inBox = [&](const glm::dvec3& p) {
+        return p.x > box.min.x && p.y > box.min.y && p.z > box.min.z && p.x < box.max.x && p.y < box.max.y &&
+               p.z < box.max.z;
+    };
+    // The full tape: the point may leave the cell's block, where the block's
+    // tape no longer equals the field.
+    const Tape& tape = tape_;
+    auto field = [&](const glm::dvec3& p) {
+        const glm::dvec3 q = p - tape.origin();
+        ++st.counters.pointEvaluations;
+        return s.points.evaluate(tape, q.x, q.y, q.z);
+    };
+    std::optional<glm::dvec3> point;
+    // A feature point is right when the fan's spokes lie on the surface:
+    // from a corner (or a point of the edge) to a vertex of one of its
+    // sides, the straight line stays on that side. A point where the
+    // tangent planes of a curved sheet happen to meet is no corner: the
+    // spokes to that sheet's vertices cut through the part.
+    auto spokesOnSurface = [&](const glm::dvec3& x) {
+        if (!(std::abs(field(x)) <= meshing_.featureTolerance)) return false;
+        for (int i = 0; i < size; ++i)
+            if (!(std::abs(field(0.5 * (x + points[i]))) <= meshing_.featureTolerance)) return false;
+        return true;
+    };
+    if (fit.rank == 3 && inBox(fit.point) && spokesOnSurface(fit.point)) point = fit.point;
+    if (!point) {
+        int ia = 0, ib = 1;
+        double smallest = 2.0;
+        for (int i = 0; i < size; ++i)
+            for (int j = i + 1; j < size; ++j)
+                if (glm::dot(normals[i], normals[j]) < smallest) {
+                    smallest = glm::dot(normals[i], normals[j]);
+                    ia = i;
+                    ib = j;
+                }
+        glm::dvec3 centre(0.0);
+        for (int i = 0; i < size; ++i)
+            centre += points[i];
+        centre /= double(size);
+        point = snapToCrease(tape, s.gradients, centre, normals[ia], normals[ib], lattice_.h,
+                             meshing_.featureTolerance);
+        if (!point || !inBox(*point)) return std::nullopt; // (snapped: on the edge, spokes or not)
+    }
+    // The fan must not turn over: each triangle (point, v_i, v_i+1) faces,
+    // if not the way of both its polygon vertices' normals (across a sharp
+    // edge it bends as the surface does), at least the way of their sum.
+    for (int i = 0; i < size; ++i) {
+        const int j = (i + 1) % size;
+        const glm::dvec3 n = glm::cross(points[i] - *point, points[j] - *point);
+        if (!(glm::dot(n, normals[i] + normals[j]) > 0.0)) return std::nullopt;
+    }
+    ++st.counters.featureVertices;
+    st.vertices.push_back(*point);
+    st.normals.push_back(glm::dvec3(0.0));
     return std::uint32_t(st.vertices.size() - 1);
 }
 
@@ -236,6 +416,7 @@ bool TileMesher::process(TileShare& st, const std::vector<std::uint64_t>& cells,
                          const std::function<bool()>& cancelled) const
 {
     s.tapes.clear();
+    s.roots.setMargin(meshing_.edgeMargin);
     s.pointValue.clear();
     s.wave.clear();
     s.meshed.clear();

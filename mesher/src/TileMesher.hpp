@@ -31,6 +31,7 @@
 
 #include <array>
 #include <functional>
+#include <optional>
 #include <vector>
 
 namespace kerf::mesher {
@@ -45,11 +46,33 @@ struct ForeignVertex {
     std::uint8_t ownerStep = 0;     // bit a set: the owner is the next tile up along axis a
     std::uint64_t ownerEdgeKey = 0; // the edge's key in the owner tile
     glm::dvec3 position{0.0};       // computed here as well, for triangulation choices only
+    glm::dvec3 normal{0.0};         // likewise, for feature detection
+};
+
+/// How cells are meshed, beyond the lattice.
+struct CellMeshing {
+    /// Least distance of a vertex from a lattice point, as a fraction of the
+    /// cell edge (EdgeRootFinder::setMargin).
+    double edgeMargin = kEdgeMargin;
+    /// A lattice value within this many mm of 0 is "on the surface": its
+    /// side is taken from the field a little further along a fixed generic
+    /// direction (see TileMesher::evaluatePending), so that exact (or
+    /// rounding-level) zeros never decide a side. Set by the mesher from the
+    /// cell size and the coordinates' magnitude.
+    double zeroBand = 0.0;
+    /// How far (mm) that direction is followed.
+    double nudge = 0.0;
+    /// Sharp features: a cell polygon whose vertex normals diverge gets a
+    /// vertex where their tangent planes meet (FeaturePoint.hpp) when that
+    /// point is inside the cell and within this many mm of the surface; 0
+    /// disables feature vertices.
+    double featureTolerance = 0.0;
 };
 
 struct TileCounters {
     std::uint64_t seeds = 0, seedsNotMeshed = 0, cellsMeshed = 0, cellsFromFloodFill = 0, crossTileRequests = 0;
-    std::uint64_t pointEvaluations = 0, rootEvaluations = 0, centreVertices = 0;
+    std::uint64_t pointEvaluations = 0, rootEvaluations = 0, centreVertices = 0, featureVertices = 0;
+    std::uint64_t zeroCorners = 0; // lattice values that were (about) 0, given a side by the nudge
 };
 
 using Triangle = std::array<std::uint32_t, 3>;
@@ -60,6 +83,7 @@ struct TileShare {
     CellSet processed;                      // cells already examined
     FlatMap<std::uint32_t, EdgeHash> edges; // edge key (tile-local lower end, axis) -> vertex reference
     ChunkedVector<glm::dvec3> vertices;
+    ChunkedVector<glm::dvec3> normals; // unit normal of each vertex; 0 for a feature vertex (a crease or corner)
     std::vector<ForeignVertex> foreign;
     ChunkedVector<Triangle> triangles;        // vertex references
     std::vector<I3> outbox;                   // global cells of other tiles to examine (this round)
@@ -78,6 +102,7 @@ struct TileScratch {
     };
     LatticeTapes tapes;
     PointEvaluator<double> points;
+    GradientEvaluator<double> gradients;
     EdgeRootFinder roots;
     TileBuildScratch build;
     // Corner values of this round; pointIndex maps a point key to its index
@@ -87,7 +112,7 @@ struct TileScratch {
     std::vector<Pending> pending;
     std::vector<std::uint64_t> wave, next, meshed;
     std::vector<std::uint32_t> waveCorners, meshedCorners; // 8 pointValue indices per cell
-    std::vector<double> x, y, z, f;
+    std::vector<double> x, y, z, f, gx, gy, gz;
     std::vector<EdgeRootJob> jobs;
     std::vector<std::uint32_t> jobTarget;                          // vertex reference of each job
     std::vector<std::pair<std::uint64_t, std::uint32_t>> jobOrder; // (block key, job)
@@ -100,7 +125,10 @@ struct TileScratch {
 
 class TileMesher {
 public:
-    TileMesher(const Tape& tape, const Lattice& lattice) : tape_(tape), lattice_(lattice) {}
+    TileMesher(const Tape& tape, const Lattice& lattice, const CellMeshing& meshing = {})
+        : tape_(tape), lattice_(lattice), meshing_(meshing)
+    {
+    }
 
     /// Examines `cells` (tile-local keys, kSeedFlag allowed) that the tile has
     /// not examined yet, floods through faces with a sign change (within the
@@ -117,9 +145,14 @@ private:
     void solveRoots(TileShare& state, TileScratch& s) const;
     std::uint32_t centreVertex(TileShare& state, const I3& cell, const double* values, const glm::dvec3* points,
                                int size, TileScratch& s) const;
+    std::optional<std::uint32_t> featureVertex(TileShare& state, const I3& cell, const glm::dvec3* points,
+                                               const glm::dvec3* normals, int size, TileScratch& s) const;
+    double sideOfZero(const Tape& tape, const glm::dvec3& relative, TileScratch& s) const;
+    glm::dvec3 unitNormal(const Tape& tape, const glm::dvec3& world, TileScratch& s) const;
 
     const Tape& tape_;
     Lattice lattice_;
+    CellMeshing meshing_;
 };
 
 } // namespace kerf::mesher

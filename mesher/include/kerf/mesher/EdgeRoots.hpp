@@ -6,9 +6,11 @@
 // Accuracy: the bracket is narrowed to kRootTolerance of the edge (1e-6 of
 // the feature size); the field is 1-Lipschitz, so |f| at the vertex is below
 // that times the feature size, plus the clamp below. The result is clamped
-// to [kEdgeMargin, 1 - kEdgeMargin] so that no vertex sits on a lattice
-// point: two vertices on edges meeting at a corner whose value is exactly 0
-// would otherwise coincide.
+// to [margin, 1 - margin] so that no vertex sits on (or next to) a lattice
+// point: two vertices on edges meeting at a corner where the surface passes
+// would otherwise coincide, in memory or once written as float32. The
+// mesher sets the margin from the coordinates the file will hold
+// (ExportPrecision.hpp); kEdgeMargin is the least.
 
 #include "kerf/evaluator/PointEvaluator.hpp"
 #include "kerf/evaluator/Tape.hpp"
@@ -45,6 +47,11 @@ public:
     /// Returns the number of field evaluations.
     std::uint64_t solve(const Tape& tape, std::span<const EdgeRootJob> jobs, double* roots);
 
+    /// Roots closer than `margin` (a fraction of the edge, in
+    /// [kEdgeMargin, 0.25]) to an end are moved to that distance.
+    void setMargin(double margin) { margin_ = margin; }
+    double margin() const { return margin_; }
+
 private:
     struct State {
         double a, b;   // bracket
@@ -55,6 +62,9 @@ private:
         int sinceCheck;
         bool bisect;
     };
+    double clampToEdge(double t) const;
+
+    double margin_ = kEdgeMargin;
     PointEvaluator<double> points_;
     std::vector<State> state_;
     std::vector<std::uint32_t> active_;

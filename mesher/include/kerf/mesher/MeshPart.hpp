@@ -44,9 +44,16 @@
 namespace kerf {
 
 struct MeshOptions {
-    /// Cell edge in mm. 0: the document's settings.feature_size (meshPart),
-    /// which must then be set. The grid may coarsen it (MeshStats::note).
+    /// Cell edge in mm: the smallest feature resolved. 0: the document's
+    /// settings.feature_size (meshPart), which must then be set. The grid may
+    /// coarsen it (MeshStats::note).
     double featureSize = 0.0;
+    /// The largest distance (mm) allowed between the mesh and the exact
+    /// surface: the marching-cubes mesh is simplified down to it (flat faces
+    /// become a few large triangles) and refined where a triangle strays
+    /// further (curved faces get the triangles they need). 0: the
+    /// marching-cubes mesh as it is, every cell's triangles.
+    double tolerance = 0.0;
     int threads = 0; // 0: every core
     GridLimits limits;
     /// Testing only: keeps a voxelizer seed (global cell coordinates) when it
@@ -82,6 +89,18 @@ struct MeshStats {
     std::uint64_t pointEvaluations = 0;   // corner values
     std::uint64_t rootEvaluations = 0;    // evaluations spent placing vertices
     std::uint64_t centreVertices = 0;     // vertices inside cells (polygons the face rule cannot split)
+    std::uint64_t featureVertices = 0;    // vertices on sharp edges and corners inside cells
+    std::uint64_t featureFlips = 0;       // edges flipped to join feature vertices along sharp edges
+    std::uint64_t zeroCorners = 0;        // lattice points on the surface, given a side by the nudge
+    double edgeMargin = 0.0;              // mm: least distance of a vertex from a lattice point
+    std::size_t latticeTriangles = 0;     // the marching-cubes mesh's triangles, before simplification
+    std::uint64_t collapses = 0;          // edge collapses of the simplification
+    std::uint64_t splits = 0;             // edges split to reach the tolerance
+    std::uint64_t creaseSplits = 0;       // of which on sharp edges of the part
+    double worstSample = 0.0;             // mm: largest |f| at the refinement's samples of the final mesh
+    std::uint64_t trianglesOverTolerance = 0; // triangles the refinement could not bring within the tolerance
+    double simplifySeconds = 0.0;
+    double refineSeconds = 0.0;
     std::size_t vertices = 0;
     std::size_t triangles = 0;
     double seedSeconds = 0.0; // CPU seconds in the voxelizer, summed over threads

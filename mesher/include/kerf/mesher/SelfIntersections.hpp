@@ -1,0 +1,29 @@
+#pragma once
+// Whether a closed mesh crosses itself: pairs of triangles that intersect
+// other than along what they share (an edge, or a vertex). A mesh that is a
+// closed 2-manifold by its connectivity but crosses itself does not bound a
+// solid: a slicer fills it wrongly.
+//
+// Method: a bounding volume hierarchy over the triangles' boxes, and for
+// each pair whose boxes meet, exact-sign tests in double: an edge of one
+// crossing the other (triangles sharing a vertex: only the edges away from
+// it), or, for triangles in one plane, overlap in that plane. Threads:
+// oneTBB over triangles; the count does not depend on them.
+
+#include "kerf/mesher/Mesh.hpp"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace kerf {
+
+struct SelfIntersections {
+    std::size_t pairs = 0;                               // intersecting triangle pairs
+    std::vector<std::array<std::uint32_t, 2>> examples; // the first few (triangle indices)
+};
+
+SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples = 8);
+
+} // namespace kerf

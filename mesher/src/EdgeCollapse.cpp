@@ -1,0 +1,531 @@
+#include "EdgeCollapse.hpp"
+
+#include "TriangleSamples.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+namespace kerf::mesher {
+
+std::size_t CollapseMesh::liveTriangles() const
+{
+    return std::size_t(std::count_if(triangles.begin(), triangles.end(),
+                                     [](const Triangle& t) { return t[0] != kRemoved; }));
+}
+
+namespace {
+
+constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+constexpr double kCreaseCosine = 0.8660254037844387; // 30 degrees
+
+// The sequential simplifier. Each vertex keeps the list of its triangle
+// corners (corner 3t + i is slot i of triangle t), linked through `next_`;
+// removed triangles are unlinked lazily, when a list is walked.
+class Collapser {
+public:
+    Collapser(CollapseMesh& mesh, const CollapseLimits& limits, SurfaceQueries& surface)
+        : m_(mesh), limits_(limits), surface_(surface)
+    {
+        const std::size_t n = m_.positions.size();
+        head_.assign(n, kNone);
+        next_.assign(3 * m_.triangles.size(), kNone);
+        for (std::uint32_t t = 0; t < m_.triangles.size(); ++t) {
+            if (removed(t)) continue;
+            for (std::uint32_t i = 0; i < 3; ++i) {
+                const std::uint32_t v = m_.triangles[t][i];
+                next_[3 * t + i] = head_[v];
+                head_[v] = 3 * t + i;
+            }
+        }
+        stamp_.assign(n, 0);
+        common_.assign(n, 0);
+        touched_.assign(n, 0);
+        dirty_.assign(n, 1);
+    }
+
+    std::size_t run(const std::function<bool()>& cancelled)
+    {
+        std::size_t total = 0;
+        std::vector<Candidate> candidates;
+        std::vector<std::uint32_t> touchedList;
+        for (int pass = 0;; ++pass) {
+            if (cancelled && cancelled()) break;
+            propose(candidates);
+            if (candidates.empty()) break;
+            std::sort(candidates.begin(), candidates.end());
+            std::size_t made = 0;
+            for (Candidate& c : candidates) {
+                if (touched_[c.a] || touched_[c.b] || m_.removed[c.a] || m_.removed[c.b]) continue;
+                if (c.moves && !(std::abs(fieldAt(c.at)) <= limits_.placement)) {
+                    // Off the surface (a curved patch, where the planes meet
+                    // outside it): keep b where it is, if that is cheap enough.
+                    c.at = m_.positions[c.b];
+                    c.moves = false;
+                    if (!(cost(c.a, c.b, c.at) <= limits_.maxMeanSquaredError)) continue;
+                }
+                glm::dvec3 normal = c.moves ? mergedNormal(c.a, c.b) : m_.normals[c.b];
+                if (c.moves && normal == glm::dvec3(0.0)) {
+                    // Where the planes of two sheets meet: the vertex becomes
+                    // a feature vertex only on the sharp edge itself (a point
+                    // merely on the surface near it would stay off the edge).
+                    const glm::dvec3 &na = m_.normals[c.a], &nb = m_.normals[c.b];
+                    // (A vertex already on an edge or corner is not moved: its
+                    // planes and a curved sheet's meet off the edge, at a
+                    // point of the surface that is no corner.)
+                    std::optional<glm::dvec3> onEdge;
+                    if (na != glm::dvec3(0.0) && nb != glm::dvec3(0.0))
+                        onEdge = surface_.snapToCrease(c.at, na, nb, glm::length(m_.positions[c.a] - m_.positions[c.b]));
+                    if (onEdge && glm::length(*onEdge - c.at) <= limits_.placement) {
+                        c.at = *onEdge;
+                    } else {
+                        c.at = m_.positions[c.b];
+                        c.moves = false;
+                        normal = m_.normals[c.b];
+                        if (!(cost(c.a, c.b, c.at) <= limits_.maxMeanSquaredError)) continue;
+                    }
+                }
+                if (!legal(c.a, c.b, c.at, normal)) continue;
+                collapse(c.a, c.b, c.at, normal);
+                if (!errors_.empty())
+                    for (const auto& [t, e] : pending_)
+                        errors_[t] = e;
+                ++made;
+                markTouched(c.b, touchedList);
+                touched_[c.a] = 1;
+                touchedList.push_back(c.a);
+            }
+            for (const std::uint32_t v : touchedList) {
+                touched_[v] = 0;
+                dirty_[v] = 1; // its neighbourhood changed: propose again
+            }
+            touchedList.clear();
+            total += made;
+            if (made == 0) break;
+        }
+        return total;
+    }
+
+private:
+    struct Candidate {
+        double cost;
+        std::uint32_t a, b;
+        glm::dvec3 at; // b's position after the collapse
+        bool moves;    // at differs from b's position
+        bool operator<(const Candidate& o) const { return cost < o.cost || (cost == o.cost && a < o.a); }
+    };
+
+    bool removed(std::uint32_t t) const { return m_.triangles[t][0] == kRemoved; }
+
+    double fieldAt(const glm::dvec3& p) const
+    {
+        double f = 0.0;
+        surface_.field(&p, 1, &f);
+        return f;
+    }
+
+    // v's live triangles into `out`, unlinking removed ones from its list.
+    void gather(std::uint32_t v, std::vector<std::uint32_t>& out)
+    {
+        out.clear();
+        std::uint32_t* link = &head_[v];
+        while (*link != kNone) {
+            const std::uint32_t c = *link;
+            if (removed(c / 3)) {
+                *link = next_[c];
+                continue;
+            }
+            out.push_back(c / 3);
+            link = &next_[c];
+        }
+    }
+
+    double cost(std::uint32_t a, std::uint32_t b, const glm::dvec3& p) const
+    {
+        return std::max(m_.quadrics[a].mean(p), m_.quadrics[b].mean(p));
+    }
+
+    // The normal of b after it moved to where a's and b's planes meet: none
+    // (a feature) where they disagree.
+    glm::dvec3 mergedNormal(std::uint32_t a, std::uint32_t b) const
+    {
+        const glm::dvec3 &na = m_.normals[a], &nb = m_.normals[b];
+        if (na == glm::dvec3(0.0) || nb == glm::dvec3(0.0) || glm::dot(na, nb) < kCreaseCosine) return glm::dvec3(0.0);
+        return glm::normalize(na + nb);
+    }
+
+    void propose(std::vector<Candidate>& out)
+    {
+        out.clear();
+        for (std::uint32_t a = 0; a < m_.positions.size(); ++a) {
+            if (!dirty_[a] || m_.removed[a] || m_.held[a]) continue;
+            dirty_[a] = 0;
+            gather(a, trisA_);
+            neighbours_.clear();
+            for (const std::uint32_t t : trisA_)
+                for (const std::uint32_t u : m_.triangles[t])
+                    if (u != a && !m_.held[u]) neighbours_.push_back(u);
+            std::sort(neighbours_.begin(), neighbours_.end());
+            neighbours_.erase(std::unique(neighbours_.begin(), neighbours_.end()), neighbours_.end());
+            Candidate best{std::numeric_limits<double>::infinity(), a, kNone, glm::dvec3(0.0), false};
+            for (const std::uint32_t u : neighbours_) {
+                if (limits_.maxEdgeLength > 0.0 && !(glm::length(m_.positions[u] - m_.positions[a]) < limits_.maxEdgeLength))
+                    continue;
+                const double c = cost(a, u, m_.positions[u]);
+                if (c < best.cost) best = {c, a, u, m_.positions[u], false};
+            }
+            // Unless a half-edge collapse is free (a flat), where the planes
+            // meet may be cheaper: on a sharp edge between a and u.
+            const bool free = best.b != kNone && best.cost <= 1e-9 * limits_.maxMeanSquaredError;
+            if (!free && limits_.placement > 0.0 && !(limits_.maxEdgeLength > 0.0)) {
+                for (const std::uint32_t u : neighbours_) {
+                    Quadric q = m_.quadrics[a];
+                    q += m_.quadrics[u];
+                    const glm::dvec3 mid = 0.5 * (m_.positions[a] + m_.positions[u]);
+                    const glm::dvec3 x = q.minimizer(mid);
+                    if (glm::length(x - mid) > glm::length(m_.positions[a] - m_.positions[u])) continue; // not local
+                    const double c = cost(a, u, x);
+                    if (c < best.cost) best = {c, a, u, x, true};
+                }
+            }
+            if (best.b != kNone && best.cost <= limits_.maxMeanSquaredError) out.push_back(best);
+        }
+    }
+
+    // How well a triangle faces the way the surface does at its vertices:
+    // the smallest cosine between its normal and theirs (1 when none has one).
+    double facing(const glm::dvec3& normal, double length, const glm::dvec3* vertexNormals) const
+    {
+        double worst = 1.0;
+        for (int k = 0; k < 3; ++k)
+            if (vertexNormals[k] != glm::dvec3(0.0))
+                worst = std::min(worst, glm::dot(normal, vertexNormals[k]) / length);
+        return worst;
+    }
+
+    // Whether triangle `tri`, with vertex `moved` taking position `to` and
+    // normal `toNormal`, stays a proper approximation: it turns by less than
+    // the limit, keeps a height, and faces the way the surface does at its
+    // vertices (or at least no worse than before, for a triangle that
+    // already leaned: collapses that mend a cut-off sharp edge must pass).
+    bool keepsShape(const Triangle& tri, std::uint32_t moved, const glm::dvec3& to, const glm::dvec3& toNormal) const
+    {
+        glm::dvec3 q[3] = {m_.positions[tri[0]], m_.positions[tri[1]], m_.positions[tri[2]]};
+        glm::dvec3 n[3] = {m_.normals[tri[0]], m_.normals[tri[1]], m_.normals[tri[2]]};
+        const glm::dvec3 before = glm::cross(q[1] - q[0], q[2] - q[0]);
+        const double lengthBefore = glm::length(before);
+        const double facingBefore = facing(before, lengthBefore, n);
+        for (int k = 0; k < 3; ++k)
+            if (tri[std::size_t(k)] == moved) {
+                q[k] = to;
+                n[k] = toNormal;
+            }
+        const glm::dvec3 after = glm::cross(q[1] - q[0], q[2] - q[0]);
+        const double lengthAfter = glm::length(after);
+        if (!(glm::dot(before, after) >= limits_.minNormalCosine * lengthBefore * lengthAfter)) return false;
+        const double longest =
+            std::max({glm::length(q[1] - q[0]), glm::length(q[2] - q[1]), glm::length(q[0] - q[2])});
+        if (!(lengthAfter > limits_.minHeight * longest)) return false; // twice the area over the longest edge
+        const double facingAfter = facing(after, lengthAfter, n);
+        return facingAfter >= std::min(limits_.minSurfaceCosine, facingBefore);
+    }
+
+    bool legal(std::uint32_t a, std::uint32_t b, const glm::dvec3& at, const glm::dvec3& normal)
+    {
+        gather(a, trisA_);
+        // The edge's two triangles and their third vertices.
+        int shared = 0;
+        std::uint32_t c = kNone, d = kNone;
+        for (const std::uint32_t t : trisA_) {
+            const Triangle& tri = m_.triangles[t];
+            if (tri[0] != b && tri[1] != b && tri[2] != b) continue;
+            ++shared;
+            for (const std::uint32_t u : tri)
+                if (u != a && u != b) (c == kNone ? c : d) = u;
+        }
+        if (shared != 2 || c == kNone || d == kNone || c == d) return false;
+        // Link condition: a and b share exactly the neighbours c and d.
+        if (++clock_ == 0) { // the clock wrapped: clear the stamps
+            std::fill(stamp_.begin(), stamp_.end(), 0);
+            std::fill(common_.begin(), common_.end(), 0);
+            clock_ = 1;
+        }
+        for (const std::uint32_t t : trisA_)
+            for (const std::uint32_t u : m_.triangles[t])
+                if (u != a) stamp_[u] = clock_;
+        gather(b, trisB_);
+        int common = 0;
+        for (const std::uint32_t t : trisB_)
+            for (const std::uint32_t u : m_.triangles[t])
+                if (u != a && u != b && stamp_[u] == clock_ && common_[u] != clock_) {
+                    common_[u] = clock_;
+                    ++common;
+                }
+        if (common != 2) return false;
+        // c and d each lose a triangle: they must keep three.
+        gather(c, trisC_);
+        if (trisC_.size() <= 3) return false;
+        gather(d, trisC_);
+        if (trisC_.size() <= 3) return false;
+        if (!limits_.checkGeometry) return true;
+        // Geometry of every triangle that stays: a's become b's at `at`, and
+        // b's own move with b.
+        for (const std::uint32_t t : trisA_) {
+            const Triangle& tri = m_.triangles[t];
+            if (tri[0] == b || tri[1] == b || tri[2] == b) continue;
+            if (!keepsShape(tri, a, at, normal)) return false;
+        }
+        const bool moves = at != m_.positions[b];
+        if (moves) {
+            for (const std::uint32_t t : trisB_) {
+                const Triangle& tri = m_.triangles[t];
+                if (tri[0] == a || tri[1] == a || tri[2] == a) continue;
+                if (!keepsShape(tri, b, at, normal)) return false;
+            }
+        }
+        return !(limits_.tolerance > 0.0) || withinTolerance(a, b, at, normal, moves);
+    }
+
+    // Whether every triangle the collapse makes lies within the tolerance of
+    // the exact surface at its samples, or, where the mesh is over the
+    // tolerance already (a marching-cubes mesh coarser than the curvature
+    // asks), no further from it than the triangles it replaces: a sliver
+    // goes, a coarse patch does not grow. Inside a plane nothing is sampled.
+    // The new triangles' errors are kept for the commit (pending_).
+    bool withinTolerance(std::uint32_t a, std::uint32_t b, const glm::dvec3& at, const glm::dvec3& normal, bool moves)
+    {
+        const glm::dvec3 n = m_.normals[a];
+        bool planar = n != glm::dvec3(0.0) && normal != glm::dvec3(0.0) && glm::dot(n, normal) > 1.0 - 1e-12;
+        samples_.clear();
+        pending_.clear();
+        double before = 0.0;
+        auto add = [&](std::uint32_t t, std::uint32_t moved) {
+            const Triangle& tri = m_.triangles[t];
+            glm::dvec3 q[3];
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t v = tri[std::size_t(k)];
+                q[k] = v == moved ? at : m_.positions[v];
+                if (planar && v != moved && !(glm::dot(m_.normals[v], n) > 1.0 - 1e-12)) planar = false;
+            }
+            appendTriangleSamples(q[0], q[1], q[2], samples_);
+            pending_.push_back({t, 0.0});
+            before = std::max(before, error(t));
+        };
+        for (const std::uint32_t t : trisA_) {
+            const Triangle& tri = m_.triangles[t];
+            if (tri[0] != b && tri[1] != b && tri[2] != b) add(t, a);
+            else before = std::max(before, error(t));
+        }
+        if (moves)
+            for (const std::uint32_t t : trisB_) {
+                const Triangle& tri = m_.triangles[t];
+                if (tri[0] != a && tri[1] != a && tri[2] != a) add(t, b);
+            }
+        if (planar) {
+            for (auto& p : pending_)
+                p.second = -1.0; // unknown, and no worse than before
+            return true;
+        }
+        values_.resize(samples_.size());
+        surface_.field(samples_.data(), samples_.size(), values_.data());
+        const double allowed = std::max(limits_.tolerance, before);
+        for (std::size_t i = 0; i < pending_.size(); ++i) {
+            double worst = 0.0;
+            for (std::size_t k = 0; k < kTriangleSamples; ++k) {
+                const double v = std::abs(values_[i * kTriangleSamples + k]);
+                if (!(v <= allowed)) return false;
+                worst = std::max(worst, v);
+            }
+            pending_[i].second = worst;
+        }
+        return true;
+    }
+
+    // The sampled error of triangle t as it is now, computed when first asked.
+    double error(std::uint32_t t)
+    {
+        if (errors_.empty()) errors_.assign(m_.triangles.size(), -1.0);
+        if (errors_[t] >= 0.0) return errors_[t];
+        const Triangle& tri = m_.triangles[t];
+        errorSamples_.clear();
+        appendTriangleSamples(m_.positions[tri[0]], m_.positions[tri[1]], m_.positions[tri[2]], errorSamples_);
+        double values[kTriangleSamples];
+        surface_.field(errorSamples_.data(), kTriangleSamples, values);
+        double worst = 0.0;
+        for (const double v : values)
+            worst = std::max(worst, std::isfinite(v) ? std::abs(v) : 1e300);
+        return errors_[t] = worst;
+    }
+
+    void collapse(std::uint32_t a, std::uint32_t b, const glm::dvec3& at, const glm::dvec3& normal)
+    {
+        gather(a, trisA_);
+        for (const std::uint32_t t : trisA_) {
+            Triangle& tri = m_.triangles[t];
+            if (tri[0] == b || tri[1] == b || tri[2] == b) {
+                tri[0] = kRemoved;
+                continue;
+            }
+            for (std::uint32_t& u : tri)
+                if (u == a) u = b;
+        }
+        // a's live corners now hold b: move them to b's list.
+        for (std::uint32_t c = head_[a]; c != kNone;) {
+            const std::uint32_t following = next_[c];
+            if (!removed(c / 3)) {
+                next_[c] = head_[b];
+                head_[b] = c;
+            }
+            c = following;
+        }
+        head_[a] = kNone;
+        m_.quadrics[b] += m_.quadrics[a];
+        m_.positions[b] = at;
+        m_.normals[b] = normal;
+        m_.removed[a] = 1;
+    }
+
+    void markTouched(std::uint32_t b, std::vector<std::uint32_t>& list)
+    {
+        gather(b, trisB_);
+        for (const std::uint32_t t : trisB_)
+            for (const std::uint32_t u : m_.triangles[t])
+                if (!touched_[u]) {
+                    touched_[u] = 1;
+                    list.push_back(u);
+                }
+    }
+
+    CollapseMesh& m_;
+    CollapseLimits limits_;
+    SurfaceQueries& surface_;
+    std::vector<std::uint32_t> head_, next_;
+    std::vector<std::uint32_t> stamp_, common_;
+    std::uint32_t clock_ = 0;
+    std::vector<std::uint8_t> touched_, dirty_;
+    std::vector<std::uint32_t> trisA_, trisB_, trisC_, neighbours_;
+    std::vector<glm::dvec3> samples_, errorSamples_;
+    std::vector<double> values_;
+    std::vector<double> errors_;                              // per triangle: sampled error, -1 unknown
+    std::vector<std::pair<std::uint32_t, double>> pending_; // the checked collapse's triangles and their errors
+};
+
+} // namespace
+
+std::size_t collapseEdges(CollapseMesh& mesh, const CollapseLimits& limits, SurfaceQueries& surface,
+                          const std::function<bool()>& cancelled)
+{
+    if (mesh.removed.size() != mesh.positions.size()) mesh.removed.assign(mesh.positions.size(), 0);
+    if (mesh.held.size() != mesh.positions.size()) mesh.held.assign(mesh.positions.size(), 0);
+    return Collapser(mesh, limits, surface).run(cancelled);
+}
+
+std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits, double cube, const glm::dvec3& shift,
+                                tbb::task_arena& arena, SurfaceQueries& surface, const std::function<bool()>& cancelled)
+{
+    const std::size_t vertexCount = mesh.positions.size();
+    if (mesh.removed.size() != vertexCount) mesh.removed.assign(vertexCount, 0);
+    if (mesh.held.size() != vertexCount) mesh.held.assign(vertexCount, 0);
+    // Each live triangle goes to the cube of its centroid.
+    struct Keyed {
+        std::uint64_t cube;
+        std::uint32_t triangle;
+        bool operator<(const Keyed& o) const { return cube < o.cube || (cube == o.cube && triangle < o.triangle); }
+    };
+    std::vector<Keyed> order;
+    order.reserve(mesh.triangles.size());
+    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+        const Triangle& tri = mesh.triangles[t];
+        if (tri[0] == kRemoved) continue;
+        const glm::dvec3 centroid = (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3.0;
+        const glm::dvec3 q = glm::floor((centroid - shift) / cube);
+        // 21 bits per axis (cubes are large against any part): wrap-around only merges far cubes, which is harmless.
+        auto bits = [](double v) { return std::uint64_t(std::int64_t(v) & 0x1FFFFF); };
+        order.push_back({bits(q.x) | bits(q.y) << 21 | bits(q.z) << 42, t});
+    }
+    std::sort(order.begin(), order.end());
+    // A vertex whose triangles lie in two cubes is held still by both.
+    constexpr std::uint64_t kUnset = ~std::uint64_t(0);
+    std::vector<std::uint64_t> cubeOf(vertexCount, kUnset);
+    std::vector<std::uint8_t> straddles(vertexCount, 0);
+    for (const Keyed& k : order)
+        for (const std::uint32_t v : mesh.triangles[k.triangle]) {
+            if (cubeOf[v] == kUnset)
+                cubeOf[v] = k.cube;
+            else if (cubeOf[v] != k.cube)
+                straddles[v] = 1;
+        }
+    std::vector<std::pair<std::size_t, std::size_t>> groups;
+    for (std::size_t first = 0; first < order.size();) {
+        std::size_t last = first;
+        while (last < order.size() && order[last].cube == order[first].cube)
+            ++last;
+        groups.emplace_back(first, last);
+        first = last;
+    }
+    std::atomic<std::size_t> total{0};
+    arena.execute([&] {
+        tbb::parallel_for(std::size_t(0), groups.size(), [&](std::size_t g) {
+            if (cancelled && cancelled()) return;
+            const auto [first, last] = groups[g];
+            // The cube's vertices, numbered locally.
+            std::vector<std::uint32_t> global;
+            for (std::size_t k = first; k < last; ++k)
+                for (const std::uint32_t v : mesh.triangles[order[k].triangle])
+                    global.push_back(v);
+            std::sort(global.begin(), global.end());
+            global.erase(std::unique(global.begin(), global.end()), global.end());
+            auto local = [&](std::uint32_t v) {
+                return std::uint32_t(std::lower_bound(global.begin(), global.end(), v) - global.begin());
+            };
+            CollapseMesh part;
+            part.positions.reserve(global.size());
+            part.quadrics.reserve(global.size());
+            part.normals.reserve(global.size());
+            part.held.reserve(global.size());
+            for (const std::uint32_t v : global) {
+                part.positions.push_back(mesh.positions[v]);
+                part.quadrics.push_back(mesh.quadrics[v]);
+                part.normals.push_back(mesh.normals[v]);
+                part.held.push_back(std::uint8_t(mesh.held[v] || straddles[v]));
+            }
+            part.removed.assign(global.size(), 0);
+            part.triangles.reserve(last - first);
+            for (std::size_t k = first; k < last; ++k) {
+                const Triangle& t = mesh.triangles[order[k].triangle];
+                part.triangles.push_back({local(t[0]), local(t[1]), local(t[2])});
+            }
+            glm::dvec3 lo = part.positions[0], hi = part.positions[0];
+            for (const glm::dvec3& p : part.positions) {
+                lo = glm::min(lo, p);
+                hi = glm::max(hi, p);
+            }
+            const glm::dvec3 margin(1e-6 * (1.0 + glm::length(hi - lo)));
+            SurfaceQueries cubeSurface = surface.region(lo - margin, hi + margin);
+            total += collapseEdges(part, limits, cubeSurface, cancelled);
+            // Back: this cube alone owns its triangles and its vertices that
+            // were not held, so the writes of different cubes never meet.
+            for (std::size_t k = first; k < last; ++k) {
+                const Triangle& t = part.triangles[k - first];
+                Triangle& out = mesh.triangles[order[k].triangle];
+                if (t[0] == kRemoved)
+                    out[0] = kRemoved;
+                else
+                    out = {global[t[0]], global[t[1]], global[t[2]]};
+            }
+            for (std::size_t l = 0; l < global.size(); ++l) {
+                if (part.held[l]) continue;
+                mesh.removed[global[l]] = part.removed[l];
+                mesh.quadrics[global[l]] = part.quadrics[l];
+                mesh.positions[global[l]] = part.positions[l];
+                mesh.normals[global[l]] = part.normals[l];
+            }
+        });
+    });
+    return total;
+}
+
+} // namespace kerf::mesher

@@ -1,0 +1,115 @@
+#include "SimplifyToTolerance.hpp"
+
+#include "EdgeCollapse.hpp"
+
+#include "kerf/evaluator/PointEvaluator.hpp"
+
+
+#include <glm/glm.hpp>
+
+#include <limits>
+
+namespace kerf::mesher {
+
+namespace {
+
+// Quadrics from the Hermite data: each vertex's tangent plane, weighted by
+// the area around it (a third of its triangles'); a feature vertex takes
+// the planes of its neighbours, which are the vertices of the cell polygon
+// it was fitted to.
+std::vector<Quadric> tangentQuadrics(const std::vector<glm::dvec3>& positions, const std::vector<Triangle>& triangles,
+                                     const std::vector<glm::dvec3>& normals)
+{
+    std::vector<double> area(positions.size(), 0.0);
+    for (const Triangle& t : triangles) {
+        const double a =
+            0.5 * glm::length(glm::cross(positions[t[1]] - positions[t[0]], positions[t[2]] - positions[t[0]]));
+        for (const std::uint32_t v : t)
+            area[v] += a / 3.0;
+    }
+    std::vector<Quadric> quadrics(positions.size());
+    for (std::size_t v = 0; v < positions.size(); ++v)
+        if (normals[v] != glm::dvec3(0.0)) quadrics[v] = Quadric::plane(normals[v], positions[v], area[v]);
+    for (const Triangle& t : triangles)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = t[std::size_t(k)];
+            if (normals[v] != glm::dvec3(0.0)) continue;
+            for (int j = 1; j < 3; ++j) {
+                const std::uint32_t u = t[std::size_t(k + j) % 3];
+                if (normals[u] != glm::dvec3(0.0))
+                    quadrics[v] += Quadric::plane(normals[u], positions[u], 0.5 * area[u]);
+            }
+        }
+    return quadrics;
+}
+
+} // namespace
+
+std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape,
+                                  const SimplifySettings& settings, tbb::task_arena& arena,
+                                  const std::function<bool()>& cancelled)
+{
+    if (mesh.triangles.empty()) return 0;
+    // Work relative to the middle of the mesh: quadrics lose precision with
+    // the square of the coordinates.
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (const glm::dvec3& p : mesh.vertices) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    const glm::dvec3 origin = 0.5 * (lo + hi);
+    CollapseMesh work;
+    work.positions.resize(mesh.vertices.size());
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+        work.positions[v] = mesh.vertices[v] - origin;
+    work.triangles = mesh.triangles;
+    work.quadrics = tangentQuadrics(work.positions, work.triangles, normals);
+    work.normals = normals;
+    work.held.assign(work.positions.size(), 0);
+    work.removed.assign(work.positions.size(), 0);
+    CollapseLimits limits;
+    limits.maxMeanSquaredError = settings.rmsDistance * settings.rmsDistance;
+    limits.minHeight = settings.minHeight;
+    limits.placement = settings.placement;
+    limits.tolerance = settings.tolerance;
+    SurfaceQueries field(tape, origin, settings.placement);
+
+    std::uint64_t collapses = 0;
+    if (settings.microLength > 0.0) {
+        CollapseLimits micro;
+        micro.maxMeanSquaredError = std::numeric_limits<double>::infinity();
+        micro.maxEdgeLength = settings.microLength;
+        micro.checkGeometry = false;
+        collapses += collapsePartitioned(work, micro, settings.cube, lo - origin, arena, field, cancelled);
+        collapses += collapseEdges(work, micro, field, cancelled);
+    }
+    collapses += collapsePartitioned(work, limits, settings.cube, lo - origin, arena, field, cancelled);
+    collapses += collapsePartitioned(work, limits, settings.cube, lo - origin + glm::dvec3(0.5 * settings.cube), arena,
+                                     field, cancelled);
+    collapses += collapseEdges(work, limits, field, cancelled);
+    if (cancelled && cancelled()) return 0;
+
+    // Keep the live triangles and the vertices they use, in their order.
+    std::vector<std::uint32_t> index(work.positions.size(), std::numeric_limits<std::uint32_t>::max());
+    Mesh out;
+    std::vector<glm::dvec3> outNormals;
+    for (const Triangle& t : work.triangles) {
+        if (t[0] == kRemoved) continue;
+        Triangle g;
+        for (int k = 0; k < 3; ++k) {
+            std::uint32_t& i = index[t[std::size_t(k)]];
+            if (i == std::numeric_limits<std::uint32_t>::max()) {
+                i = std::uint32_t(out.vertices.size());
+                out.vertices.push_back(origin + work.positions[t[std::size_t(k)]]);
+                outNormals.push_back(work.normals[t[std::size_t(k)]]);
+            }
+            g[std::size_t(k)] = i;
+        }
+        out.triangles.push_back(g);
+    }
+    mesh = std::move(out);
+    normals = std::move(outNormals);
+    return collapses;
+}
+
+} // namespace kerf::mesher

@@ -1,0 +1,412 @@
+#include "ToleranceRefiner.hpp"
+
+#include "CreaseSnap.hpp"
+#include "TriangleSamples.hpp"
+
+#include "kerf/evaluator/PointEvaluator.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+#include <unordered_map>
+
+namespace kerf::mesher {
+
+namespace {
+
+using Tri = std::array<std::uint32_t, 3>;
+
+constexpr double kCreaseCosine = 0.8660254037844387; // 30 degrees
+
+struct Verdict {
+    double worst = 0.0;         // largest |f| at a sample, mm
+    std::array<int, 3> edges{}; // the edges to try splitting, best first (-1: none more)
+};
+
+std::uint64_t halfedgeKey(std::uint32_t from, std::uint32_t to) { return std::uint64_t(from) << 32 | to; }
+
+// Samples triangles on the exact field. One per thread.
+class Sampler {
+public:
+    void judge(const Mesh& mesh, const Tape& tape, double tolerance, const std::uint32_t* triangles, std::size_t count,
+               Verdict* verdicts)
+    {
+        points_.clear();
+        const glm::dvec3 origin = tape.origin();
+        for (std::size_t i = 0; i < count; ++i) {
+            const Tri& t = mesh.triangles[triangles[i]];
+            appendTriangleSamples(mesh.vertices[t[0]] - origin, mesh.vertices[t[1]] - origin,
+                                  mesh.vertices[t[2]] - origin, points_);
+        }
+        const std::size_t n = points_.size();
+        x_.resize(n);
+        y_.resize(n);
+        z_.resize(n);
+        f_.resize(n);
+        for (std::size_t k = 0; k < n; ++k) {
+            x_[k] = points_[k].x;
+            y_[k] = points_[k].y;
+            z_[k] = points_[k].z;
+        }
+        evaluator_.evaluate(tape, x_.data(), y_.data(), z_.data(), n, f_.data());
+        for (std::size_t i = 0; i < count; ++i) {
+            // The edges in the order of their worst sample (the one the
+            // triangle strays most along); the inside samples count for the
+            // longest edge.
+            Verdict v;
+            double edgeWorst[3] = {0.0, 0.0, 0.0};
+            const Tri& t = mesh.triangles[triangles[i]];
+            int longest = 0;
+            double longestLength = -1.0;
+            for (int e = 0; e < 3; ++e) {
+                const double l =
+                    glm::length(mesh.vertices[t[std::size_t(e)]] - mesh.vertices[t[std::size_t(e + 1) % 3]]);
+                if (l > longestLength) {
+                    longestLength = l;
+                    longest = e;
+                }
+            }
+            for (std::size_t s = 0; s < kTriangleSamples; ++s) {
+                double e = std::abs(f_[i * kTriangleSamples + s]);
+                if (!std::isfinite(e)) e = 1e300;
+                v.worst = std::max(v.worst, e);
+                const int edge = kTriangleSamplePattern[s].edge >= 0 ? kTriangleSamplePattern[s].edge : longest;
+                edgeWorst[edge] = std::max(edgeWorst[edge], e);
+            }
+            v.edges = {0, 1, 2};
+            std::sort(v.edges.begin(), v.edges.end(), [&](int a, int b) {
+                return edgeWorst[a] > edgeWorst[b] || (edgeWorst[a] == edgeWorst[b] && a < b);
+            });
+            // Splitting an edge that keeps to the tolerance does not help.
+            for (int k = 0; k < 3; ++k)
+                if (!(edgeWorst[v.edges[std::size_t(k)]] > tolerance)) v.edges[std::size_t(k)] = -1;
+            verdicts[i] = v;
+        }
+    }
+
+private:
+    PointEvaluator<double> evaluator_;
+    std::vector<glm::dvec3> points_;
+    std::vector<double> x_, y_, z_, f_;
+};
+
+// Splits edges and places their new vertices. Sequential.
+class Splitter {
+public:
+    Splitter(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape, double tolerance, double minHeight)
+        : mesh_(mesh), normals_(normals), tape_(tape), tolerance_(tolerance), minHeight_(minHeight)
+    {
+        halfedges_.reserve(3 * mesh.triangles.size() * 2);
+        for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+            add(t);
+    }
+
+    enum class Outcome { Split, Busy, Impossible };
+
+    /// Splits one edge of triangle t1, trying them in the order given, with
+    /// the new vertex on the surface; an edge whose split would fold a
+    /// triangle is passed over (a vertex off the surface would never be
+    /// fixed: vertices are not moved once placed). Busy when a triangle on the first edge was split this round
+    /// (try again next round). The changed and new triangles go to `changed`.
+    Outcome split(std::uint32_t t1, const std::array<int, 3>& edges, std::vector<std::uint8_t>& splitThisRound,
+                  std::vector<std::uint32_t>& changed, RefineStats& stats)
+    {
+        if (splitThisRound[t1]) return Outcome::Busy;
+        const Tri tri = mesh_.triangles[t1];
+        for (int k = 0; k < 3; ++k) {
+            const int e = edges[std::size_t(k)];
+            if (e < 0) break;
+            const std::uint32_t u = tri[std::size_t(e)], v = tri[std::size_t(e + 1) % 3],
+                                w = tri[std::size_t(e + 2) % 3];
+            const auto other = halfedges_.find(halfedgeKey(v, u));
+            if (other == halfedges_.end()) continue; // not a closed edge: leave it
+            const std::uint32_t t2 = other->second;
+            if (splitThisRound[t2]) {
+                if (k == 0) return Outcome::Busy;
+                continue;
+            }
+            const Tri tri2 = mesh_.triangles[t2];
+            std::uint32_t x = 0;
+            for (int j = 0; j < 3; ++j)
+                if (tri2[std::size_t(j)] != u && tri2[std::size_t(j)] != v) x = tri2[std::size_t(j)];
+            bool crease = false;
+            glm::dvec3 normal(0.0);
+            const std::optional<glm::dvec3> p = place(u, v, w, x, crease, normal);
+            if (!p) continue;
+            remove(t1);
+            remove(t2);
+            const std::uint32_t m = std::uint32_t(mesh_.vertices.size());
+            mesh_.vertices.push_back(*p);
+            normals_.push_back(normal);
+            const std::uint32_t t3 = std::uint32_t(mesh_.triangles.size()), t4 = t3 + 1;
+            mesh_.triangles[t1] = {u, m, w};
+            mesh_.triangles[t2] = {v, m, x};
+            mesh_.triangles.push_back({m, v, w});
+            mesh_.triangles.push_back({m, u, x});
+            splitThisRound.resize(mesh_.triangles.size(), 0);
+            for (const std::uint32_t t : {t1, t2, t3, t4}) {
+                add(t);
+                splitThisRound[t] = 1;
+                changed.push_back(t);
+            }
+            ++stats.splits;
+            if (crease) ++stats.creaseSplits;
+            return Outcome::Split;
+        }
+        return Outcome::Impossible;
+    }
+
+    /// Where no split helps (a triangle standing across the surface, a cap
+    /// over a curved sharp edge): flips an edge of t1 (in the order given)
+    /// whose flip lowers the worse sampled error of its two triangles.
+    bool flip(std::uint32_t t1, const std::array<int, 3>& edges, std::vector<std::uint8_t>& splitThisRound,
+              std::vector<std::uint32_t>& changed)
+    {
+        if (splitThisRound[t1]) return false;
+        const Tri tri = mesh_.triangles[t1];
+        for (const int e : edges) {
+            if (e < 0) break;
+            const std::uint32_t u = tri[std::size_t(e)], v = tri[std::size_t(e + 1) % 3], w = tri[std::size_t(e + 2) % 3];
+            const auto other = halfedges_.find(halfedgeKey(v, u));
+            if (other == halfedges_.end()) continue;
+            const std::uint32_t t2 = other->second;
+            if (splitThisRound[t2]) continue;
+            std::uint32_t x = 0;
+            for (const std::uint32_t k : mesh_.triangles[t2])
+                if (k != u && k != v) x = k;
+            if (w == x || halfedges_.count(halfedgeKey(w, x)) || halfedges_.count(halfedgeKey(x, w))) continue;
+            const glm::dvec3 pu = mesh_.vertices[u], pv = mesh_.vertices[v], pw = mesh_.vertices[w],
+                             px = mesh_.vertices[x];
+            const glm::dvec3 before = glm::cross(pv - pu, pw - pu) + glm::cross(pu - pv, px - pv);
+            const glm::dvec3 n1 = glm::cross(pu - pw, px - pw), n2 = glm::cross(pv - px, pw - px);
+            if (!(glm::dot(n1, before) > 0.0 && glm::dot(n2, before) > 0.0)) continue;
+            const double longest1 = std::max({glm::length(pu - pw), glm::length(px - pu), glm::length(pw - px)});
+            const double longest2 = std::max({glm::length(pv - px), glm::length(pw - pv), glm::length(px - pw)});
+            if (!(glm::length(n1) > minHeight_ * longest1 && glm::length(n2) > minHeight_ * longest2)) continue;
+            const double old = std::max(sampledError(pu, pv, pw), sampledError(pv, pu, px));
+            const double now = std::max(sampledError(pw, pu, px), sampledError(px, pv, pw));
+            if (!(now < old)) continue;
+            remove(t1);
+            remove(t2);
+            mesh_.triangles[t1] = {w, u, x};
+            mesh_.triangles[t2] = {x, v, w};
+            for (const std::uint32_t t : {t1, t2}) {
+                add(t);
+                splitThisRound[t] = 1;
+                changed.push_back(t);
+            }
+            ++flips;
+            return true;
+        }
+        return false;
+    }
+
+    std::uint64_t flips = 0;
+
+private:
+    double sampledError(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c)
+    {
+        samples_.clear();
+        appendTriangleSamples(a, b, c, samples_);
+        double worst = 0.0;
+        for (const glm::dvec3& p : samples_)
+            worst = std::max(worst, std::abs(field(p)));
+        return worst;
+    }
+
+    void add(std::uint32_t t)
+    {
+        const Tri& tri = mesh_.triangles[t];
+        for (int k = 0; k < 3; ++k)
+            halfedges_[halfedgeKey(tri[std::size_t(k)], tri[std::size_t(k + 1) % 3])] = t;
+    }
+    void remove(std::uint32_t t)
+    {
+        const Tri& tri = mesh_.triangles[t];
+        for (int k = 0; k < 3; ++k)
+            halfedges_.erase(halfedgeKey(tri[std::size_t(k)], tri[std::size_t(k + 1) % 3]));
+    }
+
+    // Newton steps along the gradient from p onto the surface; false when
+    // they do not settle within `reach` of the start. `normal` receives the
+    // unit gradient where they stop (taken just before the last step, where
+    // |f| is not yet rounding noise: see TileMesher::solveRoots).
+    bool project(glm::dvec3& p, double reach, glm::dvec3* normal = nullptr, const glm::dvec3& expected = glm::dvec3(0.0))
+    {
+        const glm::dvec3 start = p;
+        glm::dvec3 last(0.0);
+        for (int i = 0; i < 16; ++i) {
+            const glm::dvec3 q = p - tape_.origin();
+            const Dual<double> d = gradients_.evaluate(tape_, q.x, q.y, q.z);
+            const glm::dvec3 g(d.d[0], d.d[1], d.d[2]);
+            const double g2 = glm::dot(g, g);
+            if (!std::isfinite(d.v)) return false;
+            if (std::abs(d.v) <= 1e-4 * tolerance_) {
+                // Exactly on the surface the gradient may be 0 or noise: the
+                // previous step's stands.
+                if (last == glm::dvec3(0.0)) {
+                    // Started on the surface: the gradient a hair off it, on
+                    // the side the triangles face.
+                    const glm::dvec3 off = q + 1e-4 * tolerance_ * expected;
+                    const Dual<double> e = gradients_.evaluate(tape_, off.x, off.y, off.z);
+                    const glm::dvec3 ge(e.d[0], e.d[1], e.d[2]);
+                    if (!(glm::dot(ge, ge) > 1e-12)) return false;
+                    last = glm::normalize(ge);
+                }
+                if (normal) *normal = last;
+                return glm::length(p - start) <= reach;
+            }
+            if (!(g2 > 1e-12)) return false;
+            last = g / std::sqrt(g2);
+            p -= g * (d.v / g2);
+            if (glm::length(p - start) > reach) return false;
+        }
+        return false;
+    }
+
+    double field(const glm::dvec3& p)
+    {
+        const glm::dvec3 q = p - tape_.origin();
+        return points_.evaluate(tape_, q.x, q.y, q.z);
+    }
+
+    // The new vertex of edge (u, v) between triangles (u, v, w) and (v, u, x),
+    // on the surface, and its normal (0 on a sharp edge); nothing when no such
+    // point keeps the four triangles turning their parents' way.
+    std::optional<glm::dvec3> place(std::uint32_t u, std::uint32_t v, std::uint32_t w, std::uint32_t x, bool& crease,
+                                    glm::dvec3& normal)
+    {
+        const glm::dvec3 pu = mesh_.vertices[u], pv = mesh_.vertices[v], pw = mesh_.vertices[w],
+                         px = mesh_.vertices[x];
+        const glm::dvec3 mid = 0.5 * (pu + pv);
+        const double length = glm::length(pv - pu);
+        const glm::dvec3 n1 = glm::normalize(glm::cross(pv - pu, pw - pu));
+        const glm::dvec3 n2 = glm::normalize(glm::cross(pu - pv, px - pv));
+        std::array<std::pair<glm::dvec3, glm::dvec3>, 3> candidates; // (position, normal)
+        int count = 0;
+        const glm::dvec3 e = (pv - pu) / length;
+        auto creasePoint = [&](const glm::dvec3&, const glm::dvec3& g1, const glm::dvec3&,
+                               const glm::dvec3& g2) -> std::optional<glm::dvec3> {
+            const auto c = snapToCrease(tape_, gradients_, mid, g1, g2, length, 0.25 * tolerance_);
+            if (!c || !(glm::length(*c - mid) < length)) return std::nullopt;
+            return c;
+        };
+        // A sharp edge of the part between the edge's ends: their own
+        // tangent planes (the marching cubes' Hermite data) locate it.
+        if (normals_[u] != glm::dvec3(0.0) && normals_[v] != glm::dvec3(0.0))
+            if (const auto c = creasePoint(pu, normals_[u], pv, normals_[v]))
+                candidates[std::size_t(count++)] = {*c, glm::dvec3(0.0)};
+        if (count == 0 && glm::dot(n1, n2) < kCreaseCosine) {
+            // Perhaps a sharp edge along the edge: a surface point on each
+            // side, and the crease where their tangent planes meet.
+            auto across = [&](const glm::dvec3& apex) { return glm::normalize(apex - (pu + e * glm::dot(apex - pu, e))); };
+            glm::dvec3 q1 = mid + 0.25 * length * across(pw), q2 = mid + 0.25 * length * across(px);
+            glm::dvec3 g1, g2;
+            if (project(q1, length, &g1, n1) && project(q2, length, &g2, n2))
+                if (const auto c = creasePoint(q1, g1, q2, g2)) candidates[std::size_t(count++)] = {*c, glm::dvec3(0.0)};
+        }
+        glm::dvec3 p = mid, n(0.0);
+        if (project(p, length, &n, glm::normalize(n1 + n2))) candidates[std::size_t(count++)] = {p, n};
+        // Each new triangle must turn its parent's way and keep a height.
+        auto fits = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& parent) {
+            const glm::dvec3 cr = glm::cross(b - a, c - a);
+            const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+            return glm::dot(cr, parent) > 0.0 && glm::length(cr) > minHeight_ * longest;
+        };
+        for (int i = 0; i < count; ++i) {
+            const auto& [at, an] = candidates[std::size_t(i)];
+            if (fits(pu, at, pw, n1) && fits(at, pv, pw, n1) && fits(pv, at, px, n2) && fits(at, pu, px, n2)) {
+                crease = an == glm::dvec3(0.0);
+                normal = an;
+                return at;
+            }
+        }
+        return std::nullopt;
+    }
+
+private:
+    Mesh& mesh_;
+    std::vector<glm::dvec3>& normals_;
+    const Tape& tape_;
+    double tolerance_;
+    double minHeight_;
+    std::unordered_map<std::uint64_t, std::uint32_t> halfedges_;
+    std::vector<glm::dvec3> samples_;
+    GradientEvaluator<double> gradients_;
+    PointEvaluator<double> points_;
+};
+
+} // namespace
+
+bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape, const RefineSettings& settings,
+                       tbb::task_arena& arena, RefineStats& stats, const std::function<bool()>& cancelled)
+{
+    stats = {};
+    if (mesh.triangles.empty()) return true;
+    const double tolerance = settings.tolerance;
+    std::vector<std::uint32_t> dirty(mesh.triangles.size());
+    for (std::uint32_t t = 0; t < dirty.size(); ++t)
+        dirty[t] = t;
+    std::vector<double> worst(mesh.triangles.size(), 0.0);
+    tbb::enumerable_thread_specific<Sampler> samplers;
+    Splitter splitter(mesh, normals, tape, tolerance, settings.minHeight);
+    std::vector<std::uint8_t> splitThisRound;
+    std::vector<std::uint32_t> stuck;
+    constexpr std::size_t kChunk = 256;
+    for (stats.rounds = 0; !dirty.empty(); ++stats.rounds) {
+        if (cancelled && cancelled()) return false;
+        std::vector<Verdict> verdicts(dirty.size());
+        arena.execute([&] {
+            tbb::parallel_for(std::size_t(0), (dirty.size() + kChunk - 1) / kChunk, [&](std::size_t c) {
+                const std::size_t first = c * kChunk, count = std::min(kChunk, dirty.size() - first);
+                samplers.local().judge(mesh, tape, tolerance, dirty.data() + first, count, verdicts.data() + first);
+            });
+        });
+        stats.samples += dirty.size() * kTriangleSamples;
+        worst.resize(mesh.triangles.size(), 0.0);
+        std::vector<std::pair<double, std::uint32_t>> failing; // (-worst, index into dirty)
+        for (std::size_t i = 0; i < dirty.size(); ++i) {
+            worst[dirty[i]] = verdicts[i].worst;
+            if (verdicts[i].worst > tolerance) failing.emplace_back(-verdicts[i].worst, std::uint32_t(i));
+        }
+        if (failing.empty() || stats.rounds >= settings.maxRounds || mesh.triangles.size() >= settings.maxTriangles)
+            break;
+        // Worst first: where two want the same edge, the worse one splits it.
+        std::sort(failing.begin(), failing.end());
+        splitThisRound.assign(mesh.triangles.size(), 0);
+        std::vector<std::uint32_t> changed, busy;
+        for (const auto& [negative, i] : failing) {
+            const auto outcome = splitter.split(dirty[i], verdicts[i].edges, splitThisRound, changed, stats);
+            if (outcome == Splitter::Outcome::Busy) busy.push_back(dirty[i]);
+            if (outcome == Splitter::Outcome::Impossible &&
+                !splitter.flip(dirty[i], verdicts[i].edges, splitThisRound, changed))
+                stuck.push_back(dirty[i]);
+        }
+        if (changed.empty()) break; // nothing could be split
+        // A triangle that waited for a neighbour's split is judged again
+        // (it may have been changed by that split, or not), and so is one
+        // that could not be split, while splits around it go on: a
+        // neighbour's new vertex can make its split possible.
+        changed.insert(changed.end(), busy.begin(), busy.end());
+        changed.insert(changed.end(), stuck.begin(), stuck.end());
+        stuck.clear();
+        std::sort(changed.begin(), changed.end());
+        changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+        dirty.swap(changed);
+    }
+    stats.worstSample = 0.0;
+    stats.trianglesOverTolerance = 0;
+    for (const double w : worst) {
+        stats.worstSample = std::max(stats.worstSample, w);
+        if (w > tolerance) ++stats.trianglesOverTolerance;
+    }
+    return true;
+}
+
+} // namespace kerf::mesher

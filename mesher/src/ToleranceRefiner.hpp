@@ -1,0 +1,66 @@
+#pragma once
+// Makes a mesh keep to a tolerance of the exact surface: every triangle is
+// sampled on the exact field (the field is 1-Lipschitz, so |f| at a sample
+// is a lower bound of its distance to the surface, and equal to it where
+// the field is an exact distance, which is most of a part), and a triangle
+// with a sample further than the tolerance has an edge split, the new vertex
+// placed on the surface, until every sample is within it.
+//
+// Samples per triangle: three on each edge (at 1/4, 1/2, 3/4) and four
+// inside (the centroid and halfway from it to each vertex). The worst one
+// chooses the edge to split: its own edge, or for an inside sample the
+// longest edge.
+//
+// Where the new vertex goes: the edge's midpoint moved onto the surface by
+// Newton steps along the gradient; on a sharp edge of the part (the edge's
+// two triangles meet at more than 30 degrees and the surface on either side
+// has its own normal) onto the crease instead: the point of the crease in
+// the plane through the midpoint across the edge, from the two sides'
+// tangent planes. A placement that would fold a triangle over leaves the
+// vertex at the midpoint (the next round splits again, closer).
+//
+// Threads: the sampling runs in the arena, per chunk of triangles; the
+// splits are sequential (there are few). Deterministic.
+
+#include "kerf/evaluator/Tape.hpp"
+#include "kerf/mesher/Mesh.hpp"
+
+#include <tbb/task_arena.h>
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace kerf::mesher {
+
+struct RefineStats {
+    std::uint64_t splits = 0;
+    std::uint64_t creaseSplits = 0;
+    std::uint64_t samples = 0;
+    int rounds = 0;
+    /// The largest |f| at a sample once done (mm): at most the tolerance
+    /// unless the round limit was reached.
+    double worstSample = 0.0;
+    std::uint64_t trianglesOverTolerance = 0; // left over the tolerance at the round limit
+};
+
+struct RefineSettings {
+    double tolerance = 0.0; // mm
+    double minHeight = 0.0; // mm: no new triangle lower than this (EdgeCollapse.hpp)
+    int maxRounds = 40;
+    /// A safety limit: refinement stops once the mesh has this many
+    /// triangles (what is left over the tolerance is then reported).
+    std::size_t maxTriangles = std::size_t(1) << 26;
+};
+
+/// Refines `mesh` (world coordinates, outward triangles), the surface of
+/// `tape`, whose vertex i has unit normal normals[i] (0 on a sharp feature;
+/// extended for new vertices), until every sample lies within the tolerance
+/// of the surface, or a limit is reached. Returns false when cancelled (the
+/// mesh is then valid but unfinished).
+bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape, const RefineSettings& settings,
+                       tbb::task_arena& arena, RefineStats& stats, const std::function<bool()>& cancelled = {});
+
+} // namespace kerf::mesher

@@ -1,0 +1,297 @@
+#include "kerf/mesher/WrittenCoordinates.hpp"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <unordered_map>
+#include <vector>
+
+namespace kerf {
+
+namespace {
+
+using Triangle = std::array<std::uint32_t, 3>;
+constexpr std::uint32_t kGone = std::numeric_limits<std::uint32_t>::max();
+
+glm::dvec3 written(const glm::dvec3& p, WrittenFormat format, const glm::dvec3& offset)
+{
+    const glm::dvec3 local = p - offset;
+    return {writtenCoordinate(local.x, format), writtenCoordinate(local.y, format), writtenCoordinate(local.z, format)};
+}
+
+// The written value next to w (a written value), towards `up` or down.
+double nextWritten(double w, bool up, WrittenFormat format)
+{
+    const float f = float(w);
+    float g = std::nextafter(f, up ? std::numeric_limits<float>::infinity() : -std::numeric_limits<float>::infinity());
+    double candidate = writtenCoordinate(double(g), format);
+    // Six decimals are coarser than float32 below 8 mm: step on until the
+    // printed value changes.
+    for (int i = 0; i < 64 && candidate == w; ++i) {
+        g = std::nextafter(g, up ? std::numeric_limits<float>::infinity() : -std::numeric_limits<float>::infinity());
+        candidate = writtenCoordinate(double(g), format);
+    }
+    return candidate;
+}
+
+struct Bits {
+    std::uint64_t x, y, z;
+    bool operator==(const Bits&) const = default;
+};
+struct BitsHash {
+    std::size_t operator()(const Bits& b) const
+    {
+        return std::size_t(b.x * 0x9E3779B97F4A7C15ull ^ b.y * 0xC2B2AE3D27D4EB4Full ^ b.z * 0x165667B19E3779F9ull);
+    }
+};
+Bits bitsOf(const glm::dvec3& q)
+{
+    Bits b;
+    std::memcpy(&b.x, &q.x, 8);
+    std::memcpy(&b.y, &q.y, 8);
+    std::memcpy(&b.z, &q.z, 8);
+    return b;
+}
+
+// Repairs in written coordinates. Vertex -> triangles adjacency, kept
+// through collapses.
+class Fitter {
+public:
+    Fitter(Mesh& mesh, WrittenFormat format, const glm::dvec3& offset) : mesh_(mesh), format_(format), offset_(offset)
+    {
+        around_.resize(mesh.vertices.size());
+        for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+            for (const std::uint32_t v : mesh.triangles[t])
+                around_[v].push_back(t);
+        q_.resize(mesh.vertices.size());
+        for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+            q_[v] = written(mesh.vertices[v], format, offset);
+    }
+
+    WrittenFit run()
+    {
+        WrittenFit fit;
+        for (std::size_t v = 0; v < mesh_.vertices.size(); ++v)
+            fit.largestMove = std::max(fit.largestMove, glm::length(q_[v] + offset_ - mesh_.vertices[v]));
+        for (int round = 0; round < 16; ++round) {
+            std::size_t problems = 0;
+            // Vertices that round to one point.
+            std::unordered_map<Bits, std::uint32_t, BitsHash> at;
+            at.reserve(mesh_.vertices.size());
+            for (std::uint32_t v = 0; v < mesh_.vertices.size(); ++v) {
+                if (around_[v].empty()) continue;
+                const auto [it, added] = at.emplace(bitsOf(q_[v]), v);
+                if (added) continue;
+                ++problems;
+                const std::uint32_t u = it->second;
+                if (!(adjacent(u, v) && collapse(v, u, fit)) && !(adjacent(u, v) && collapse(u, v, fit))) nudge(v, u, fit);
+                it->second = v; // (one of them may be gone; the next round looks again)
+            }
+            // Triangles without area, or turned over, once rounded.
+            for (std::uint32_t t = 0; t < mesh_.triangles.size(); ++t) {
+                if (mesh_.triangles[t][0] == kGone || !bad(t)) continue;
+                ++problems;
+                mend(t, fit);
+            }
+            if (problems == 0) break;
+        }
+        // What is still wrong.
+        std::unordered_map<Bits, std::uint32_t, BitsHash> at;
+        for (std::uint32_t v = 0; v < mesh_.vertices.size(); ++v)
+            if (!around_[v].empty() && !at.emplace(bitsOf(q_[v]), v).second) ++fit.unresolved;
+        for (std::uint32_t t = 0; t < mesh_.triangles.size(); ++t)
+            if (mesh_.triangles[t][0] != kGone && bad(t)) ++fit.unresolved;
+        compact();
+        return fit;
+    }
+
+private:
+    bool adjacent(std::uint32_t a, std::uint32_t b) const
+    {
+        for (const std::uint32_t t : around_[a])
+            for (const std::uint32_t v : mesh_.triangles[t])
+                if (v == b) return true;
+        return false;
+    }
+
+    // Zero area, or the other way round from the double triangle.
+    bool bad(std::uint32_t t) const
+    {
+        const Triangle& tri = mesh_.triangles[t];
+        const glm::dvec3 written = glm::cross(q_[tri[1]] - q_[tri[0]], q_[tri[2]] - q_[tri[0]]);
+        const glm::dvec3 exact = glm::cross(mesh_.vertices[tri[1]] - mesh_.vertices[tri[0]],
+                                            mesh_.vertices[tri[2]] - mesh_.vertices[tri[0]]);
+        return !(glm::dot(written, exact) > 0.0);
+    }
+
+    // Collapses a into b if the topology allows (the edge's two triangles
+    // are all a and b share) and no triangle of a goes bad.
+    bool collapse(std::uint32_t a, std::uint32_t b, WrittenFit& fit)
+    {
+        std::vector<std::uint32_t> shared, neighboursA, neighboursB;
+        for (const std::uint32_t t : around_[a]) {
+            bool hasB = false;
+            for (const std::uint32_t v : mesh_.triangles[t]) {
+                if (v == b) hasB = true;
+                if (v != a) neighboursA.push_back(v);
+            }
+            if (hasB) shared.push_back(t);
+        }
+        if (shared.size() != 2) return false;
+        for (const std::uint32_t t : around_[b])
+            for (const std::uint32_t v : mesh_.triangles[t])
+                if (v != b && v != a) neighboursB.push_back(v);
+        std::sort(neighboursA.begin(), neighboursA.end());
+        neighboursA.erase(std::unique(neighboursA.begin(), neighboursA.end()), neighboursA.end());
+        std::sort(neighboursB.begin(), neighboursB.end());
+        neighboursB.erase(std::unique(neighboursB.begin(), neighboursB.end()), neighboursB.end());
+        std::vector<std::uint32_t> common;
+        std::set_intersection(neighboursA.begin(), neighboursA.end(), neighboursB.begin(), neighboursB.end(),
+                              std::back_inserter(common));
+        if (common.size() != 2) return false;
+        for (const std::uint32_t c : common) {
+            std::size_t live = 0;
+            for (const std::uint32_t t : around_[c])
+                live += mesh_.triangles[t][0] != kGone;
+            if (live <= 3) return false;
+        }
+        // Every triangle of a that stays must keep its area and side once a
+        // is replaced by b.
+        for (const std::uint32_t t : around_[a]) {
+            if (std::find(shared.begin(), shared.end(), t) != shared.end()) continue;
+            Triangle tri = mesh_.triangles[t];
+            glm::dvec3 w[3], e[3];
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t v = tri[std::size_t(k)] == a ? b : tri[std::size_t(k)];
+                w[k] = q_[v];
+                e[k] = mesh_.vertices[tri[std::size_t(k)]];
+            }
+            if (!(glm::dot(glm::cross(w[1] - w[0], w[2] - w[0]), glm::cross(e[1] - e[0], e[2] - e[0])) > 0.0))
+                return false;
+        }
+        for (const std::uint32_t t : shared) {
+            for (const std::uint32_t v : mesh_.triangles[t])
+                if (v != a) std::erase(around_[v], t);
+            mesh_.triangles[t][0] = kGone;
+        }
+        for (const std::uint32_t t : around_[a]) {
+            if (mesh_.triangles[t][0] == kGone) continue;
+            for (std::uint32_t& v : mesh_.triangles[t])
+                if (v == a) v = b;
+            around_[b].push_back(t);
+        }
+        around_[a].clear();
+        fit.largestMove = std::max(fit.largestMove, glm::length(mesh_.vertices[a] - mesh_.vertices[b]));
+        ++fit.collapses;
+        return true;
+    }
+
+    // Moves v by one written step, along the axis where it lies furthest
+    // from `from`, away from it.
+    void nudge(std::uint32_t v, std::uint32_t from, WrittenFit& fit)
+    {
+        const glm::dvec3 d = mesh_.vertices[v] - mesh_.vertices[from];
+        int axis = 0;
+        for (int k = 1; k < 3; ++k)
+            if (std::abs(d[k]) > std::abs(d[axis])) axis = k;
+        const bool up = d[axis] > 0.0 || (d[axis] == 0.0 && v > from);
+        const double before = mesh_.vertices[v][axis];
+        q_[v][axis] = nextWritten(q_[v][axis], up, format_);
+        mesh_.vertices[v][axis] = q_[v][axis] + offset_[axis];
+        fit.largestMove = std::max(fit.largestMove, std::abs(mesh_.vertices[v][axis] - before));
+        ++fit.nudges;
+    }
+
+    // A triangle without area (or turned over) once written: collapse its
+    // shortest edge, else move its vertex furthest from the opposite edge's
+    // line a step further from it.
+    void mend(std::uint32_t t, WrittenFit& fit)
+    {
+        const Triangle tri = mesh_.triangles[t];
+        int shortest = 0;
+        double length = std::numeric_limits<double>::infinity();
+        for (int k = 0; k < 3; ++k) {
+            const double l = glm::length(q_[tri[std::size_t(k)]] - q_[tri[std::size_t(k + 1) % 3]]);
+            if (l < length) {
+                length = l;
+                shortest = k;
+            }
+        }
+        const std::uint32_t a = tri[std::size_t(shortest)], b = tri[std::size_t(shortest + 1) % 3];
+        if (collapse(a, b, fit) || collapse(b, a, fit)) return;
+        const std::uint32_t apex = tri[std::size_t(shortest + 2) % 3];
+        nudge(apex, a, fit);
+    }
+
+    void compact()
+    {
+        std::vector<std::uint32_t> index(mesh_.vertices.size(), kGone);
+        Mesh out;
+        for (const Triangle& t : mesh_.triangles) {
+            if (t[0] == kGone) continue;
+            Triangle g;
+            for (int k = 0; k < 3; ++k) {
+                std::uint32_t& i = index[t[std::size_t(k)]];
+                if (i == kGone) {
+                    i = std::uint32_t(out.vertices.size());
+                    out.vertices.push_back(mesh_.vertices[t[std::size_t(k)]]);
+                }
+                g[std::size_t(k)] = i;
+            }
+            out.triangles.push_back(g);
+        }
+        mesh_ = std::move(out);
+    }
+
+    Mesh& mesh_;
+    WrittenFormat format_;
+    glm::dvec3 offset_;
+    std::vector<std::vector<std::uint32_t>> around_;
+    std::vector<glm::dvec3> q_;
+};
+
+} // namespace
+
+double writtenCoordinate(double x, WrittenFormat format)
+{
+    const float f = float(x);
+    if (format == WrittenFormat::Float32) return double(f);
+    char text[64];
+    std::snprintf(text, sizeof text, "%f", double(f));
+    return std::strtod(text, nullptr);
+}
+
+WrittenFit fitToWritten(Mesh& mesh, WrittenFormat format, const glm::dvec3& offset)
+{
+    if (mesh.triangles.empty()) return {};
+    return Fitter(mesh, format, offset).run();
+}
+
+Mesh readBack(const Mesh& mesh, WrittenFormat format, bool weld, const glm::dvec3& offset)
+{
+    Mesh out;
+    std::vector<std::uint32_t> index(mesh.vertices.size());
+    std::unordered_map<Bits, std::uint32_t, BitsHash> at;
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+        const glm::dvec3 q = written(mesh.vertices[v], format, offset);
+        if (weld) {
+            const auto [it, added] = at.emplace(bitsOf(q), std::uint32_t(out.vertices.size()));
+            if (added) out.vertices.push_back(q + offset);
+            index[v] = it->second;
+        } else {
+            index[v] = std::uint32_t(out.vertices.size());
+            out.vertices.push_back(q + offset);
+        }
+    }
+    out.triangles.reserve(mesh.triangles.size());
+    for (const Triangle& t : mesh.triangles)
+        out.triangles.push_back({index[t[0]], index[t[1]], index[t[2]]});
+    return out;
+}
+
+} // namespace kerf
