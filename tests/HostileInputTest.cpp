@@ -531,3 +531,38 @@ TEST_F(HostileFiles, AFileOverTheSizeLimitIsRefusedByItsSize)
 
 } // namespace
 } // namespace kerf
+
+namespace kerf {
+namespace {
+
+// ---- Findings of the fuzzer (reproducers in tests/fuzz/seeds/finding-*) -------------
+
+TEST(FuzzFindings, NormalsAndTheirOffsetsRoundTripExactly)
+{
+    // A halfspace with normal [1,1,0] loaded, saved and loaded again moved
+    // by an ulp: normalising an already unit normal again is not exact.
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(-3.0, 3.0);
+    for (int i = 0; i < 2000; ++i) {
+        const std::string n = "[" + std::to_string(u(rng)) + "," + std::to_string(u(rng)) + "," + std::to_string(u(rng)) + "]";
+        const std::string text = document(R"({"id":"u","type":"union","children":[{"id":"h","type":"halfspace","normal":)" +
+                                          n + R"(,"offset":)" + std::to_string(u(rng)) +
+                                          R"(},{"id":"m","type":"mirror","normal":)" + n + R"(,"offset":)" +
+                                          std::to_string(u(rng)) + R"(,"children":[)" + kBox + R"(]}]})")
+                                     .replace(0, 0, "");
+        Document d;
+        try {
+            d = Document::parse(R"({"format":"kerf","version":1,"settings":{"bounds":[[-50,-50,-50],[50,50,50]]},"root":)" +
+                                    text.substr(text.find("\"root\":") + 7),
+                                "t");
+        } catch (const DocumentError&) {
+            continue; // a zero normal
+        }
+        const Document again = Document::parse(d.serialize(), "again");
+        ASSERT_EQ(again, d) << n;
+        ASSERT_EQ(Document::parse(again.serialize(), "again2"), again) << n;
+    }
+}
+
+} // namespace
+} // namespace kerf

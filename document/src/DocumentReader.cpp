@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <unordered_set>
 
@@ -228,13 +229,19 @@ private:
         return r;
     }
 
-    glm::dvec3 unitNormal(const Json& v, const std::string& nodeId, const std::string& field) const
+    // The normal made unit length, and the length it had (what offsets
+    // along it are divided by). A normal that is already unit length to
+    // within rounding is kept exactly as written: normalising it again would
+    // move it by an ulp, and a saved document would not load back equal to
+    // itself (found by the fuzzer).
+    glm::dvec3 unitNormal(const Json& v, const std::string& nodeId, const std::string& field, double& scale) const
     {
         const glm::dvec3 n = vec3(v, nodeId, field, Quantity::Direction);
         const double len = glm::length(n);
         if (!(len > 1e-12)) fail(nodeId, field, "must be a non-zero vector");
         if (!std::isfinite(len)) fail(nodeId, field, "is too large");
-        return n / len;
+        scale = std::fabs(len - 1.0) <= 8.0 * std::numeric_limits<double>::epsilon() ? 1.0 : len;
+        return n / scale;
     }
 
     double positive(const Json& obj, const char* key, const std::string& nodeId) const
@@ -454,10 +461,10 @@ private:
         case NodeType::Halfspace: {
             use({"normal", "offset"});
             HalfspaceParams p;
-            p.normal = unitNormal(required(j, "normal", id), id, "normal");
+            double len = 1.0;
+            p.normal = unitNormal(required(j, "normal", id), id, "normal", len);
             // The offset is the plane's distance along the unit normal; a
             // non-unit normal in the file scales it the same way.
-            const double len = glm::length(vec3(required(j, "normal", id), id, "normal", Quantity::Direction));
             p.offset = length(required(j, "offset", id), id, "offset") / len;
             checkLength(p.offset, id, "offset");
             n.params = p;
@@ -494,8 +501,8 @@ private:
         case NodeType::Mirror: {
             use({"normal", "offset"});
             MirrorParams p;
-            p.normal = unitNormal(required(j, "normal", id), id, "normal");
-            const double len = glm::length(vec3(required(j, "normal", id), id, "normal", Quantity::Direction));
+            double len = 1.0;
+            p.normal = unitNormal(required(j, "normal", id), id, "normal", len);
             if (const Json* o = member(j, "offset")) p.offset = length(*o, id, "offset") / len;
             checkLength(p.offset, id, "offset");
             n.params = p;

@@ -1,91 +1,24 @@
-// libFuzzer target over the door of the program: a document's bytes, then
-// everything `kerf check` and the desktop application do with a document
-// that loads. Built by -DKERF_FUZZ=ON with clang (ASan + UBSan); run by
-// tools/fuzz.sh. Any crash, sanitizer report, leak, timeout or memory blow-up
-// is a finding; so is a loaded document that does not load again identical
-// from its own serialization, or a tape whose evaluators disagree.
+// libFuzzer entry over the document loader and everything done with a loaded
+// document (FuzzDocument.cpp). Built by -DKERF_FUZZ=ON with clang, ASan and
+// UBSan; run by tools/fuzz.sh.
 
-#include "kerf/document/Document.hpp"
-#include "kerf/document/DocumentError.hpp"
-#include "kerf/document/NodeBounds.hpp"
-#include "kerf/evaluator/CutList.hpp"
-#include "kerf/evaluator/IntervalEvaluator.hpp"
-#include "kerf/evaluator/PointEvaluator.hpp"
-#include "kerf/evaluator/TapeCompiler.hpp"
-#include "kerf/voxelizer/GridLayout.hpp"
-#include "kerf/voxelizer/TileBuilder.hpp"
+#include "FuzzDocument.hpp"
 
-#include <glm/glm.hpp>
-
-#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <string_view>
-
-namespace {
-
-[[noreturn]] void finding(const char* what)
-{
-    std::fprintf(stderr, "kerf fuzz finding: %s\n", what);
-    std::abort();
-}
-
-void exercise(const kerf::Document& doc)
-{
-    using namespace kerf;
-    // A loaded document saves and loads again unchanged.
-    const Document again = Document::parse(doc.serialize(), "again.kerf");
-    if (!(again == doc)) finding("a document does not round-trip through its own serialization");
-
-    const Aabb bounds = partBounds(doc);
-    (void)worldBoundsOfNodes(doc);
-    const Tape tape = compileTape(doc);
-    if (tape.empty() || bounds.isEmpty() || !bounds.isBounded()) return;
-
-    // Points: the centre and the corners of the bounds; double and float
-    // agree in sign far from the surface, the interval encloses them.
-    PointEvaluator<double> pd;
-    PointEvaluator<float> pf;
-    GradientEvaluator<double> gd;
-    IntervalEvaluator intervals;
-    const Interval whole = intervals.evaluate(tape, bounds);
-    for (int k = 0; k < 9; ++k) {
-        const glm::dvec3 p = k == 8 ? bounds.center()
-                                    : glm::dvec3(k & 1 ? bounds.max.x : bounds.min.x, k & 2 ? bounds.max.y : bounds.min.y,
-                                                 k & 4 ? bounds.max.z : bounds.min.z);
-        const double d = pd.evaluate(tape, p.x, p.y, p.z);
-        (void)pf.evaluate(tape, float(p.x), float(p.y), float(p.z));
-        (void)gd.evaluate(tape, p.x, p.y, p.z);
-        if (std::isnan(d)) finding("the field is NaN at a point of the bounds");
-        const double slack = 1e-6 * (1.0 + std::fabs(d));
-        if (d < whole.lo - slack || d > whole.hi + slack) finding("a point value lies outside the interval of its box");
-    }
-
-    // The cut list (tight bounds of every body).
-    (void)cutList(doc, 0.5);
-
-    // One coarse voxelization: at most 8 tiles of 2 levels, one thread.
-    const glm::dvec3 e = bounds.size();
-    const double coarse = std::max({e.x, e.y, e.z, 1e-3}) / 24.0;
-    const GridLayout layout = GridLayout::choose(bounds, coarse, {.maxTiles = 8, .maxLevels = 2, .minLevels = 2});
-    TileBuildScratch scratch;
-    for (long i = 0; i < layout.tileCount(); ++i) (void)buildTile(tape, layout, layout.tileCoord(i), layout.levels, scratch);
-}
-
-} // namespace
+#include <exception>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
-    kerf::Document doc;
     try {
-        doc = kerf::Document::parse(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.kerf");
-    } catch (const kerf::DocumentError& e) {
-        // A refusal is one line.
-        for (const char* c = e.what(); *c; ++c)
-            if (static_cast<unsigned char>(*c) < 0x20) finding("a refusal message holds a control character");
-        return 0;
+        if (const auto finding = kerf::fuzz::fuzzDocument(std::string_view(reinterpret_cast<const char*>(data), size))) {
+            std::fprintf(stderr, "kerf fuzz finding: %s\n", finding->c_str());
+            std::abort();
+        }
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "kerf fuzz finding: an exception escaped: %s\n", e.what());
+        std::abort();
     }
-    exercise(doc);
     return 0;
 }
