@@ -6,9 +6,13 @@
 #include "kerf/app/Arguments.hpp"
 #include "kerf/app/Commands.hpp"
 #include "kerf/app/DocumentSummary.hpp"
+#include "kerf/app/ExportPreflight.hpp"
+#include "kerf/app/Failure.hpp"
 #include "kerf/app/Format.hpp"
+#include "kerf/document/AtomicFile.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/NodeBounds.hpp"
+#include "kerf/document/PrintableText.hpp"
 #include "kerf/mesher/MeshCheck.hpp"
 #include "kerf/mesher/MeshPart.hpp"
 #include "kerf/mesher/StlWriter.hpp"
@@ -114,7 +118,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         if (!output || output->empty()) throw UsageError("needs an output file: -o OUT.stl");
         std::optional<double> requested;
         if (const auto v = a.value("--feature-size"))
-            requested = Arguments::parsePositiveMillimetres("--feature-size", *v);
+            requested = Arguments::parseFeatureSize("--feature-size", *v);
         const bool ascii = a.has("--ascii"), json = a.has("--json");
         file = a.positional()[0];
         const std::filesystem::path target = *output;
@@ -123,12 +127,14 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const Document doc = Document::load(file);
         const Aabb bounds = partBounds(doc);
         if (bounds.isEmpty()) {
-            err << "kerf export: " << file << ": the part is empty (nothing is visible); nothing to export\n";
+            err << "kerf export: " << printable(file) << ": the part is empty (nothing is visible); nothing to export\n";
             return 1;
         }
         const char* source = requested ? "option" : doc.settings.featureSize ? "document" : "default";
         MeshOptions options;
         options.featureSize = requested.value_or(doc.settings.featureSize.value_or(defaultFeatureSize(bounds)));
+        // The output and the machine's budget, before any meshing.
+        preflightExport(doc, file, target, options.featureSize);
 
         const bool terminal = ::isatty(STDERR_FILENO);
         const InterruptGuard guard;
@@ -150,11 +156,11 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const double meshSeconds = since(meshStart);
         if (terminal) err << "\r\033[K" << std::flush;
         if (!mesh) {
-            err << "kerf export: " << file << ": interrupted; " << target.string() << " not written\n";
+            err << "kerf export: " << printable(file) << ": interrupted; " << printable(target.string()) << " not written\n";
             return 1;
         }
         if (mesh->empty()) {
-            err << "kerf export: " << file << ": the part is empty at a feature size of " << mm(stats.cellSize)
+            err << "kerf export: " << printable(file) << ": the part is empty at a feature size of " << mm(stats.cellSize)
                 << " mm (thinner than a cell everywhere); nothing to export\n";
             return 1;
         }
@@ -165,18 +171,18 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const double checkSeconds = since(checkStart);
         if (terminal) err << "\r\033[K" << std::flush;
         if (!report.watertight()) {
-            err << "kerf export: " << file << ": internal error: the mesh is not watertight (" << defects(report)
-                << "); " << target.string() << " not written\n";
+            err << "kerf export: " << printable(file) << ": internal error: the mesh is not watertight ("
+                << defects(report) << "); " << printable(target.string()) << " not written\n";
             return 1;
         }
 
         if (interrupted) {
-            err << "kerf export: " << file << ": interrupted; " << target.string() << " not written\n";
+            err << "kerf export: " << printable(file) << ": interrupted; " << printable(target.string()) << " not written\n";
             return 1;
         }
         // Writing is not interruptible: the file is written whole or, if the
         // process is killed, not at all (only a temporary file beside it remains).
-        if (terminal) err << "kerf export: writing " << target.string() << "..." << std::flush;
+        if (terminal) err << "kerf export: writing " << printable(target.string()) << "..." << std::flush;
         const auto writeStart = std::chrono::steady_clock::now();
         writeStl(*mesh, target, ascii ? StlFormat::Ascii : StlFormat::Binary);
         const double writeSeconds = since(writeStart);
@@ -213,8 +219,8 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             out << j.dump(2) << "\n";
             return 0;
         }
-        out << target.string() << ": " << grouped(report.triangles) << " triangles, " << (ascii ? "ASCII" : "binary")
-            << " STL (" << megabytes(bytes) << "), from " << file << "\n";
+        out << printable(target.string()) << ": " << grouped(report.triangles) << " triangles, "
+            << (ascii ? "ASCII" : "binary") << " STL (" << megabytes(bytes) << "), from " << printable(file) << "\n";
         out << "  feature size:  " << mm(stats.featureSize) << " mm"
             << (requested                  ? ""
                 : doc.settings.featureSize ? " (document)"
@@ -235,11 +241,14 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
     } catch (const DocumentError& e) {
         err << "kerf export: " << e.what() << "\n";
         return 2;
+    } catch (const RefusedRequest& e) {
+        err << "kerf export: " << e.what() << "\n";
+        return 2;
+    } catch (const OutputFileError& e) {
+        err << "kerf export: " << e.what() << "\n"; // names the output file
+        return 1;
     } catch (const std::exception& e) {
-        // Write errors name the output file; anything else names the input.
-        const std::string what = e.what();
-        err << "kerf export: " << (what.find(".stl") == std::string::npos && !file.empty() ? file + ": " : "") << what
-            << "\n";
+        err << "kerf export: " << (file.empty() ? "" : printable(file) + ": ") << describeFailure(e) << "\n";
         return 1;
     }
 }

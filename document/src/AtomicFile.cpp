@@ -158,8 +158,9 @@ fs::path checkOutputFile(const fs::path& target)
         if (S_ISLNK(st.st_mode)) {
             struct stat pointed {};
             if (::stat(target.c_str(), &pointed) != 0)
-                throw refusal(target, "is a symbolic link to nothing (" + std::string(std::strerror(errno)) +
-                                          "); nothing was written");
+                throw refusal(target, errno == ENOENT ? "is a symbolic link to nothing; nothing was written"
+                                                      : "is a symbolic link that cannot be followed (" +
+                                                            std::string(std::strerror(errno)) + "); nothing was written");
             if (!S_ISREG(pointed.st_mode))
                 throw refusal(target, "is a symbolic link to " + describeFileKind(pointed.st_mode) +
                                           ", not to a regular file; nothing was written");
