@@ -38,11 +38,11 @@ TEST_P(FuzzSeeds, NoFindingWithinSeconds)
     const auto t0 = std::chrono::steady_clock::now();
     const std::optional<std::string> finding = fuzz::fuzzDocument(bytes.str());
     EXPECT_FALSE(finding.has_value()) << GetParam() << ": " << finding.value_or("");
-    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10.0);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.0 * KERF_TIME_FACTOR);
 }
 
-INSTANTIATE_TEST_SUITE_P(Files, FuzzSeeds, ::testing::ValuesIn(inputs()), [](const auto& info) {
-    std::string name = info.param.parent_path().filename().string() + "_" + info.param.stem().string();
+INSTANTIATE_TEST_SUITE_P(Files, FuzzSeeds, ::testing::ValuesIn(inputs()), [](const auto& param) {
+    std::string name = param.param.parent_path().filename().string() + "_" + param.param.stem().string();
     for (char& c : name)
         if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
     return name;
