@@ -5,6 +5,7 @@
 // walks the tree recurses deeper than the nesting limit allows; the extrude
 // simplicity test is O(n log n) and agrees with the quadratic definition.
 
+#include "kerf/document/AtomicFile.hpp"
 #include "kerf/document/Document.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/Expansion.hpp"
@@ -573,6 +574,81 @@ TEST(FuzzFindings, NormalsAndTheirOffsetsRoundTripExactly)
         ASSERT_EQ(again, d) << n;
         ASSERT_EQ(Document::parse(again.serialize(), "again2"), again) << n;
     }
+}
+
+} // namespace
+} // namespace kerf
+
+namespace kerf {
+namespace {
+
+// ---- Saving a document: only ever a regular file --------------------------------------
+
+class SaveTargets : public HostileFiles {
+protected:
+    static Document part() { return Document::parse(document(kBox), "part.kerf"); }
+    static std::string kind(const fs::path& p)
+    {
+        struct stat st {};
+        if (::lstat(p.c_str(), &st) != 0) return "absent";
+        return std::to_string(st.st_mode) + ":" + std::to_string(st.st_ino);
+    }
+};
+
+TEST_F(SaveTargets, AFifoAFolderAndDanglingLinksAreRefusedAndLeftAsTheyWere)
+{
+    ASSERT_EQ(0, ::mkfifo((dir / "fifo.kerf").c_str(), 0600));
+    fs::create_directory(dir / "folder.kerf");
+    fs::create_symlink("fifo.kerf", dir / "link-to-fifo.kerf");
+    fs::create_symlink("nowhere.kerf", dir / "dangling.kerf");
+    for (const char* name : {"fifo.kerf", "folder.kerf", "link-to-fifo.kerf", "dangling.kerf"}) {
+        const std::string before = kind(dir / name);
+        try {
+            part().save(dir / name);
+            ADD_FAILURE() << name << " was written";
+        } catch (const DocumentError& e) {
+            EXPECT_NE(std::string(e.what()).find("nothing was written"), std::string::npos) << e.what();
+        }
+        EXPECT_EQ(kind(dir / name), before) << name;
+    }
+    EXPECT_FALSE(fs::exists(dir / "nowhere.kerf"));
+    // No temporary file left behind.
+    for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos);
+}
+
+TEST_F(SaveTargets, ALinkToARegularFileIsWrittenThroughAndStaysALink)
+{
+    std::ofstream(dir / "real.kerf") << "old";
+    fs::create_symlink("real.kerf", dir / "link.kerf");
+    part().save(dir / "link.kerf");
+    EXPECT_TRUE(fs::is_symlink(dir / "link.kerf"));
+    EXPECT_EQ(Document::load(dir / "real.kerf"), part());
+}
+
+TEST_F(SaveTargets, ANewFileHonoursTheUmaskAndAReplacedOneKeepsItsMode)
+{
+    const mode_t old = ::umask(077);
+    part().save(dir / "private.kerf");
+    ::umask(022);
+    part().save(dir / "shared.kerf");
+    ::umask(old);
+    EXPECT_EQ(fs::status(dir / "private.kerf").permissions() & fs::perms::all,
+              fs::perms::owner_read | fs::perms::owner_write);
+    EXPECT_EQ(fs::status(dir / "shared.kerf").permissions() & fs::perms::all,
+              fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read | fs::perms::others_read);
+    fs::permissions(dir / "shared.kerf", fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+    part().save(dir / "shared.kerf");
+    EXPECT_EQ(fs::status(dir / "shared.kerf").permissions() & fs::perms::all,
+              fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+}
+
+TEST_F(SaveTargets, AnUnwritableFolderIsFoundBeforeWriting)
+{
+    if (::geteuid() == 0) GTEST_SKIP() << "root writes into any folder";
+    fs::create_directory(dir / "locked");
+    fs::permissions(dir / "locked", fs::perms::owner_read | fs::perms::owner_exec);
+    EXPECT_THROW(checkOutputFile(dir / "locked" / "part.kerf"), OutputFileError);
+    fs::permissions(dir / "locked", fs::perms::owner_all);
 }
 
 } // namespace

@@ -11,6 +11,9 @@
 #                                      runs about 20 times slower than Release;
 #                                      raise it on a machine busy with builds)
 #   bash tools/fuzz.sh --reproduce F…  runs the fuzzer's code once on each file
+#   bash tools/fuzz.sh --coverage      line coverage of the corpus so far, by
+#                                      file (a separate build, build-fuzz-cov/,
+#                                      with clang's source-based coverage)
 #
 # Builds the fuzzer with clang in build-fuzz/ (Debug + ASan/UBSan, only the
 # fuzzer's own target). The corpus grows in build-fuzz/corpus across runs,
@@ -25,6 +28,7 @@ cd "$(dirname "$0")/.."
 seconds=120
 timeout=30
 reproduce=()
+coverage=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --short) seconds=60 ;;
@@ -32,12 +36,30 @@ while [ $# -gt 0 ]; do
     --seconds) seconds="$2"; shift ;;
     --timeout) timeout="$2"; shift ;;
     --reproduce) shift; reproduce=("$@"); break ;;
+    --coverage) coverage=1 ;;
     *) echo "fuzz.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift
 done
 
 bash tools/install-deps.sh
+
+if [ "$coverage" = 1 ]; then
+  cov=build-fuzz-cov
+  if [ ! -f "$cov/CMakeCache.txt" ]; then
+    CC=clang CXX=clang++ cmake -S . -B "$cov" -G Ninja -DCMAKE_BUILD_TYPE=Release -DKERF_FUZZ=ON \
+      -DKERF_BUILD_BENCH=OFF "-DCMAKE_CXX_FLAGS=-fprofile-instr-generate -fcoverage-mapping" \
+      "-DCMAKE_EXE_LINKER_FLAGS=-fprofile-instr-generate" >/dev/null
+  fi
+  cmake --build "$cov" --target kerf_document_fuzzer -j "$(nproc)"
+  rm -f "$cov"/*.profraw
+  LLVM_PROFILE_FILE="$PWD/$cov/replay-%p.profraw" "$cov/tests/fuzz/kerf_document_fuzzer" -runs=0 \
+    build-fuzz/corpus build-fuzz/seeds >/dev/null 2>&1 || true
+  llvm-profdata merge -o "$cov/replay.profdata" "$cov"/replay-*.profraw
+  llvm-cov report "$cov/tests/fuzz/kerf_document_fuzzer" -instr-profile="$cov/replay.profdata" \
+    document/src evaluator/src voxelizer/src tests/fuzz
+  exit 0
+fi
 
 build=build-fuzz
 if [ ! -f "$build/CMakeCache.txt" ]; then

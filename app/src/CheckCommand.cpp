@@ -133,8 +133,8 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
         } else {
             std::snprintf(mib, sizeof mib, "about %.1f GiB", estimate.bytes / (1024.0 * 1024.0 * 1024.0));
             out << "  voxel memory:  " << mib << " (about " << describeCount(estimate.populatedVoxels)
-                << " populated voxels of " << mm(layout.voxelSize) << " mm, estimated from " << estimate.measuredLevels
-                << " of " << layout.levels << " levels in " << mm(seconds) << " s; ";
+                << " populated voxels of " << mm(layout.voxelSize) << " mm, estimated from a coarse voxelization in "
+                << mm(seconds) << " s; ";
             if (tooLarge)
                 out << "too large to build: " << *tooLarge << ")\n";
             else

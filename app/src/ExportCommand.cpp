@@ -48,8 +48,9 @@ Options:
   --help                 show this help
 
 Exit status: 0 written; 1 the part is empty or the export failed (nothing is
-written); 2 bad usage or a refused document (the reason, naming the file,
-goes to stderr).
+written); 2 bad usage, a refused document, an output that is not a regular
+file, or a mesh larger than this machine allows (the reason, naming the
+file, goes to stderr; docs/cli.md has the limits).
 )";
 
 // Ctrl-C (SIGINT) or SIGTERM while meshing cancels it: nothing is written.

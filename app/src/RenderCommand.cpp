@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <unistd.h>
 #include <ostream>
 
 namespace kerf {
@@ -128,6 +129,11 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
         std::string device;
         double traceMs = 0.0, gpuMs = -1.0;
         bool usedVulkan = false;
+        // A large picture takes a while on a CPU device: say so (Ctrl+C stops it).
+        const bool tracingLong = cost.fixedSeconds > 2.0 && ::isatty(STDERR_FILENO);
+        if (tracingLong)
+            err << "kerf render: tracing " << size.width << "x" << size.height << " pixels (about "
+                << describeSeconds(cost.fixedSeconds) << " on a CPU device; Ctrl+C stops)...\n";
         if (!a.has("--cpu")) {
             try {
                 vk::Context ctx;

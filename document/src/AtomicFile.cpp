@@ -9,6 +9,7 @@
 #include <csignal>
 #include <cstring>
 #include <fcntl.h>
+#include <mutex>
 #include <random>
 #include <streambuf>
 #include <string>
@@ -101,6 +102,8 @@ private:
 // kill the process (their default action): the first one is remembered and
 // raised again once the temporary file is gone. Where the program handles
 // them itself (kerf export's cancellation, for one), they are left alone.
+// Writes on several threads at once share one hold: the first installs it,
+// the last releases it (and raises what arrived meanwhile).
 std::atomic<int> deferredSignal{0};
 extern "C" void deferSignal(int sig)
 {
@@ -112,6 +115,8 @@ class HeldSignals {
 public:
     HeldSignals()
     {
+        const std::lock_guard lock(mutex_);
+        if (holders_++ > 0) return;
         deferredSignal = 0;
         for (std::size_t i = 0; i < kSignals.size(); ++i) {
             struct sigaction current {};
@@ -129,21 +134,29 @@ public:
 
     bool interrupted() const { return deferredSignal != 0; }
 
-    // Restores the dispositions and raises a held signal (which, by default,
-    // ends the process).
+    // Once per hold: the last writer restores the dispositions and raises a
+    // held signal (which, by default, ends the process).
     void release()
     {
         if (released_) return;
         released_ = true;
-        for (std::size_t i = 0; i < kSignals.size(); ++i)
-            if (held_[i]) ::sigaction(kSignals[i], &previous_[i], nullptr);
-        if (const int sig = deferredSignal.exchange(0)) ::raise(sig);
+        int sig = 0;
+        {
+            const std::lock_guard lock(mutex_);
+            if (--holders_ > 0) return;
+            for (std::size_t i = 0; i < kSignals.size(); ++i)
+                if (held_[i]) ::sigaction(kSignals[i], &previous_[i], nullptr);
+            sig = deferredSignal.exchange(0);
+        }
+        if (sig) ::raise(sig);
     }
 
 private:
     static constexpr std::array<int, 3> kSignals{SIGINT, SIGTERM, SIGHUP};
-    std::array<bool, 3> held_{};
-    std::array<struct sigaction, 3> previous_{};
+    static inline std::mutex mutex_;
+    static inline int holders_ = 0;
+    static inline std::array<bool, 3> held_{};
+    static inline std::array<struct sigaction, 3> previous_{};
     bool released_ = false;
 };
 

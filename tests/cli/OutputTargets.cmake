@@ -105,7 +105,7 @@ if(NOT got STREQUAL "640")
 endif()
 
 # Ctrl+C while exporting: exit 1, no file, no temporary file.
-execute_process(COMMAND sh -c "\"$0\" export \"$1\" --feature-size 0.15 -o \"$2\" & p=$!; sleep 2; kill -INT $p; wait $p; echo \"exit=$?\""
+execute_process(COMMAND sh -c "\"$0\" export \"$1\" --feature-size 0.3 -o \"$2\" & p=$!; sleep 2; kill -INT $p; wait $p; echo \"exit=$?\""
                         ${KERF} ${PART} ${WORK}/interrupted.stl OUTPUT_VARIABLE out ERROR_VARIABLE err)
 file(GLOB leftovers ${WORK}/.interrupted*)
 if(EXISTS ${WORK}/interrupted.stl OR leftovers OR NOT out MATCHES "exit=1")
