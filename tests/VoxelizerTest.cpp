@@ -172,6 +172,21 @@ TEST(Voxelize, RandomTreesMatchExactEvaluation)
     }
 }
 
+TEST(Voxelize, ACornerAHairInsideTheSurfaceReadsBackInside)
+{
+    // The lattice point (10, 0, 0) lies 1e-5 mm inside a sphere of radius
+    // 10.00001 (a third of a distance quantum at 0.5 mm voxels): its voxel is
+    // populated, so the stored corner must read back negative. Rounded to
+    // zero, it read as outside, and a clang build of the random-tree test
+    // above (whose trees differed from GCC's: argument evaluation order) hit
+    // exactly that: "populated voxel without a sign change".
+    const Document d = parse(R"({"id":"s","type":"sphere","radius":10.00001})", 0.5);
+    const Tape tape = compileTape(d);
+    const VoxelSnapshot snap = voxelize(tape, GridLayout::choose(tape.bounds(), 0.5));
+    const Checked c = checkAgainstExact(tape, snap);
+    EXPECT_GT(c.voxels, 1000);
+}
+
 TEST(Voxelize, MemoryGrowsWithSurfaceAreaNotVolume)
 {
     // Same feature size, radius doubled: area x4, volume x8.
@@ -233,6 +248,15 @@ TEST(VoxelFormat, CompactEncodingErrors)
         EXPECT_NEAR(voxel::decodeDistance(p, 0.5f), d, 1.0 / 32767.0 + 1e-7);
         EXPECT_EQ(voxel::decodeFeature(p), 1234u);
     }
+    // The sign survives: inside stays inside however close to the surface
+    // (within one quantum of the value), outside and zero stay outside.
+    for (float d : {-1e-30f, -1e-9f, -1e-6f, -1e-5f}) {
+        const float back = voxel::decodeDistance(voxel::encodeDistanceFeature(d, 0.5f, 7), 0.5f);
+        EXPECT_LT(back, 0.0f) << d;
+        EXPECT_NEAR(back, d, 1.0 / 32767.0 + 1e-7);
+    }
+    for (float d : {0.0f, -0.0f, 1e-30f, 1e-6f})
+        EXPECT_GE(voxel::decodeDistance(voxel::encodeDistanceFeature(d, 0.5f, 7), 0.5f), 0.0f) << d;
 }
 
 // --- The background voxelizer -------------------------------------------------

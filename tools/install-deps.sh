@@ -11,6 +11,9 @@ packages=(
   nlohmann-json3-dev libtbb-dev libglm-dev libopenmesh-dev libstb-dev libmuparser-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
+  # the fuzzer and the ThreadSanitizer build (tools/fuzz.sh, tools/tsan.sh):
+  # clang with libFuzzer, llvm-symbolizer and llvm-cov
+  clang libclang-rt-14-dev llvm
   # viewport
   libvulkan-dev glslang-dev glslang-tools spirv-tools mesa-vulkan-drivers
   vulkan-tools vulkan-validationlayers

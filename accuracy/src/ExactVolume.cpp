@@ -90,7 +90,12 @@ private:
             const glm::dvec3 corner =
                 lo + stratum * glm::dvec3(s % kStrata, (s / kStrata) % kStrata, s / (kStrata * kStrata));
             for (int j = 0; j < kSamplesPerStratum; ++j, ++n) {
-                const glm::dvec3 p = corner + stratum * glm::dvec3(uniform(state), uniform(state), uniform(state)) - o;
+                // One draw per statement: the order in which a constructor's
+                // arguments are evaluated is unspecified (GCC goes right to
+                // left, clang left to right), and with it which draw lands on
+                // which axis. This is GCC's order, so results stay as they were.
+                const double dz = uniform(state), dy = uniform(state), dx = uniform(state);
+                const glm::dvec3 p = corner + stratum * glm::dvec3(dx, dy, dz) - o;
                 x_[std::size_t(n)] = p.x;
                 y_[std::size_t(n)] = p.y;
                 z_[std::size_t(n)] = p.z;

@@ -1,5 +1,9 @@
 #include "kerf/app/Arguments.hpp"
 
+#include "kerf/app/Format.hpp"
+#include "kerf/document/Limits.hpp"
+#include "kerf/document/PrintableText.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -31,7 +35,7 @@ Arguments::Arguments(const std::vector<std::string>& args, const std::vector<std
                 }
                 values_.emplace_back(name, value);
             } else {
-                throw UsageError("unknown option " + name);
+                throw UsageError("unknown option " + printable(name));
             }
         } else {
             positional_.push_back(a);
@@ -57,7 +61,16 @@ double Arguments::parsePositiveMillimetres(const std::string& option, const std:
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
     if (text.empty() || *end != '\0' || !std::isfinite(v) || !(v > 0.0))
-        throw UsageError(option + " must be a positive number of millimetres, not '" + text + "'");
+        throw UsageError(option + " must be a positive number of millimetres, not '" + printable(text) + "'");
+    return v;
+}
+
+double Arguments::parseFeatureSize(const std::string& option, const std::string& text)
+{
+    const double v = parsePositiveMillimetres(option, text);
+    if (v < limits::kMinFeatureSize || v > limits::kMaxFeatureSize)
+        throw UsageError(option + " must be between " + mm(limits::kMinFeatureSize) + " and " +
+                         mm(limits::kMaxFeatureSize) + " mm, not '" + printable(text) + "'");
     return v;
 }
 
@@ -73,10 +86,14 @@ ImageSize Arguments::parseImageSize(const std::string& option, const std::string
         s.height = std::stoi(text.substr(x + 1), &used);
         if (used != text.size() - x - 1) throw std::invalid_argument("height");
     } catch (const std::exception&) {
-        throw UsageError(option + " must be WIDTHxHEIGHT in pixels, like 1920x1080, not '" + text + "'");
+        throw UsageError(option + " must be WIDTHxHEIGHT in pixels, like 1920x1080, not '" + printable(text) + "'");
     }
     if (s.width < 1 || s.height < 1 || s.width > 16384 || s.height > 16384)
-        throw UsageError(option + " must be between 1x1 and 16384x16384, not '" + text + "'");
+        throw UsageError(option + " must be between 1x1 and 16384x16384, not '" + printable(text) + "'");
+    if (long(s.width) * s.height > kMaxImagePixels)
+        throw UsageError(option + " " + printable(text) + " is " + grouped(std::uint64_t(long(s.width) * s.height)) +
+                         " pixels; a picture may have at most " + grouped(std::uint64_t(kMaxImagePixels)) +
+                         " (8192x8192)");
     return s;
 }
 

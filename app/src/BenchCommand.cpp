@@ -5,12 +5,15 @@
 
 #include "kerf/app/Arguments.hpp"
 #include "kerf/app/Commands.hpp"
+#include "kerf/app/Failure.hpp"
 #include "kerf/app/Format.hpp"
 #include "kerf/app/InstalledResources.hpp"
 #include "kerf/app/TradeBench.hpp"
 #include "kerf/document/AtomicFile.hpp"
 #include "kerf/document/DocumentError.hpp"
+#include "kerf/document/PrintableText.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/voxelizer/RequestBudget.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
 
 #include <algorithm>
@@ -75,9 +78,10 @@ std::vector<double> parseFeatureSizes(const std::string& text)
     std::stringstream in(text);
     std::string item;
     while (std::getline(in, item, ','))
-        sizes.push_back(Arguments::parsePositiveMillimetres("--feature-sizes", item));
+        sizes.push_back(Arguments::parseFeatureSize("--feature-sizes", item));
     if (sizes.empty() || text.back() == ',')
-        throw UsageError("--feature-sizes must list millimetres separated by commas, like 2,1,0.5, not '" + text + "'");
+        throw UsageError("--feature-sizes must list millimetres separated by commas, like 2,1,0.5, not '" +
+                         printable(text) + "'");
     // Coarse to fine, each once.
     std::sort(sizes.begin(), sizes.end(), std::greater<>());
     sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
@@ -89,17 +93,19 @@ int parseFrames(const std::string& text)
     char* end = nullptr;
     const long v = std::strtol(text.c_str(), &end, 10);
     if (text.empty() || *end != '\0' || v < 1 || v > 1000)
-        throw UsageError("--frames must be a whole number from 1 to 1000, not '" + text + "'");
+        throw UsageError("--frames must be a whole number from 1 to 1000, not '" + printable(text) + "'");
     return int(v);
 }
 
-// An output file's folder must exist before minutes of measuring start.
+// An output file must be (or become) a regular file in a folder that takes
+// new files before minutes of measuring start (AtomicFile.hpp).
 void checkOutputFolder(const std::string& option, const std::filesystem::path& file)
 {
-    const std::filesystem::path folder = file.has_parent_path() ? file.parent_path() : ".";
-    std::error_code ec;
-    if (!std::filesystem::is_directory(folder, ec))
-        throw UsageError(option + ": the folder '" + folder.string() + "' does not exist");
+    try {
+        checkOutputFile(file);
+    } catch (const OutputFileError& e) {
+        throw RefusedRequest(option + ": " + e.what());
+    }
 }
 
 // Right-aligns `text` in `width` columns.
@@ -124,7 +130,7 @@ std::string percent(double fraction) { return significant(100.0 * fraction, 2) +
 
 void printReport(std::ostream& out, const std::string& file, const TradeReport& r)
 {
-    out << "kerf bench: " << file << "\n";
+    out << "kerf bench: " << printable(file) << "\n";
     out << "  device:          " << r.device << "\n";
     if (!r.vulkanProblem.empty()) out << "  (no Vulkan:      " << r.vulkanProblem << ")\n";
     out << "  threads:         " << r.threads << " (voxelizer and mesher)\n";
@@ -132,7 +138,7 @@ void printReport(std::ostream& out, const std::string& file, const TradeReport& 
         << " view; reference: exact sphere tracing (epsilon " << significant(r.referenceEpsilon, 1) << " mm), "
         << grouped(r.referencePixelsHit) << " pixels hit\n";
     if (r.edit)
-        out << "  typical edit:    move '" << r.edit->nodeId << "' (" << nodeTypeName(r.edit->type)
+        out << "  typical edit:    move '" << printable(r.edit->nodeId) << "' (" << nodeTypeName(r.edit->type)
             << (r.edit->instances > 1 ? ", " + grouped(r.edit->instances) + " instances" : std::string()) << ") by "
             << mm(kTypicalEditMm) << " mm along x, back, and again\n";
     else
@@ -274,7 +280,7 @@ int runBench(const std::vector<std::string>& args, std::ostream& out, std::ostre
         static constexpr std::array<std::string_view, 7> kViews{"iso",   "front", "back",  "left",
                                                                 "right", "top",   "bottom"};
         if (std::find(kViews.begin(), kViews.end(), options.view) == kViews.end())
-            throw UsageError("--view: unknown view '" + options.view +
+            throw UsageError("--view: unknown view '" + printable(options.view) +
                              "' (iso, front, back, left, right, top, bottom)");
         if (const auto v = a.value("--frames")) options.frames = parseFrames(*v);
         options.cpu = a.has("--cpu");
@@ -293,11 +299,11 @@ int runBench(const std::vector<std::string>& args, std::ostream& out, std::ostre
         const Document doc = Document::load(file);
         const Tape tape = compileTape(doc);
         if (tape.empty() || tape.bounds().isEmpty()) {
-            err << "kerf bench: " << file << ": the part is empty (nothing visible); nothing to measure\n";
+            err << "kerf bench: " << printable(file) << ": the part is empty (nothing visible); nothing to measure\n";
             return 1;
         }
         if (!tape.bounds().isBounded()) {
-            err << "kerf bench: " << file
+            err << "kerf bench: " << printable(file)
                 << ": the part is unbounded (a halfspace nothing clips); nothing to measure\n";
             return 1;
         }
@@ -305,17 +311,24 @@ int runBench(const std::vector<std::string>& args, std::ostream& out, std::ostre
             const double base = doc.settings.featureSize.value_or(defaultFeatureSize(tape.bounds()));
             options.featureSizes = {4.0 * base, 2.0 * base, base};
         }
-        // Refuse what would take hours and more memory than the machine has.
+        // Refuse what would take hours and more memory than the machine has:
+        // the bench's own cap, then the machine's budget for the mesh (or,
+        // with --trace-only, for the voxels and the picture).
+        const RequestBudget budget = RequestBudget::forThisMachine();
         for (double fs : options.featureSizes) {
-            const VoxelEstimate estimate = estimateVoxels(tape, GridLayout::choose(tape.bounds(), fs));
+            VoxelEstimate estimate;
+            const RequestCost cost =
+                options.traceOnly ? estimateRequest(tape, fs, RequestKind::Render, double(options.width) * options.height, &estimate)
+                                  : estimateRequest(tape, fs, RequestKind::Mesh, 0.0, &estimate);
+            const std::string which = sizes ? "--feature-sizes: " : "the default feature sizes: ";
             if (estimate.populatedVoxels > kMaxBenchVoxels) {
                 const double smallest = fs * std::sqrt(estimate.populatedVoxels / kMaxBenchVoxels);
-                throw UsageError(std::string(sizes ? "--feature-sizes: " : "the default feature sizes: ") + mm(fs) +
-                                 " mm needs about " + significant(estimate.populatedVoxels / 1e6, 2) +
-                                 " million voxels (" + significant(estimate.bytes / 1e9, 2) + " GB) for " + file +
-                                 "; the bench builds at most 40 million: choose " + significant(smallest * 1.05, 2) +
-                                 " mm or more");
+                throw UsageError(which + mm(fs) + " mm needs about " + significant(estimate.populatedVoxels / 1e6, 2) +
+                                 " million voxels (" + significant(estimate.bytes / 1e9, 2) + " GB) for " +
+                                 printable(file) + "; the bench builds at most 40 million: choose " +
+                                 significant(smallest * 1.05, 2) + " mm or more");
             }
+            if (const auto over = overBudget(cost, budget, fs)) throw RefusedRequest(which + *over);
         }
 
         const bool terminal = ::isatty(STDERR_FILENO);
@@ -335,11 +348,11 @@ int runBench(const std::vector<std::string>& args, std::ostream& out, std::ostre
             j["file"] = file;
             j.update(tradeReportJson(report));
             writeFileAtomically(*json, j.dump(2) + "\n");
-            out << "\nwrote " << *json << "\n";
+            out << "\nwrote " << printable(*json) << "\n";
         }
         if (png) {
             plot(report, std::filesystem::path(file).filename().string(), *png);
-            out << (json ? "" : "\n") << "wrote " << *png << "\n";
+            out << (json ? "" : "\n") << "wrote " << printable(*png) << "\n";
         }
         return 0;
     } catch (const UsageError& e) {
@@ -348,8 +361,11 @@ int runBench(const std::vector<std::string>& args, std::ostream& out, std::ostre
     } catch (const DocumentError& e) {
         err << "kerf bench: " << e.what() << "\n";
         return 2;
+    } catch (const RefusedRequest& e) {
+        err << "kerf bench: " << e.what() << "\n";
+        return 2;
     } catch (const std::exception& e) {
-        err << "kerf bench: " << (file.empty() ? "" : file + ": ") << e.what() << "\n";
+        err << "kerf bench: " << (file.empty() ? "" : printable(file) + ": ") << describeFailure(e) << "\n";
         return 1;
     }
 }

@@ -4,9 +4,13 @@
 #include "kerf/app/Arguments.hpp"
 #include "kerf/app/Commands.hpp"
 #include "kerf/app/DocumentSummary.hpp"
+#include "kerf/app/Failure.hpp"
 #include "kerf/app/Format.hpp"
+#include "kerf/app/VoxelizeProgress.hpp"
 #include "kerf/document/DocumentError.hpp"
+#include "kerf/document/PrintableText.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/voxelizer/RequestBudget.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
 
 #include <nlohmann/json.hpp>
@@ -24,8 +28,9 @@ namespace {
 const char* kCheckHelp = R"(Usage: kerf check FILE.kerf [--json]
 
 Loads and validates a Kerf document. Prints the feature count, the bounding
-box, and the voxel memory the viewport needs at the document's feature size
-(measured: the part is voxelized).
+box, and the voxel memory the viewport needs at the document's feature size:
+measured (the part is voxelized) when that takes seconds, else estimated
+from a coarse voxelization, with the feature size this machine could build.
 
 Options:
   --json     print the figures as one JSON object
@@ -52,18 +57,23 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
         const Document doc = Document::load(file);
         const DocumentSummary s = summarize(doc, file.parent_path().string());
 
-        // The viewport's voxel memory, measured rather than estimated.
-        if (::isatty(STDERR_FILENO)) err << "kerf check: voxelizing at " << mm(s.featureSize) << " mm...\n";
+        // The viewport's voxel memory: estimated first (a coarse voxelization
+        // of the surface), then measured when building it takes seconds and
+        // fits the machine. A feature size far too fine for the part (2 um on
+        // a 2 m panel) would take hours and terabytes.
         const Tape tape = compileTape(doc);
         const GridLayout layout = GridLayout::choose(tape.bounds(), s.featureSize);
         const auto t0 = std::chrono::steady_clock::now();
-        // A feature size far too fine for the part (2 um on a 2 m panel) would
-        // take hours and terabytes: estimate first, build only what is sane.
-        constexpr double kMaxBuiltVoxels = 1.5e8; // about 5 GB
-        VoxelEstimate estimate = estimateVoxels(tape, layout);
-        const bool built = estimate.exact || estimate.populatedVoxels <= kMaxBuiltVoxels;
+        VoxelEstimate estimate;
+        const RequestCost cost = estimateRequest(tape, s.featureSize, RequestKind::Voxels, 0.0, &estimate);
+        const std::optional<std::string> tooLarge = overBudget(cost, RequestBudget::forThisMachine(), s.featureSize);
+        constexpr double kMaxCheckSeconds = 10.0; // check answers in seconds; the viewport builds the rest
+        const bool built = estimate.exact || (!tooLarge && cost.seconds <= kMaxCheckSeconds);
+        if (built && !estimate.exact && ::isatty(STDERR_FILENO))
+            err << "kerf check: voxelizing at " << mm(layout.voxelSize) << " mm...\n";
         const VoxelSnapshot voxels = estimate.snapshot ? std::move(*estimate.snapshot)
-                                                      : (built ? voxelize(tape, layout) : VoxelSnapshot{});
+                                     : built ? voxelizeWithProgress(tape, layout, "kerf check", cost.seconds > 2.0, err)
+                                             : VoxelSnapshot{};
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
         if (a.has("--json")) {
@@ -87,6 +97,8 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
             j["voxel_bytes"] = built ? double(voxels.bytes()) : estimate.bytes;
             j["populated_voxels"] = built ? double(voxels.populatedVoxels()) : estimate.populatedVoxels;
             j["voxel_memory_estimated"] = !built;
+            if (!built) j["voxelize_seconds_estimated"] = cost.seconds;
+            if (tooLarge) j["too_large"] = *tooLarge;
             j["voxel_size_mm"] = layout.voxelSize;
             j["tiles"] = {layout.dims.x, layout.dims.y, layout.dims.z};
             j["contree_levels"] = layout.levels;
@@ -98,7 +110,8 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
             return 0;
         }
 
-        out << file.string() << ": valid Kerf document" << (doc.name ? " \"" + *doc.name + "\"" : "") << "\n";
+        out << printable(file.string()) << ": valid Kerf document"
+            << (doc.name ? " \"" + printable(*doc.name) + "\"" : "") << "\n";
         out << "  features:      " << s.nodes << " nodes (" << s.visibleNodes << " visible, " << s.primitives
             << " primitives, " << s.primitiveCopies << " primitive copies after arrays and mirrors)\n";
         if (s.bounds.isEmpty()) {
@@ -119,9 +132,14 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
                 << layout.dims.z << " tiles, " << layout.levels << " levels; voxelized in " << mm(seconds) << " s)\n";
         } else {
             std::snprintf(mib, sizeof mib, "about %.1f GiB", estimate.bytes / (1024.0 * 1024.0 * 1024.0));
-            out << "  voxel memory:  " << mib << " (about " << estimate.populatedVoxels << " populated voxels of "
-                << mm(layout.voxelSize) << " mm, estimated from " << estimate.measuredLevels << " of "
-                << layout.levels << " levels; too large to build: choose a larger feature size)\n";
+            out << "  voxel memory:  " << mib << " (about " << describeCount(estimate.populatedVoxels)
+                << " populated voxels of " << mm(layout.voxelSize) << " mm, estimated from a coarse voxelization in "
+                << mm(seconds) << " s; ";
+            if (tooLarge)
+                out << "too large to build: " << *tooLarge << ")\n";
+            else
+                out << "building them would take about " << describeSeconds(cost.seconds)
+                    << ", so kerf check only estimates; the viewport builds what the view needs)\n";
         }
         if (!layout.note.empty()) out << "  note:          " << layout.note << "\n";
         if (s.meshes) {
@@ -137,7 +155,7 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
         err << "kerf check: " << e.what() << "\n";
         return 2;
     } catch (const std::exception& e) {
-        err << "kerf check: " << e.what() << "\n";
+        err << "kerf check: " << describeFailure(e) << "\n";
         return 1;
     }
 }

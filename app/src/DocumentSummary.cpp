@@ -1,5 +1,6 @@
 #include "kerf/app/DocumentSummary.hpp"
 
+#include "kerf/document/Expansion.hpp"
 #include "kerf/document/NodeBounds.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 
@@ -25,7 +26,7 @@ DocumentSummary summarize(const Document& doc, const std::string& documentFolder
 {
     DocumentSummary s;
     countNodes(doc.root, true, s);
-    s.primitiveCopies = primitiveInstanceCount(doc.root, UINT64_MAX - 1);
+    s.primitiveCopies = expansionOf(doc.root, false).primitiveCopies;
     s.tapeLength = compileTape(doc).size();
     s.bounds = partBounds(doc);
     s.featureSizeFromDocument = doc.settings.featureSize.has_value();

@@ -6,9 +6,13 @@
 #include "kerf/app/Arguments.hpp"
 #include "kerf/app/Commands.hpp"
 #include "kerf/app/DocumentSummary.hpp"
+#include "kerf/app/ExportPreflight.hpp"
+#include "kerf/app/Failure.hpp"
 #include "kerf/app/Format.hpp"
+#include "kerf/document/AtomicFile.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/NodeBounds.hpp"
+#include "kerf/document/PrintableText.hpp"
 #include "kerf/mesher/MeshCheck.hpp"
 #include "kerf/mesher/MeshPart.hpp"
 #include "kerf/mesher/StlWriter.hpp"
@@ -44,8 +48,9 @@ Options:
   --help                 show this help
 
 Exit status: 0 written; 1 the part is empty or the export failed (nothing is
-written); 2 bad usage or a refused document (the reason, naming the file,
-goes to stderr).
+written); 2 bad usage, a refused document, an output that is not a regular
+file, or a mesh larger than this machine allows (the reason, naming the
+file, goes to stderr; docs/cli.md has the limits).
 )";
 
 // Ctrl-C (SIGINT) or SIGTERM while meshing cancels it: nothing is written.
@@ -103,7 +108,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
 {
     std::string file;
     try {
-        const Arguments a(args, {"-o", "--output", "--feature-size", "--tolerance"}, {"--ascii", "--json", "--help", "-h"});
+        const Arguments a(args, {"-o", "--output", "--feature-size"}, {"--ascii", "--json", "--help", "-h"});
         if (a.has("--help") || a.has("-h")) {
             out << kExportHelp;
             return 0;
@@ -114,7 +119,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         if (!output || output->empty()) throw UsageError("needs an output file: -o OUT.stl");
         std::optional<double> requested;
         if (const auto v = a.value("--feature-size"))
-            requested = Arguments::parsePositiveMillimetres("--feature-size", *v);
+            requested = Arguments::parseFeatureSize("--feature-size", *v);
         const bool ascii = a.has("--ascii"), json = a.has("--json");
         file = a.positional()[0];
         const std::filesystem::path target = *output;
@@ -123,14 +128,14 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const Document doc = Document::load(file);
         const Aabb bounds = partBounds(doc);
         if (bounds.isEmpty()) {
-            err << "kerf export: " << file << ": the part is empty (nothing is visible); nothing to export\n";
+            err << "kerf export: " << printable(file) << ": the part is empty (nothing is visible); nothing to export\n";
             return 1;
         }
         const char* source = requested ? "option" : doc.settings.featureSize ? "document" : "default";
         MeshOptions options;
         options.featureSize = requested.value_or(doc.settings.featureSize.value_or(defaultFeatureSize(bounds)));
-        if (const auto v = a.value("--tolerance"))
-            options.tolerance = Arguments::parsePositiveMillimetres("--tolerance", *v);
+        // The output and the machine's budget, before any meshing.
+        preflightExport(doc, file, target, options.featureSize);
 
         const bool terminal = ::isatty(STDERR_FILENO);
         const InterruptGuard guard;
@@ -152,11 +157,11 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const double meshSeconds = since(meshStart);
         if (terminal) err << "\r\033[K" << std::flush;
         if (!mesh) {
-            err << "kerf export: " << file << ": interrupted; " << target.string() << " not written\n";
+            err << "kerf export: " << printable(file) << ": interrupted; " << printable(target.string()) << " not written\n";
             return 1;
         }
         if (mesh->empty()) {
-            err << "kerf export: " << file << ": the part is empty at a feature size of " << mm(stats.cellSize)
+            err << "kerf export: " << printable(file) << ": the part is empty at a feature size of " << mm(stats.cellSize)
                 << " mm (thinner than a cell everywhere); nothing to export\n";
             return 1;
         }
@@ -167,18 +172,18 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const double checkSeconds = since(checkStart);
         if (terminal) err << "\r\033[K" << std::flush;
         if (!report.watertight()) {
-            err << "kerf export: " << file << ": internal error: the mesh is not watertight (" << defects(report)
-                << "); " << target.string() << " not written\n";
+            err << "kerf export: " << printable(file) << ": internal error: the mesh is not watertight ("
+                << defects(report) << "); " << printable(target.string()) << " not written\n";
             return 1;
         }
 
         if (interrupted) {
-            err << "kerf export: " << file << ": interrupted; " << target.string() << " not written\n";
+            err << "kerf export: " << printable(file) << ": interrupted; " << printable(target.string()) << " not written\n";
             return 1;
         }
         // Writing is not interruptible: the file is written whole or, if the
         // process is killed, not at all (only a temporary file beside it remains).
-        if (terminal) err << "kerf export: writing " << target.string() << "..." << std::flush;
+        if (terminal) err << "kerf export: writing " << printable(target.string()) << "..." << std::flush;
         const auto writeStart = std::chrono::steady_clock::now();
         writeStl(*mesh, target, ascii ? StlFormat::Ascii : StlFormat::Binary);
         const double writeSeconds = since(writeStart);
@@ -208,18 +213,6 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             j["genus"] = report.genus().value_or(-1);
             j["volume_mm3"] = report.volume;
             j["area_mm2"] = report.area;
-            j["lattice_triangles"] = stats.latticeTriangles;
-            j["feature_vertices"] = stats.featureVertices;
-            j["zero_corners"] = stats.zeroCorners;
-            j["edge_margin_mm"] = stats.edgeMargin;
-            j["collapses"] = stats.collapses;
-            j["splits"] = stats.splits;
-            j["crease_splits"] = stats.creaseSplits;
-            j["worst_sample_mm"] = stats.worstSample;
-            j["triangles_over_tolerance"] = stats.trianglesOverTolerance;
-            j["simplify_seconds"] = stats.simplifySeconds;
-            j["refine_seconds"] = stats.refineSeconds;
-            j["lattice_seconds"] = stats.seedSeconds + stats.cellSeconds;
             j["seconds"] = seconds;
             j["mesh_seconds"] = meshSeconds;
             j["check_seconds"] = checkSeconds;
@@ -227,8 +220,8 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             out << j.dump(2) << "\n";
             return 0;
         }
-        out << target.string() << ": " << grouped(report.triangles) << " triangles, " << (ascii ? "ASCII" : "binary")
-            << " STL (" << megabytes(bytes) << "), from " << file << "\n";
+        out << printable(target.string()) << ": " << grouped(report.triangles) << " triangles, "
+            << (ascii ? "ASCII" : "binary") << " STL (" << megabytes(bytes) << "), from " << printable(file) << "\n";
         out << "  feature size:  " << mm(stats.featureSize) << " mm"
             << (requested                  ? ""
                 : doc.settings.featureSize ? " (document)"
@@ -249,11 +242,14 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
     } catch (const DocumentError& e) {
         err << "kerf export: " << e.what() << "\n";
         return 2;
+    } catch (const RefusedRequest& e) {
+        err << "kerf export: " << e.what() << "\n";
+        return 2;
+    } catch (const OutputFileError& e) {
+        err << "kerf export: " << e.what() << "\n"; // names the output file
+        return 1;
     } catch (const std::exception& e) {
-        // Write errors name the output file; anything else names the input.
-        const std::string what = e.what();
-        err << "kerf export: " << (what.find(".stl") == std::string::npos && !file.empty() ? file + ": " : "") << what
-            << "\n";
+        err << "kerf export: " << (file.empty() ? "" : printable(file) + ": ") << describeFailure(e) << "\n";
         return 1;
     }
 }

@@ -15,6 +15,14 @@ std::string number(double v, int decimals)
 
 std::string mm(double v)
 {
+    // Tiny and huge lengths in significant digits: never "0" for 1e-9, never
+    // 60 digits for 1e60.
+    const double a = std::fabs(v);
+    if (!std::isfinite(v) || (a > 0.0 && a < 0.001) || a >= 1e9) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.4g", v);
+        return buf;
+    }
     std::string s = number(v, 3);
     while (s.size() > 1 && s.back() == '0')
         s.pop_back();

@@ -6,18 +6,25 @@
 #include "kerf/app/Arguments.hpp"
 #include "kerf/app/Commands.hpp"
 #include "kerf/app/DocumentSummary.hpp"
+#include "kerf/app/Failure.hpp"
+#include "kerf/app/Format.hpp"
+#include "kerf/app/VoxelizeProgress.hpp"
+#include "kerf/document/AtomicFile.hpp"
 #include "kerf/document/DocumentError.hpp"
+#include "kerf/document/PrintableText.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
 #include "kerf/viewport/ReferenceMesh.hpp"
 #include "kerf/viewport/SceneRenderer.hpp"
 #include "kerf/viewport/VulkanError.hpp"
+#include "kerf/voxelizer/RequestBudget.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <unistd.h>
 #include <ostream>
 
 namespace kerf {
@@ -70,43 +77,63 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const std::string view = a.value("--view").value_or("iso");
         const std::string qualityName = a.value("--quality").value_or("voxels");
         const std::optional<TraceQuality> quality = parseTraceQuality(qualityName);
-        if (!quality) throw UsageError("--quality must be voxels or exact, not '" + qualityName + "'");
+        if (!quality) throw UsageError("--quality must be voxels or exact, not '" + printable(qualityName) + "'");
         const std::filesystem::path file = a.positional()[0];
+        const bool requested = a.value("--feature-size").has_value();
+        const double requestedSize = requested ? Arguments::parseFeatureSize("--feature-size", *a.value("--feature-size")) : 0.0;
+        // The output first: a device, a folder or an unwritable place is
+        // refused before any work (and left as it is).
+        try {
+            checkOutputFile(*output);
+        } catch (const OutputFileError& e) {
+            throw RefusedRequest(e.what());
+        }
 
         const Document doc = Document::load(file);
         const Tape tape = compileTape(doc);
-        const double featureSize = a.value("--feature-size")
-                                       ? Arguments::parsePositiveMillimetres("--feature-size", *a.value("--feature-size"))
-                                       : doc.settings.featureSize.value_or(defaultFeatureSize(tape.bounds()));
+        const double featureSize =
+            requested ? requestedSize : doc.settings.featureSize.value_or(defaultFeatureSize(tape.bounds()));
         if (tape.empty() || tape.bounds().isEmpty()) {
-            err << "kerf render: " << file.string() << ": the part is empty (nothing visible); nothing to render\n";
+            err << "kerf render: " << printable(file.string()) << ": the part is empty (nothing visible); nothing to render\n";
             return 1;
         }
+        // What the voxels and the picture would take, against the machine.
+        const RequestCost cost =
+            estimateRequest(tape, featureSize, RequestKind::Render, double(size.width) * double(size.height));
+        if (const auto over = overBudget(cost, RequestBudget::forThisMachine(), featureSize))
+            throw RefusedRequest(printable(file.string(), 400) + ": rendering at " + *over);
         Camera camera;
         try {
             camera = Camera::standardView(tape.bounds(), view, size.width, size.height,
                                           a.has("--ortho") ? Projection::Orthographic : Projection::Perspective);
         } catch (const std::invalid_argument& e) {
-            throw UsageError(std::string("--view: ") + e.what());
+            throw UsageError(std::string("--view: ") + printable(e.what()));
         }
 
         auto t0 = std::chrono::steady_clock::now();
         const GridLayout layout = GridLayout::choose(tape.bounds(), featureSize);
-        const VoxelSnapshot snap = voxelize(tape, layout);
+        const VoxelSnapshot snap = voxelizeWithProgress(tape, layout, "kerf render", cost.seconds > 2.0, err);
         const FlatVoxelBuffers buffers = FlatVoxelBuffers::flatten(snap);
         const double voxelizeMs = msSince(t0);
         if (!layout.note.empty()) err << "kerf render: " << layout.note << "\n";
+        const std::filesystem::path shownOutput = printable(*output);
 
         // Reference meshes: a missing or broken one is named and left out.
         std::vector<std::string> problems;
         const std::vector<PlacedMesh> meshes = loadReferenceMeshes(doc, file.parent_path(), problems);
-        for (const auto& p : problems) err << "kerf render: " << file.string() << ": " << p << " (left out)\n";
+        for (const auto& p : problems)
+            err << "kerf render: " << printable(file.string()) << ": " << printable(p, 400) << " (left out)\n";
 
         TraceImage image;
         RgbaImage picture;
         std::string device;
         double traceMs = 0.0, gpuMs = -1.0;
         bool usedVulkan = false;
+        // A large picture takes a while on a CPU device: say so (Ctrl+C stops it).
+        const bool tracingLong = cost.fixedSeconds > 2.0 && ::isatty(STDERR_FILENO);
+        if (tracingLong)
+            err << "kerf render: tracing " << size.width << "x" << size.height << " pixels (about "
+                << describeSeconds(cost.fixedSeconds) << " on a CPU device; Ctrl+C stops)...\n";
         if (!a.has("--cpu")) {
             try {
                 vk::Context ctx;
@@ -125,7 +152,7 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
                 device = ctx.deviceDescription();
                 usedVulkan = true;
             } catch (const vk::VulkanError& e) {
-                err << "kerf render: no usable Vulkan device (" << e.what()
+                err << "kerf render: no usable Vulkan device (" << printable(e.what(), 300)
                     << "); using the CPU reference tracer\n";
             }
         }
@@ -159,11 +186,12 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
             j["pixels_hit"] = hits;
             out << j.dump(2) << "\n";
         } else {
-            out << *output << ": " << size.width << "x" << size.height << " " << view << " view of " << file.string()
-                << "\n  quality:      " << qualityName << "\n  device:       " << device << "\n  voxels:       " << snap.populatedVoxels() << " of "
-                << layout.voxelSize << " mm, " << snap.bytes() / 1024 << " KiB, built in " << long(voxelizeMs)
-                << " ms\n  trace:        " << traceMs << " ms";
-            if (gpuMs >= 0.0) out << " (GPU " << gpuMs << " ms)";
+            out << shownOutput.string() << ": " << size.width << "x" << size.height << " " << view << " view of "
+                << printable(file.string()) << "\n  quality:      " << qualityName << "\n  device:       " << device
+                << "\n  voxels:       " << snap.populatedVoxels() << " of " << mm(layout.voxelSize) << " mm, "
+                << snap.bytes() / 1024 << " KiB, built in " << long(voxelizeMs) << " ms\n  trace:        "
+                << significant(traceMs, 3) << " ms";
+            if (gpuMs >= 0.0) out << " (GPU " << significant(gpuMs, 3) << " ms)";
             out << "\n  pixels hit:   " << hits << "\n";
         }
         return 0;
@@ -173,8 +201,11 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
     } catch (const DocumentError& e) {
         err << "kerf render: " << e.what() << "\n";
         return 2;
-    } catch (const std::exception& e) {
+    } catch (const RefusedRequest& e) {
         err << "kerf render: " << e.what() << "\n";
+        return 2;
+    } catch (const std::exception& e) {
+        err << "kerf render: " << describeFailure(e) << "\n";
         return 1;
     }
 }

@@ -3,6 +3,7 @@
 
 #include "kerf/app/Commands.hpp"
 #include "kerf/app/TradePlot.hpp"
+#include "kerf/document/PrintableText.hpp"
 #include "kerf/ui/Desktop.hpp"
 
 #include <filesystem>
@@ -89,6 +90,6 @@ int main(int argc, char** argv)
     if (command == "export") return kerf::runExport(rest, std::cout, std::cerr);
     if (command == "render") return kerf::runRender(rest, std::cout, std::cerr);
     if (command == "bench") return kerf::runBench(rest, std::cout, std::cerr, kerf::writeTradePlot);
-    std::cerr << "kerf: unknown command '" << command << "' (see kerf --help)\n";
+    std::cerr << "kerf: unknown command '" << kerf::printable(command) << "' (see kerf --help)\n";
     return 2;
 }

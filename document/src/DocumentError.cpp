@@ -1,16 +1,21 @@
 #include "kerf/document/DocumentError.hpp"
 
+#include "kerf/document/PrintableText.hpp"
+
 namespace kerf {
 
 namespace {
 std::string compose(const std::string& file, const std::string& nodeId, const std::string& field,
                     const std::string& reason)
 {
-    std::string s = file.empty() ? std::string("<document>") : file;
+    // Ids, fields (unknown keys are user text too) and reasons (which quote
+    // values) are escaped: the message stays one line that cannot drive the
+    // terminal.
+    std::string s = file.empty() ? std::string("<document>") : printable(file, 400);
     s += ": ";
-    if (!nodeId.empty()) s += "node '" + nodeId + "', ";
-    if (!field.empty()) s += "field '" + field + "': ";
-    s += reason;
+    if (!nodeId.empty()) s += "node '" + printable(nodeId) + "', ";
+    if (!field.empty()) s += "field '" + printable(field) + "': ";
+    s += printable(reason, 600);
     return s;
 }
 } // namespace

@@ -5,8 +5,14 @@
 
 #include "kerf/document/Document.hpp"
 #include "kerf/document/DocumentError.hpp"
+#include "kerf/document/Expansion.hpp"
+#include "kerf/document/Limits.hpp"
 #include "kerf/document/NodeBounds.hpp"
 #include "kerf/document/ProfileCheck.hpp"
+
+#include "BoundedJsonParser.hpp"
+#include "DocumentFile.hpp"
+#include "JsonMembers.hpp"
 
 #include <glm/glm.hpp>
 
@@ -15,17 +21,13 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <unordered_set>
 
 namespace kerf {
 
 namespace {
-
-/// Expansion limit: an array of arrays can ask for billions of copies; past
-/// this many primitive instances the document is refused instead of
-/// exhausting memory while compiling.
-constexpr std::uint64_t kMaxPrimitiveInstances = 1'000'000;
 
 std::string describeKind(const Json& v)
 {
@@ -38,6 +40,18 @@ std::string describeKind(const Json& v)
     case Json::value_t::number_float: return "a number with a fraction";
     default: return "a number";
     }
+}
+
+// 1234567 as "1,234,567".
+std::string grouped(std::uint64_t n)
+{
+    const std::string digits = std::to_string(n);
+    std::string out;
+    for (std::size_t i = 0; i < digits.size(); ++i) {
+        if (i && (digits.size() - i) % 3 == 0) out += ',';
+        out += digits[i];
+    }
+    return out;
 }
 
 std::string formatNumber(double v)
@@ -54,9 +68,10 @@ public:
 
     Document read(std::string_view text)
     {
+        if (text.empty()) fail("", "", "the file is empty (a Kerf document is a JSON object)");
         const Json j = parseJson(text);
         if (!j.is_object()) fail("", "", "a Kerf document is a JSON object, this is " + describeKind(j));
-        refuseNonFinite(j, "", "");
+        if (markedNumbers_) refuseNonFinite(j);
 
         Document doc;
         const Json* format = member(j, "format");
@@ -86,7 +101,7 @@ public:
         static const std::unordered_set<std::string> known = {"format", "version", "units", "name",
                                                               "settings", "root", "meshes"};
         for (auto it = j.begin(); it != j.end(); ++it)
-            if (!known.count(it.key())) doc.extra[it.key()] = it.value();
+            if (!known.count(it.key())) appendMember(doc.extra, it.key(), it.value());
 
         checkWholeTree(doc);
         return doc;
@@ -98,88 +113,49 @@ private:
         throw DocumentError(file_, nodeId, field, reason);
     }
 
-    // The JSON library refuses numbers that overflow a double (1e999) while
-    // parsing, before any node or field is known. Such a number is replaced by
-    // a marker string and parsing resumes, so that the refusal can name the
-    // node and the field like every other one (see number()).
-    Json parseJson(std::string_view original) const
+    // One pass, bounded in depth, linear in the text (BoundedJsonParser.hpp).
+    Json parseJson(std::string_view text)
     {
-        std::string text(original);
-        for (int attempt = 0; attempt < 1000; ++attempt) {
-            try {
-                return Json::parse(text.begin(), text.end());
-            } catch (const Json::parse_error& e) {
-                fail("", "", "malformed JSON at " + lineColumn(text, e.byte) + ": " + shortParseMessage(e.what()));
-            } catch (const Json::out_of_range& e) {
-                const std::string what = e.what();
-                const auto open = what.find("parsing '");
-                const auto close = what.rfind('\'');
-                if (e.id != 406 || open == std::string::npos || close <= open + 9) fail("", "", std::string("malformed JSON: ") + e.what());
-                const std::string token = what.substr(open + 9, close - open - 9);
-                if (!markNonFinite(text, token)) fail("", "", "malformed JSON: number out of range: " + token);
-            }
-        }
-        fail("", "", "malformed JSON: too many out-of-range numbers");
+        detail::JsonRefusal refusal;
+        std::optional<Json> j = detail::parseBoundedJson(text, refusal, markedNumbers_);
+        if (!j) fail(refusal.nodeId, refusal.field, refusal.reason);
+        return std::move(*j);
     }
 
-    static constexpr const char* kNonFiniteMarker = "\x01kerf-non-finite-number:";
-
-    // Replaces each standalone occurrence of the number `token` by a marker string.
-    static bool markNonFinite(std::string& text, const std::string& token)
-    {
-        bool replaced = false;
-        auto isDelimiter = [](char c) { return c == ',' || c == ':' || c == '[' || c == ']' || c == '{' || c == '}' || std::isspace(static_cast<unsigned char>(c)); };
-        for (std::size_t pos = text.find(token); pos != std::string::npos; pos = text.find(token, pos + 1)) {
-            const bool before = pos == 0 || isDelimiter(text[pos - 1]);
-            const bool after = pos + token.size() == text.size() || isDelimiter(text[pos + token.size()]);
-            if (!before || !after) continue;
-            const std::string marker = "\"\\u0001kerf-non-finite-number:" + token + "\""; // JSON-escaped kNonFiniteMarker
-            text.replace(pos, token.size(), marker);
-            pos += marker.size() - 1;
-            replaced = true;
-        }
-        return replaced;
-    }
-
-    // Finds a number marked by parseJson and refuses it, naming the nearest
+    // Finds a number marked by the parser and refuses it, naming the nearest
     // enclosing node (an object with a string id) and the path from there.
-    void refuseNonFinite(const Json& j, const std::string& nodeId, const std::string& path) const
+    // Iterative: the tree's depth is bounded, but nothing here needs to recurse.
+    void refuseNonFinite(const Json& top) const
     {
-        if (j.is_string()) {
-            const auto& s = j.get_ref<const std::string&>();
-            if (s.rfind(kNonFiniteMarker, 0) == 0)
-                fail(nodeId, path, "must be a finite number, not " + s.substr(std::strlen(kNonFiniteMarker)));
-        } else if (j.is_array()) {
-            for (std::size_t i = 0; i < j.size(); ++i) refuseNonFinite(j[i], nodeId, path + "[" + std::to_string(i) + "]");
-        } else if (j.is_object()) {
-            const auto id = j.find("id");
-            const bool isNode = id != j.end() && id->is_string();
-            for (auto it = j.begin(); it != j.end(); ++it) {
-                if (isNode) refuseNonFinite(it.value(), id->get<std::string>(), it.key());
-                else refuseNonFinite(it.value(), nodeId, path.empty() ? it.key() : path + "." + it.key());
+        struct Item {
+            const Json* value;
+            std::string nodeId, path;
+        };
+        std::vector<Item> stack{{&top, "", ""}};
+        while (!stack.empty()) {
+            Item item = std::move(stack.back());
+            stack.pop_back();
+            const Json& j = *item.value;
+            if (j.is_string()) {
+                const auto& s = j.get_ref<const std::string&>();
+                if (s.rfind(detail::kNonFiniteMarker, 0) == 0)
+                    fail(item.nodeId, item.path,
+                         "must be a finite number, not " + s.substr(detail::kNonFiniteMarker.size()));
+            } else if (j.is_array()) {
+                for (std::size_t i = j.size(); i-- > 0;)
+                    stack.push_back({&j[i], item.nodeId, item.path + "[" + std::to_string(i) + "]"});
+            } else if (j.is_object()) {
+                const auto id = j.find("id");
+                const bool isNode = id != j.end() && id->is_string();
+                std::vector<Item> members;
+                for (auto it = j.begin(); it != j.end(); ++it) {
+                    if (isNode) members.push_back({&it.value(), id->get<std::string>(), it.key()});
+                    else members.push_back({&it.value(), item.nodeId, item.path.empty() ? it.key() : item.path + "." + it.key()});
+                }
+                // Visit in file order: the first marked number is the one named.
+                stack.insert(stack.end(), std::make_move_iterator(members.rbegin()), std::make_move_iterator(members.rend()));
             }
         }
-    }
-
-    static std::string lineColumn(std::string_view text, std::size_t byte)
-    {
-        std::size_t line = 1, col = 1;
-        for (std::size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
-            if (text[i] == '\n') {
-                ++line;
-                col = 1;
-            } else {
-                ++col;
-            }
-        }
-        return "line " + std::to_string(line) + ", column " + std::to_string(col);
-    }
-
-    static std::string shortParseMessage(const std::string& what)
-    {
-        // nlohmann: "[json.exception.parse_error.101] parse error at line 1, column 5: syntax error ..."
-        const auto pos = what.find("syntax error");
-        return pos == std::string::npos ? what : what.substr(pos);
     }
 
     static const Json* member(const Json& obj, const char* key)
@@ -221,27 +197,56 @@ private:
         return v.get<std::string>();
     }
 
-    glm::dvec3 vec3(const Json& v, const std::string& nodeId, const std::string& field) const
+    // A length or coordinate in mm: finite and at most limits::kMaxLength
+    // in magnitude, so that bounds, grids and estimates stay finite.
+    double length(const Json& v, const std::string& nodeId, const std::string& field) const
+    {
+        const double d = number(v, nodeId, field);
+        checkLength(d, nodeId, field);
+        return d;
+    }
+
+    void checkLength(double d, const std::string& nodeId, const std::string& field) const
+    {
+        if (std::fabs(d) > limits::kMaxLength)
+            fail(nodeId, field,
+                 "is " + formatNumber(d) + " mm; lengths and coordinates are limited to " +
+                     formatNumber(limits::kMaxLength) + " mm (100 km)");
+    }
+
+    enum class Quantity { Length, Angle, Direction };
+
+    glm::dvec3 vec3(const Json& v, const std::string& nodeId, const std::string& field,
+                    Quantity quantity = Quantity::Length) const
     {
         if (!v.is_array() || v.size() != 3) fail(nodeId, field, "must be an array of 3 numbers");
         glm::dvec3 r;
-        for (int i = 0; i < 3; ++i)
-            r[i] = number(v[static_cast<std::size_t>(i)], nodeId, field + "[" + std::to_string(i) + "]");
+        for (int i = 0; i < 3; ++i) {
+            const std::string f = field + "[" + std::to_string(i) + "]";
+            const Json& c = v[static_cast<std::size_t>(i)];
+            r[i] = quantity == Quantity::Length ? length(c, nodeId, f) : number(c, nodeId, f);
+        }
         return r;
     }
 
-    glm::dvec3 unitNormal(const Json& v, const std::string& nodeId, const std::string& field) const
+    // The normal made unit length, and the length it had (what offsets
+    // along it are divided by). A normal that is already unit length to
+    // within rounding is kept exactly as written: normalising it again would
+    // move it by an ulp, and a saved document would not load back equal to
+    // itself (found by the fuzzer).
+    glm::dvec3 unitNormal(const Json& v, const std::string& nodeId, const std::string& field, double& scale) const
     {
-        const glm::dvec3 n = vec3(v, nodeId, field);
+        const glm::dvec3 n = vec3(v, nodeId, field, Quantity::Direction);
         const double len = glm::length(n);
         if (!(len > 1e-12)) fail(nodeId, field, "must be a non-zero vector");
         if (!std::isfinite(len)) fail(nodeId, field, "is too large");
-        return n / len;
+        scale = std::fabs(len - 1.0) <= 8.0 * std::numeric_limits<double>::epsilon() ? 1.0 : len;
+        return n / scale;
     }
 
     double positive(const Json& obj, const char* key, const std::string& nodeId) const
     {
-        const double v = number(required(obj, key, nodeId), nodeId, key);
+        const double v = length(required(obj, key, nodeId), nodeId, key);
         if (!(v > 0.0)) fail(nodeId, key, "must be > 0, not " + formatNumber(v));
         return v;
     }
@@ -253,7 +258,7 @@ private:
             if (dflt) return *dflt;
             fail(nodeId, key, "missing (required)");
         }
-        const double v = number(*j, nodeId, key);
+        const double v = length(*j, nodeId, key);
         if (v < 0.0) fail(nodeId, key, "must be >= 0, not " + formatNumber(v));
         return v;
     }
@@ -266,9 +271,9 @@ private:
             if (it.key() == "translate")
                 t.translate = vec3(it.value(), nodeId, field + ".translate");
             else if (it.key() == "rotate")
-                t.rotate = vec3(it.value(), nodeId, field + ".rotate");
+                t.rotate = vec3(it.value(), nodeId, field + ".rotate", Quantity::Angle);
             else
-                t.extra[it.key()] = it.value();
+                appendMember(t.extra, it.key(), it.value());
         }
         return t;
     }
@@ -288,6 +293,10 @@ private:
             if (it.key() == "feature_size") {
                 const double fs = number(it.value(), "", "settings.feature_size");
                 if (!(fs > 0.0)) fail("", "settings.feature_size", "must be > 0, not " + formatNumber(fs));
+                if (fs < limits::kMinFeatureSize || fs > limits::kMaxFeatureSize)
+                    fail("", "settings.feature_size",
+                         "must be between " + formatNumber(limits::kMinFeatureSize) + " and " +
+                             formatNumber(limits::kMaxFeatureSize) + " mm, not " + formatNumber(fs));
                 out.featureSize = fs;
             } else if (it.key() == "bounds") {
                 const Json& b = it.value();
@@ -299,7 +308,7 @@ private:
                         fail("", "settings.bounds", "each minimum must be below its maximum");
                 out.bounds = bounds;
             } else {
-                out.extra[it.key()] = it.value();
+                appendMember(out.extra, it.key(), it.value());
             }
         }
     }
@@ -332,7 +341,7 @@ private:
                 else if (k == "color")
                     ref.color = color(it.value(), ref.id);
                 else
-                    ref.extra[k] = it.value();
+                    appendMember(ref.extra, k, it.value());
             }
             out.push_back(std::move(ref));
         }
@@ -380,7 +389,7 @@ private:
         }
 
         for (auto it = j.begin(); it != j.end(); ++it)
-            if (!used.count(it.key())) n.extra[it.key()] = it.value();
+            if (!used.count(it.key())) appendMember(n.extra, it.key(), it.value());
         return n;
     }
 
@@ -434,10 +443,15 @@ private:
             ExtrudeParams p;
             const Json& prof = required(j, "profile", id);
             if (!prof.is_array()) fail(id, "profile", "must be an array of [x, y] points");
+            if (prof.size() > limits::kMaxProfilePoints)
+                fail(id, "profile",
+                     "has " + std::to_string(prof.size()) + " points; a profile may have at most " +
+                         std::to_string(limits::kMaxProfilePoints));
+            p.profile.reserve(prof.size());
             for (std::size_t i = 0; i < prof.size(); ++i) {
                 const std::string f = "profile[" + std::to_string(i) + "]";
                 if (!prof[i].is_array() || prof[i].size() != 2) fail(id, f, "must be an [x, y] point");
-                p.profile.emplace_back(number(prof[i][0], id, f + "[0]"), number(prof[i][1], id, f + "[1]"));
+                p.profile.emplace_back(length(prof[i][0], id, f + "[0]"), length(prof[i][1], id, f + "[1]"));
             }
             if (const auto defect = findProfileDefect(p.profile)) fail(id, "profile", *defect);
             p.height = positive(j, "height", id);
@@ -447,11 +461,12 @@ private:
         case NodeType::Halfspace: {
             use({"normal", "offset"});
             HalfspaceParams p;
-            p.normal = unitNormal(required(j, "normal", id), id, "normal");
+            double len = 1.0;
+            p.normal = unitNormal(required(j, "normal", id), id, "normal", len);
             // The offset is the plane's distance along the unit normal; a
             // non-unit normal in the file scales it the same way.
-            const double len = glm::length(vec3(required(j, "normal", id), id, "normal"));
-            p.offset = number(required(j, "offset", id), id, "offset") / len;
+            p.offset = length(required(j, "offset", id), id, "offset") / len;
+            checkLength(p.offset, id, "offset");
             n.params = p;
             break;
         }
@@ -463,7 +478,7 @@ private:
             break;
         case NodeType::Offset:
             use({"distance"});
-            n.params = OffsetParams{number(required(j, "distance", id), id, "distance")};
+            n.params = OffsetParams{length(required(j, "distance", id), id, "distance")};
             break;
         case NodeType::Shell:
             use({"thickness"});
@@ -486,34 +501,100 @@ private:
         case NodeType::Mirror: {
             use({"normal", "offset"});
             MirrorParams p;
-            p.normal = unitNormal(required(j, "normal", id), id, "normal");
-            const double len = glm::length(vec3(required(j, "normal", id), id, "normal"));
-            if (const Json* o = member(j, "offset")) p.offset = number(*o, id, "offset") / len;
+            double len = 1.0;
+            p.normal = unitNormal(required(j, "normal", id), id, "normal", len);
+            if (const Json* o = member(j, "offset")) p.offset = length(*o, id, "offset") / len;
+            checkLength(p.offset, id, "offset");
             n.params = p;
             break;
         }
         }
     }
 
+    // What the tree expands to and where it lies, checked on the whole tree
+    // once every node is read. Hidden nodes count: hiding and showing a node
+    // must never turn a valid document into a refused one.
     void checkWholeTree(const Document& doc) const
     {
-        checkInstances(doc.root);
+        checkExpansion(doc.root);
+        checkExtent(doc.root);
         if (!nodeBounds(doc.root).isBounded() && !doc.settings.bounds)
             fail(doc.root.id, "settings.bounds",
                  "the part is unbounded (it contains a halfspace that nothing bounds); add settings.bounds");
     }
 
-    void checkInstances(const Node& n) const
+    static bool tooManyCopies(const Expansion& e)
     {
-        if (primitiveInstanceCount(n, kMaxPrimitiveInstances) <= kMaxPrimitiveInstances) return;
-        // Blame the deepest node that is over the limit on its own.
-        for (const auto& c : n.children)
-            if (primitiveInstanceCount(c, kMaxPrimitiveInstances) > kMaxPrimitiveInstances) return checkInstances(c);
-        fail(n.id, n.type == NodeType::Array ? "count" : "children",
-             "expands to more than " + std::to_string(kMaxPrimitiveInstances) + " primitive copies");
+        return e.primitiveCopies > limits::kMaxPrimitiveCopies ||
+               e.profilePointCopies > limits::kMaxProfilePointCopies;
+    }
+
+    // Blames the deepest node that is over a limit on its own: the array
+    // whose counts multiply past it, not the root above it.
+    void checkExpansion(const Node& top) const
+    {
+        if (!tooManyCopies(expansionOf(top, true))) return;
+        const Node* n = &top;
+        for (bool descended = true; descended;) {
+            descended = false;
+            for (const auto& c : n->children)
+                if (tooManyCopies(expansionOf(c, true))) {
+                    n = &c;
+                    descended = true;
+                    break;
+                }
+        }
+        const Expansion e = expansionOf(*n, true);
+        const std::string field = n->type == NodeType::Array ? "count" : "children";
+        auto count = [](std::uint64_t v) {
+            return v == UINT64_MAX ? std::string("more than 18 billion billion") : grouped(v);
+        };
+        if (e.primitiveCopies > limits::kMaxPrimitiveCopies)
+            fail(n->id, field,
+                 "expands to " + count(e.primitiveCopies) + " primitive copies (hidden ones included), more than the " +
+                     grouped(limits::kMaxPrimitiveCopies) + " a document may have");
+        fail(n->id, field,
+             "expands to " + count(e.profilePointCopies) + " extrude profile points over all copies, more than the " +
+                 grouped(limits::kMaxProfilePointCopies) + " a document may have");
+    }
+
+    static bool beyondExtent(const Aabb& b)
+    {
+        if (b.isEmpty()) return false;
+        for (int i = 0; i < 3; ++i)
+            for (const double v : {b.min[i], b.max[i]})
+                if (std::isfinite(v) ? std::fabs(v) > limits::kMaxExtent : std::isnan(v)) return true;
+        return false;
+    }
+
+    // Each length is limited on its own; arrays, mirrors and nested
+    // transforms can still carry the part far away. Blames the deepest node
+    // whose bounds reach past the limit while its children's do not.
+    void checkExtent(const Node& top) const
+    {
+        if (!beyondExtent(nodeBounds(top, 0.0))) return;
+        const Node* n = &top;
+        for (bool descended = true; descended;) {
+            descended = false;
+            for (const auto& c : n->children)
+                if (c.visible && beyondExtent(nodeBounds(c, 0.0))) {
+                    n = &c;
+                    descended = true;
+                    break;
+                }
+        }
+        const char* field = n->type == NodeType::Array      ? "step"
+                             : n->type == NodeType::Mirror  ? "offset"
+                             : n->type == NodeType::Offset  ? "distance"
+                             : n->type == NodeType::Union   ? "blend"
+                                                            : "transform";
+        fail(n->id, field,
+             "places the part more than " + formatNumber(limits::kMaxExtent) +
+                 " mm (1000 km) from the origin, the format's limit");
     }
 
     std::string file_;
+    bool markedNumbers_ = false;
     mutable std::unordered_set<std::string> ids_;
 };
 
@@ -526,12 +607,7 @@ Document Document::parse(std::string_view text, const std::string& sourceName)
 
 Document Document::load(const std::filesystem::path& file)
 {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw DocumentError(file.string(), "", "", "cannot open the file: " + std::string(std::strerror(errno)));
-    std::ostringstream s;
-    s << in.rdbuf();
-    if (in.bad()) throw DocumentError(file.string(), "", "", "cannot read the file");
-    return parse(s.str(), file.string());
+    return parse(detail::readDocumentFile(file), file.string());
 }
 
 void Document::validate(const std::string& sourceName) const

@@ -5,16 +5,25 @@
 #include "kerf/document/Document.hpp"
 #include "kerf/document/DocumentError.hpp"
 
+#include "JsonMembers.hpp"
+
+#include <unordered_set>
+
 namespace kerf {
 
 namespace {
 
 Json vec3(const glm::dvec3& v) { return Json::array({v.x, v.y, v.z}); }
 
+// Appends the unknown fields after the known ones. The known ones are few;
+// the unknown ones may be many, so no lookup per unknown field.
 void mergeExtra(Json& out, const Json& extra)
 {
+    if (extra.empty()) return;
+    std::unordered_set<std::string> known;
+    for (auto it = out.begin(); it != out.end(); ++it) known.insert(it.key());
     for (auto it = extra.begin(); it != extra.end(); ++it)
-        if (!out.contains(it.key())) out[it.key()] = it.value();
+        if (!known.count(it.key())) appendMember(out, it.key(), it.value());
 }
 
 std::optional<Json> writeTransform(const Transform& t)

@@ -180,25 +180,4 @@ Aabb partBounds(const Document& doc)
     return box;
 }
 
-std::uint64_t primitiveInstanceCount(const Node& node, std::uint64_t limit)
-{
-    if (!node.visible) return 0;
-    if (isPrimitive(node.type)) return 1;
-    std::uint64_t sum = 0;
-    for (const auto& c : node.children) {
-        sum += primitiveInstanceCount(c, limit);
-        if (sum > limit) return limit + 1;
-    }
-    std::uint64_t factor = 1;
-    if (node.type == NodeType::Mirror) factor = 2;
-    if (node.type == NodeType::Array) {
-        for (auto c : node.as<ArrayParams>().count) {
-            factor *= static_cast<std::uint64_t>(std::max<std::int64_t>(c, 1));
-            if (factor > limit) return limit + 1;
-        }
-    }
-    if (sum != 0 && factor > limit / sum) return limit + 1;
-    return std::min(sum * factor, limit + 1);
-}
-
 } // namespace kerf

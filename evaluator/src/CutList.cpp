@@ -1,6 +1,7 @@
 #include "kerf/evaluator/CutList.hpp"
 
 #include "kerf/document/Affine.hpp"
+#include "kerf/document/Expansion.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/evaluator/TightBounds.hpp"
 
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 
 namespace kerf {
 
@@ -63,13 +65,16 @@ public:
             return;
         }
         if (n.type == NodeType::Array && !kids.empty()) {
-            const auto& count = n.as<ArrayParams>().count;
-            scope.quantity *= long(count[0] * count[1] * count[2]);
+            // Saturating: the loader bounds the copies, but no count may wrap.
+            const std::uint64_t copies =
+                saturatingMultiply(std::uint64_t(scope.quantity), arrayCopies(n.as<ArrayParams>()));
+            scope.quantity = long(std::min<std::uint64_t>(copies, std::numeric_limits<long>::max()));
             collect(*kids.front(), world, scope);
             return;
         }
         if (n.type == NodeType::Mirror && !kids.empty()) {
-            scope.quantity *= 2;
+            scope.quantity = long(std::min<std::uint64_t>(saturatingMultiply(std::uint64_t(scope.quantity), 2),
+                                                          std::numeric_limits<long>::max()));
             collect(*kids.front(), world, scope);
             return;
         }

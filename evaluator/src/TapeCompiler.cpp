@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace kerf {
 
@@ -23,6 +24,7 @@ public:
             features_->resize(registry_->ids.size());
             for (std::size_t i = 0; i < registry_->ids.size(); ++i) (*features_)[i].nodeId = registry_->ids[i];
         }
+        markSolidSubtrees(root);
         const bool any = emitNode(root, Affine{}, std::nullopt);
         if (any && clip) {
             // The solid is the root's solid intersected with the bounds box.
@@ -164,10 +166,23 @@ private:
         shapes_.resize(m.shapes);
     }
 
+    // Records which nodes have a visible primitive below them, so that
+    // emitNode skips whatever holds nothing at once: an array of a million
+    // copies of a hidden node costs one step, not a million. Recursion depth
+    // is the tree's, which the loader bounds (limits::kMaxNestingDepth).
+    bool markSolidSubtrees(const Node& n)
+    {
+        if (!n.visible) return false;
+        bool any = isPrimitive(n.type);
+        for (const auto& c : n.children) any = markSolidSubtrees(c) || any;
+        if (any) solid_.insert(&n);
+        return any;
+    }
+
     // Emits the node's field; returns false (and emits nothing) when empty.
     bool emitNode(const Node& n, const Affine& worldFromParent, std::optional<Color> color)
     {
-        if (!n.visible) return false;
+        if (!n.visible || (!isPrimitive(n.type) && !solid_.count(&n))) return false;
         if (n.color) color = n.color;
         const Affine frame = worldFromParent * Affine::fromTransform(n.transform);
         if (isPrimitive(n.type)) {
@@ -265,6 +280,7 @@ private:
     std::vector<ShapeInstance> shapes_;
     std::shared_ptr<std::vector<Feature>> features_;
     std::unordered_map<std::string, std::uint32_t> featureIndex_;
+    std::unordered_set<const Node*> solid_;
     FeatureRegistry* registry_ = nullptr;
 };
 

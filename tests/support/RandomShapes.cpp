@@ -11,10 +11,16 @@ Transform RandomShapes::transform(double reach)
 {
     Transform t;
     t.translate = vec(-reach, reach);
-    if (chance(0.5))
+    if (chance(0.5)) {
         t.rotate = vec(-180.0, 180.0);
-    else
-        t.rotate = glm::dvec3(90.0 * integer(-2, 2), 90.0 * integer(-2, 2), 90.0 * integer(-2, 2));
+    } else {
+        // One draw per statement: a constructor's arguments are evaluated in
+        // an unspecified order (GCC right to left, clang left to right), and
+        // the trees must be the same whichever compiler built the tests.
+        // This is GCC's order, so the trees stay as they were.
+        const double rz = 90.0 * integer(-2, 2), ry = 90.0 * integer(-2, 2), rx = 90.0 * integer(-2, 2);
+        t.rotate = glm::dvec3(rx, ry, rz);
+    }
     return t;
 }
 
@@ -55,7 +61,12 @@ Node RandomShapes::primitive(NodeType type)
         break;
     }
     case NodeType::Torus: n.params = TorusParams{uniform(2.0, 20.0), uniform(0.5, 10.0)}; break;
-    case NodeType::Extrude: n.params = ExtrudeParams{simplePolygon(integer(3, 12), uniform(3.0, 25.0)), uniform(1.0, 40.0)}; break;
+    case NodeType::Extrude: {
+        const double radius = uniform(3.0, 25.0); // before the count: GCC's order (see transform())
+        const int points = integer(3, 12);
+        n.params = ExtrudeParams{simplePolygon(points, radius), uniform(1.0, 40.0)};
+        break;
+    }
     case NodeType::Halfspace: {
         glm::dvec3 normal = vec(-1.0, 1.0);
         if (glm::length(normal) < 0.1) normal = {0, 0, 1};

@@ -27,6 +27,7 @@
 #include <QDragEnterEvent>
 #include <QDropEvent>
 #include <QCheckBox>
+#include <QElapsedTimer>
 #include <QFile>
 #include <QMimeData>
 #include <QPainter>
@@ -469,12 +470,39 @@ void MainWindowTest::exportDialogWritesAClosedMesh()
     // Cancelled: nothing is written.
     const QString cancelled = files_.path() + "/cancelled.stl";
     dialog->findChild<QLineEdit*>("export.path")->setText(cancelled);
-    dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(0.25);
+    // (A size the machine's budget allows even under a sanitizer on a busy
+    // machine: the export estimates before it meshes, so the cancel always
+    // arrives before the meshing starts.)
+    dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(1.0);
     dialog->start();
     dialog->cancel();
     QVERIFY(done.wait(120000));
-    QVERIFY(dialog->outcome().cancelled);
+    QVERIFY2(dialog->outcome().cancelled, qPrintable(dialog->outcome().message));
     QVERIFY(!QFile::exists(cancelled));
+
+    // Refused before any meshing (issue 14): a feature size no machine could
+    // mesh, with the size that would fit; a folder as the output, unchanged.
+    const QString tooFine = files_.path() + "/too-fine.stl";
+    dialog->findChild<QLineEdit*>("export.path")->setText(tooFine);
+    dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(0.00001);
+    QElapsedTimer clock;
+    clock.start();
+    dialog->start();
+    QVERIFY(done.wait(60000));
+    QVERIFY(clock.elapsed() < 20000);
+    QVERIFY(!dialog->outcome().written);
+    QVERIFY2(dialog->outcome().message.contains("Not exported: meshing at 1e-05 mm needs about") &&
+                 dialog->outcome().message.contains("mm or more"),
+             qPrintable(dialog->outcome().message));
+    QVERIFY(!QFile::exists(tooFine));
+    QDir(files_.path()).mkdir("a-folder.stl");
+    dialog->findChild<QLineEdit*>("export.path")->setText(files_.path() + "/a-folder.stl");
+    dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(4.0);
+    dialog->start();
+    QVERIFY(done.wait(60000));
+    QVERIFY(!dialog->outcome().written);
+    QVERIFY2(dialog->outcome().message.contains("is a folder, not a regular file"), qPrintable(dialog->outcome().message));
+    QVERIFY(QFileInfo(files_.path() + "/a-folder.stl").isDir());
 }
 
 void MainWindowTest::cutListMeasureAndSection()

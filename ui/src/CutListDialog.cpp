@@ -11,6 +11,8 @@
 #include <QVBoxLayout>
 #include <QtConcurrent/QtConcurrentRun>
 
+#include <new>
+
 namespace kerf::ui {
 
 CutListDialog::CutListDialog(const Document& doc, QString partName, QWidget* parent)
@@ -41,6 +43,8 @@ CutListDialog::CutListDialog(const Document& doc, QString partName, QWidget* par
     connect(&watcher_, &QFutureWatcher<std::vector<CutListRow>>::finished, this, [this] {
         try {
             showRows(watcher_.result());
+        } catch (const std::bad_alloc&) {
+            status_->setText(tr("The cut list could not be made: out of memory."));
         } catch (const std::exception& e) {
             status_->setText(tr("The cut list could not be made: %1").arg(QString::fromUtf8(e.what())));
         }

@@ -4,7 +4,9 @@
 #include "kerf/mesher/MeshCheck.hpp"
 #include "kerf/mesher/MeshPart.hpp"
 #include "kerf/mesher/StlWriter.hpp"
+#include "kerf/document/AtomicFile.hpp"
 #include "kerf/voxelizer/GridLayout.hpp"
+#include "kerf/voxelizer/RequestBudget.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 
 #include <QComboBox>
@@ -20,6 +22,7 @@
 #include <QVBoxLayout>
 
 #include <chrono>
+#include <new>
 
 namespace kerf::ui {
 
@@ -110,6 +113,18 @@ void ExportDialog::start()
     worker_ = std::thread([this, file, featureSize, format] {
         ExportOutcome o;
         try {
+            // What cannot be done is refused before any meshing (issue 14):
+            // an output that is not a regular file, a mesh this machine
+            // cannot afford. On this thread: the estimate takes up to a
+            // couple of seconds.
+            checkOutputFile(file);
+            const RequestCost cost = estimateRequest(compileTape(doc_), featureSize, RequestKind::Mesh);
+            if (const auto over = overBudget(cost, RequestBudget::forThisMachine(), featureSize)) {
+                o.message = tr("Not exported: meshing at %1").arg(QString::fromStdString(*over));
+                workerOutcome_ = o;
+                done_ = true;
+                return;
+            }
             MeshOptions options;
             options.featureSize = featureSize;
             MeshProgress progress;
@@ -138,6 +153,8 @@ void ExportDialog::start()
                                               : tr("NOT closed: check the part"));
                 if (!stats.note.empty()) o.message += "\n" + QString::fromStdString(stats.note);
             }
+        } catch (const std::bad_alloc&) {
+            o.message = tr("Export failed: out of memory; choose a larger feature size.");
         } catch (const std::exception& e) {
             o.message = tr("Export failed: %1").arg(QString::fromUtf8(e.what()));
         }

@@ -8,7 +8,9 @@
 
 #include <QObject>
 
+#include <deque>
 #include <memory>
+#include <mutex>
 
 namespace kerf::ui {
 
@@ -33,7 +35,13 @@ signals:
     /// A publication (on the GUI thread).
     void published(std::shared_ptr<const kerf::VoxelSnapshot> snapshot);
 
+private slots:
+    /// On the GUI thread: hands the oldest publication in the mailbox on.
+    void deliver();
+
 private:
+    std::mutex mailboxMutex_;
+    std::deque<std::shared_ptr<const VoxelSnapshot>> mailbox_; // publications not yet delivered, oldest first
     std::unique_ptr<Voxelizer> voxelizer_;
     std::shared_ptr<const VoxelSnapshot> latest_;
     std::uint64_t submitted_ = 0;

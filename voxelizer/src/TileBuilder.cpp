@@ -72,6 +72,7 @@ private:
         std::array<std::int16_t, 125> vertexOf;
         vertexOf.fill(-1);
         std::array<float, 125> ux, uy, uz;
+        std::array<std::uint8_t, 125> latticeOf; // the lattice point of each used vertex
         int used = 0;
         for (int c = 0; c < 64; ++c) {
             const int ci = c & 3, cj = (c >> 2) & 3, ck = c >> 4;
@@ -91,6 +92,7 @@ private:
                     ux[std::size_t(used)] = x[std::size_t(l)];
                     uy[std::size_t(used)] = y[std::size_t(l)];
                     uz[std::size_t(used)] = z[std::size_t(l)];
+                    latticeOf[std::size_t(used)] = std::uint8_t(l);
                     ++used;
                 }
                 ld.corner[std::size_t(q)] = std::uint8_t(vertexOf[std::size_t(l)]);
@@ -111,7 +113,13 @@ private:
             const float len = glm::length(n);
             n = len > 0.0f && std::isfinite(len) ? n / len : glm::vec3(0, 0, 1);
             out.vertices[k].normal = voxel::encodeNormal(n);
-            out.vertices[k].distanceFeature = voxel::encodeDistanceFeature(dist[k], v, feature[k]);
+            // The distance stored is the very value whose sign populated the
+            // voxel (not the gradient pass's, which may round differently),
+            // and its encoding keeps the sign: a populated voxel always
+            // reads back with corners on both sides of the surface, whatever
+            // the compiler made of the arithmetic.
+            out.vertices[k].distanceFeature =
+                voxel::encodeDistanceFeature(d[std::size_t(latticeOf[k])], v, feature[k]);
         }
         return true;
     }

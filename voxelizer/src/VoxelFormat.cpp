@@ -13,6 +13,15 @@ std::uint32_t toSnorm16(float v)
     const auto rounded = static_cast<std::int32_t>(scaled + (scaled < 0.0f ? -0.5f : 0.5f));
     return static_cast<std::uint32_t>(rounded) & 0xFFFF;
 }
+// As toSnorm16, but a negative value never rounds to zero: the sign of a
+// stored distance is what decides inside and outside, and a corner a hair
+// inside the surface must read back inside.
+std::uint32_t toSnorm16KeepingSign(float v)
+{
+    std::uint32_t bits = toSnorm16(v);
+    if (v < 0.0f && (bits & 0xFFFF) == 0) bits = 0xFFFF; // -1 quantum
+    return bits;
+}
 float fromSnorm16(std::uint32_t bits)
 {
     const auto s = static_cast<std::int16_t>(static_cast<std::uint16_t>(bits & 0xFFFF));
@@ -51,7 +60,7 @@ glm::vec3 decodeNormal(std::uint32_t packed)
 std::uint32_t encodeDistanceFeature(float distance, float voxel, std::uint32_t feature)
 {
     const float scaled = std::isfinite(distance) ? distance / (kDistanceRange * voxel) : (distance > 0 ? 1.0f : -1.0f);
-    return toSnorm16(scaled) | std::min<std::uint32_t>(feature, 0xFFFFu) << 16;
+    return toSnorm16KeepingSign(scaled) | std::min<std::uint32_t>(feature, 0xFFFFu) << 16;
 }
 
 float decodeDistance(std::uint32_t packed, float voxel) { return fromSnorm16(packed) * kDistanceRange * voxel; }

@@ -3,6 +3,10 @@
 #include "kerf/voxelizer/BlockTapes.hpp"
 #include "kerf/voxelizer/TileBuilder.hpp"
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <mutex>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
@@ -12,7 +16,8 @@
 
 namespace kerf {
 
-VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const VoxelizeOptions& options)
+VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const VoxelizeOptions& options,
+                       const VoxelizeProgress& progress, const CancelCheck& cancelled)
 {
     VoxelSnapshot snap;
     snap.layout = layout;
@@ -23,29 +28,61 @@ VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const Voxeliz
     tbb::enumerable_thread_specific<TileBuildScratch> scratch;
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     const BlockTapes blocks(tape, layout);
+    std::atomic<long> built{0};
+    std::atomic<bool> stopped{false};
+    std::mutex reporting;
+    const long reportEvery = std::max(1L, layout.tileCount() / 200);
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<long>(0, layout.tileCount(), 1), [&](const tbb::blocked_range<long>& r) {
             auto& s = scratch.local();
             for (long i = r.begin(); i != r.end(); ++i) {
+                if (stopped) return;
                 const glm::ivec3 t = layout.tileCoord(i);
-                auto tile = buildTile(blocks.forTile(t), layout, t, levels, s);
+                if (cancelled && cancelled()) {
+                    stopped = true;
+                    return;
+                }
+                auto tile = buildTile(blocks.forTile(t), layout, t, levels, s, cancelled);
+                if (!tile) {
+                    stopped = true;
+                    return;
+                }
                 if (tile && tile->state != TileState::Empty)
                     snap.tiles[std::size_t(i)] = std::make_shared<const TileData>(std::move(*tile));
+                if (progress && (++built % reportEvery) == 0) {
+                    const std::unique_lock lock(reporting, std::try_to_lock);
+                    if (lock) progress(double(built.load()) / double(layout.tileCount()));
+                }
             }
         });
     });
+    snap.complete = !stopped;
     return snap;
 }
 
-VoxelEstimate estimateVoxels(const Tape& tape, const GridLayout& layout, double probeVoxels)
+VoxelEstimate estimateVoxels(const Tape& tape, const GridLayout& layout, double probeVoxels, double probeSeconds)
 {
     VoxelEstimate e;
     if (layout.empty()) {
         e.exact = true;
         return e;
     }
+    // Each probe level runs against a deadline: a level that would overrun it
+    // is abandoned (the previous one stands), so the estimate takes about
+    // probeSeconds at most, whatever the part.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(probeSeconds);
+    const CancelCheck pastDeadline = [deadline] { return std::chrono::steady_clock::now() > deadline; };
     for (int levels = 1; levels <= layout.levels; ++levels) {
-        VoxelSnapshot s = voxelize(tape, layout, {.levels = levels, .threads = 0});
+        const auto start = std::chrono::steady_clock::now();
+        VoxelSnapshot s = voxelize(tape, layout, {.levels = levels, .threads = 0}, {},
+                                   e.measuredLevels > 0 ? pastDeadline : CancelCheck{});
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (!s.complete) {
+            // Overran: the time a whole level would take is at least this.
+            e.seconds = std::max(e.seconds, seconds * std::pow(16.0, layout.levels - levels));
+            e.probeSeconds += seconds;
+            break;
+        }
         const double voxels = double(s.populatedVoxels());
         const double scale = std::pow(16.0, layout.levels - levels);
         e.populatedVoxels = voxels * scale;
@@ -56,8 +93,17 @@ VoxelEstimate estimateVoxels(const Tape& tape, const GridLayout& layout, double 
         e.bytes = double(s.bytes() - tapeBytes) * scale + double(tapeBytes);
         e.measuredLevels = levels;
         e.exact = levels == layout.levels;
+        // The last probe's time per populated voxel, times the voxels of the
+        // full depth: the per-tile interval work of a coarse probe counts in,
+        // so this errs on the slow side.
+        e.seconds = e.exact ? seconds : seconds * scale;
+        e.probeSeconds += seconds;
         if (e.exact) e.snapshot = std::move(s);
-        if (voxels * 16.0 > probeVoxels) break; // the next level would cost too much to probe
+        // The next level has about 16 times the voxels, and takes up to 16
+        // times as long: probe it only when both stay within bounds, so the
+        // estimate itself always answers in seconds (a part of 100,000
+        // small spheres is slow per voxel at coarse levels).
+        if (voxels * 16.0 > probeVoxels || e.probeSeconds + 4.0 * seconds > probeSeconds) break;
     }
     return e;
 }

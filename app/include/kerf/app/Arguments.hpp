@@ -15,6 +15,15 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+/// A request that cannot be met, refused before any work (exit 2): an output
+/// that is not a regular file or cannot be written, a feature size or
+/// picture the machine cannot afford. what() is the whole line after
+/// "kerf COMMAND: ".
+class RefusedRequest : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
 struct ImageSize {
     int width = 1280, height = 960;
 };
@@ -31,8 +40,16 @@ public:
 
     /// A positive number of millimetres; throws UsageError naming the option.
     static double parsePositiveMillimetres(const std::string& option, const std::string& text);
-    /// WIDTHxHEIGHT in pixels, each in [1, 16384]; throws UsageError naming the option.
+    /// A feature size: positive millimetres within limits::kMinFeatureSize
+    /// and kMaxFeatureSize; throws UsageError naming the option.
+    static double parseFeatureSize(const std::string& option, const std::string& text);
+    /// WIDTHxHEIGHT in pixels, each in [1, 16384], at most kMaxImagePixels in
+    /// all; throws UsageError naming the option.
     static ImageSize parseImageSize(const std::string& option, const std::string& text);
+
+    /// The most pixels a picture may have: 8192 x 8192 (about 5 GB while
+    /// traced on lavapipe).
+    static constexpr long kMaxImagePixels = 8192L * 8192L;
 
 private:
     std::vector<std::string> flags_;

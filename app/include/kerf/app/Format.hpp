@@ -9,7 +9,8 @@ namespace kerf {
 
 /// Fixed decimals: number(3.14159, 2) = "3.14".
 std::string number(double v, int decimals);
-/// A length as kerf prints it: up to 3 decimals, no trailing zeros ("0.5", "12").
+/// A length as kerf prints it: up to 3 decimals, no trailing zeros ("0.5", "12");
+/// below 0.001 or from 1e9 on, 4 significant digits ("1e-06", "1e+12").
 std::string mm(double v);
 /// Significant digits, no exponent from 1e-4 to 1e12: significant(0.012345, 3) = "0.0123",
 /// significant(1e-6, 2) = "1.0e-06".

@@ -1,7 +1,8 @@
 #pragma once
 // A refusal to load, validate or save a document. what() is one line:
 //   FILE: node 'ID', field 'FIELD': reason
-// with the parts that do not apply left out.
+// with the parts that do not apply left out, and every part escaped
+// (PrintableText.hpp): the accessors return the raw text.
 
 #include <stdexcept>
 #include <string>

@@ -28,8 +28,4 @@ std::unordered_map<std::string, Aabb> worldBoundsOfNodes(const Document& doc, do
 /// The part's bounds: the root's bounds clipped by settings.bounds.
 Aabb partBounds(const Document& doc);
 
-/// Number of primitive instances the tree expands to (arrays and mirrors
-/// multiply their child), saturating at `limit + 1`.
-std::uint64_t primitiveInstanceCount(const Node& node, std::uint64_t limit);
-
 } // namespace kerf

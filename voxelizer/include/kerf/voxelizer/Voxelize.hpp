@@ -3,8 +3,10 @@
 // oneTBB (tests, benchmarks, `kerf check`, export). The interactive path is
 // the background Voxelizer.
 
+#include "kerf/voxelizer/TileBuilder.hpp" // CancelCheck
 #include "kerf/voxelizer/VoxelSnapshot.hpp"
 
+#include <functional>
 #include <optional>
 
 namespace kerf {
@@ -14,21 +16,32 @@ struct VoxelizeOptions {
     int threads = 0;  // 0: every core
 };
 
+/// Called with the fraction of tiles built, from worker threads (never two
+/// at once), about 200 times at most.
+using VoxelizeProgress = std::function<void(double fraction)>;
+
 /// Builds every tile of `layout` from `tape` (world coordinates).
-VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const VoxelizeOptions& options = {});
+/// Stops early when `cancelled` returns true (checked between and inside
+/// tiles): the snapshot is then not complete (whole tiles only, some missing).
+VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const VoxelizeOptions& options = {},
+                       const VoxelizeProgress& progress = {}, const CancelCheck& cancelled = {});
 
 struct VoxelEstimate {
     double populatedVoxels = 0.0; // at the layout's full depth
     double bytes = 0.0;
     int measuredLevels = 0;       // the depth actually voxelized to estimate
     bool exact = false;           // measuredLevels == layout.levels
+    double seconds = 0.0;         // to build it all with every core (measured when exact)
+    double probeSeconds = 0.0;    // what the estimate itself took
     std::optional<VoxelSnapshot> snapshot; // the full voxelization, when exact
 };
 
 /// Estimates the cost of voxelize() without risking it: voxelizes at 1, 2,
-/// ... levels while fewer than `probeVoxels` voxels are populated, then
-/// extrapolates (each level down has about 16 times the surface voxels, and
-/// bytes per voxel stay put).
-VoxelEstimate estimateVoxels(const Tape& tape, const GridLayout& layout, double probeVoxels = 2e6);
+/// ... levels while the next level would populate fewer than `probeVoxels`
+/// voxels and keep the probing under about `probeSeconds`, then extrapolates
+/// (each level down has about 16 times the surface voxels, and bytes per
+/// voxel stay put).
+VoxelEstimate estimateVoxels(const Tape& tape, const GridLayout& layout, double probeVoxels = 2e6,
+                             double probeSeconds = 2.0);
 
 } // namespace kerf
