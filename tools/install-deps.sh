@@ -9,6 +9,8 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config git
   # core
   nlohmann-json3-dev libtbb-dev libglm-dev libopenmesh-dev libstb-dev libmuparser-dev
+  # 3MF export (lib3mf) and the files its pkg-config names (libzip, zlib)
+  lib3mf-dev libzip-dev zlib1g-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   # the fuzzer and the ThreadSanitizer build (tools/fuzz.sh, tools/tsan.sh):

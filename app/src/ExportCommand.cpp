@@ -1,5 +1,8 @@
-// kerf export FILE.kerf -o OUT.stl: meshes the part (marching cubes on the
-// exact field, kerf_mesher) and writes it as STL, whole or not at all.
+// kerf export FILE.kerf -o OUT.stl|OUT.3mf: meshes the part to a tolerance
+// (marching cubes with sharp features on the exact field, then simplified
+// and refined against it: kerf_mesher), fits the mesh to the file's
+// coordinates and writes it, whole or not at all, reporting the mesh as a
+// reader of the file will see it.
 // Exit 0 when written; 1 when the part is empty or the export failed
 // (nothing is written); 2 for bad usage or a refused document.
 
@@ -14,8 +17,8 @@
 #include "kerf/document/NodeBounds.hpp"
 #include "kerf/document/PrintableText.hpp"
 #include "kerf/mesher/MeshCheck.hpp"
+#include "kerf/mesher/MeshFile.hpp"
 #include "kerf/mesher/MeshPart.hpp"
-#include "kerf/mesher/StlWriter.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -31,27 +34,45 @@ namespace kerf {
 
 namespace {
 
-const char* kExportHelp = R"(Usage: kerf export FILE.kerf -o OUT.stl [--feature-size MM] [--ascii] [--json]
+const char* kExportHelp = R"(Usage: kerf export FILE.kerf -o OUT.stl|OUT.3mf [--tolerance MM] [--feature-size MM]
+                   [--ascii] [--json]
 
-Meshes the part with marching cubes on its exact field and writes an STL
-file (binary unless --ascii). The file is written whole or not at all. Prints
-the triangle count, the time, and whether the mesh is closed (every edge
-shared by exactly two consistently oriented triangles).
+Meshes the part and writes it for a slicer or CAM program: binary STL for
+.stl (ASCII with --ascii), 3MF for .3mf (indexed triangles, millimetres,
+the part's name). Sharp edges and corners are kept; flat faces become a few
+large triangles and curved faces as many as the tolerance needs. The file
+is written whole or not at all, and only when a reader of it gets a closed,
+consistently oriented 2-manifold without degenerate or crossing triangles
+(STL welded by the coordinates written, as slicers do). Prints the figures
+of the mesh as read back from those coordinates.
 
 Options:
-  -o, --output OUT.stl   the STL file to write (required)
-  --feature-size MM      cell edge in millimetres (default: the document's
-                         feature size, else about a thousandth of the part's
-                         largest extent)
-  --ascii                write ASCII STL instead of binary
+  -o, --output OUT       the file to write: .stl or .3mf (required)
+  --tolerance MM         the largest distance allowed between the mesh and
+                         the exact surface (default 0.01 mm, finer than any
+                         saw, router or printer works)
+  --feature-size MM      the smallest feature resolved: the cell edge of the
+                         marching cubes (default: the document's feature
+                         size, else about a thousandth of the part's largest
+                         extent). Parts thinner than this may vanish.
+  --ascii                write ASCII STL instead of binary (.stl only)
   --json                 print the figures as one JSON object
   --help                 show this help
+
+STL stores float32 coordinates: a part far from the origin (about 10 m and
+more at the default tolerance) cannot keep its detail there and gets a
+warning; 3MF then stores it around its own centre.
 
 Exit status: 0 written; 1 the part is empty or the export failed (nothing is
 written); 2 bad usage, a refused document, an output that is not a regular
 file, or a mesh larger than this machine allows (the reason, naming the
 file, goes to stderr; docs/cli.md has the limits).
 )";
+
+// The tolerance a woodworker never has to touch: a hundredth of a
+// millimetre is below what a saw, a router bit or a printer's nozzle shows,
+// and it costs little more than coarser ones (docs/benchmarks.md).
+constexpr double kDefaultTolerance = 0.01;
 
 // Ctrl-C (SIGINT) or SIGTERM while meshing cancels it: nothing is written.
 std::atomic<bool> interrupted{false};
@@ -84,31 +105,14 @@ double since(std::chrono::steady_clock::time_point t)
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-// What went wrong with a mesh that is not watertight, in words.
-std::string defects(const MeshReport& r)
-{
-    std::string s;
-    auto add = [&](std::size_t n, const char* what) {
-        if (!n) return;
-        if (!s.empty()) s += ", ";
-        s += grouped(n) + " " + what;
-    };
-    add(r.boundaryEdges, "open edges");
-    add(r.nonManifoldEdges, "non-manifold edges");
-    add(r.misorientedEdges, "misoriented edges");
-    add(r.nonManifoldVertices, "non-manifold vertices");
-    add(r.degenerateTriangles, "degenerate triangles");
-    if (s.empty() && !(r.volume > 0.0)) s = "triangles face inward";
-    return s;
-}
-
 } // namespace
 
 int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
 {
     std::string file;
     try {
-        const Arguments a(args, {"-o", "--output", "--feature-size"}, {"--ascii", "--json", "--help", "-h"});
+        const Arguments a(args, {"-o", "--output", "--feature-size", "--tolerance"},
+                          {"--ascii", "--json", "--help", "-h"});
         if (a.has("--help") || a.has("-h")) {
             out << kExportHelp;
             return 0;
@@ -116,13 +120,20 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         if (a.positional().size() != 1) throw UsageError("expects exactly one FILE.kerf");
         auto output = a.value("-o");
         if (const auto o = a.value("--output")) output = o;
-        if (!output || output->empty()) throw UsageError("needs an output file: -o OUT.stl");
+        if (!output || output->empty()) throw UsageError("needs an output file: -o OUT.stl or -o OUT.3mf");
         std::optional<double> requested;
         if (const auto v = a.value("--feature-size"))
             requested = Arguments::parseFeatureSize("--feature-size", *v);
+        double tolerance = kDefaultTolerance;
+        if (const auto v = a.value("--tolerance")) tolerance = Arguments::parseFeatureSize("--tolerance", *v);
         const bool ascii = a.has("--ascii"), json = a.has("--json");
         file = a.positional()[0];
         const std::filesystem::path target = *output;
+        const std::optional<MeshFileFormat> format = meshFileFormatFor(target, ascii);
+        if (!format)
+            throw UsageError("cannot tell the format of '" + printable(target.string()) +
+                             "': name it .stl (STL) or .3mf (3MF)");
+        if (ascii && *format != MeshFileFormat::AsciiStl) throw UsageError("--ascii applies to .stl files only");
 
         const auto start = std::chrono::steady_clock::now();
         const Document doc = Document::load(file);
@@ -134,6 +145,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const char* source = requested ? "option" : doc.settings.featureSize ? "document" : "default";
         MeshOptions options;
         options.featureSize = requested.value_or(doc.settings.featureSize.value_or(defaultFeatureSize(bounds)));
+        options.tolerance = tolerance;
         // The output and the machine's budget, before any meshing.
         preflightExport(doc, file, target, options.featureSize);
 
@@ -147,94 +159,124 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
                 const int percent = int(fraction * 100.0);
                 if (percent == shownPercent) return;
                 shownPercent = percent;
-                err << "\rkerf export: meshing at " << mm(options.featureSize) << " mm... " << percent << "%"
-                    << std::flush;
+                err << "\rkerf export: meshing at " << mm(options.featureSize) << " mm to " << mm(tolerance)
+                    << " mm... " << percent << "%" << std::flush;
             };
         }
-        MeshStats stats;
         const auto meshStart = std::chrono::steady_clock::now();
-        std::optional<Mesh> mesh = meshPart(doc, options, progress, &stats);
+        const std::string partName = std::filesystem::path(file).stem().string();
+        // Meshing, checking the mesh as a reader will see it, and writing;
+        // the file is written whole or, if the process is killed, not at all.
+        const ExportedPart exported = exportPart(doc, options, target, *format, partName, progress);
         const double meshSeconds = since(meshStart);
         if (terminal) err << "\r\033[K" << std::flush;
-        if (!mesh) {
-            err << "kerf export: " << printable(file) << ": interrupted; " << printable(target.string()) << " not written\n";
+        if (exported.cancelled || interrupted) {
+            err << "kerf export: " << printable(file) << ": interrupted; " << printable(target.string())
+                << " not written\n";
             return 1;
         }
-        if (mesh->empty()) {
-            err << "kerf export: " << printable(file) << ": the part is empty at a feature size of " << mm(stats.cellSize)
-                << " mm (thinner than a cell everywhere); nothing to export\n";
+        const MeshStats& stats = exported.stats;
+        if (exported.empty) {
+            err << "kerf export: " << printable(file) << ": the part is empty at a feature size of "
+                << mm(stats.cellSize) << " mm (thinner than a cell everywhere); nothing to export\n";
             return 1;
         }
-
-        if (terminal) err << "kerf export: checking the mesh..." << std::flush;
-        const auto checkStart = std::chrono::steady_clock::now();
-        const MeshReport report = checkMesh(*mesh);
-        const double checkSeconds = since(checkStart);
-        if (terminal) err << "\r\033[K" << std::flush;
-        if (!report.watertight()) {
-            err << "kerf export: " << printable(file) << ": internal error: the mesh is not watertight ("
-                << defects(report) << "); " << printable(target.string()) << " not written\n";
+        const MeshFileReport& written = exported.report;
+        const std::string& fallback = exported.simplificationDefects;
+        if (!written.solid()) {
+            err << "kerf export: " << printable(file) << ": internal error: a reader of the file would not get a "
+                << "closed solid (" << describeDefects(written) << "); " << printable(target.string())
+                << " not written\n";
             return 1;
         }
-
-        if (interrupted) {
-            err << "kerf export: " << printable(file) << ": interrupted; " << printable(target.string()) << " not written\n";
-            return 1;
-        }
-        // Writing is not interruptible: the file is written whole or, if the
-        // process is killed, not at all (only a temporary file beside it remains).
-        if (terminal) err << "kerf export: writing " << printable(target.string()) << "..." << std::flush;
-        const auto writeStart = std::chrono::steady_clock::now();
-        writeStl(*mesh, target, ascii ? StlFormat::Ascii : StlFormat::Binary);
-        const double writeSeconds = since(writeStart);
-        if (terminal) err << "\r\033[K" << std::flush;
-        std::error_code ec;
-        const std::uint64_t bytes = std::filesystem::file_size(target, ec);
+        if (!fallback.empty())
+            err << "kerf export: warning: the mesh simplified to " << mm(tolerance) << " mm had " << fallback
+                << "; wrote the marching-cubes mesh at " << mm(stats.cellSize)
+                << " mm instead (closed, sharp edges kept, larger, not held to the tolerance)\n";
+        const MeshReport& report = written.asRead;
         const double seconds = since(start);
+        // STL cannot hold the part's detail where float32 steps by more than
+        // a tenth of the tolerance.
+        const bool imprecise = written.spacing > 0.1 * tolerance;
+        if (imprecise)
+            err << "kerf export: warning: " << printable(target.string()) << ": the part reaches "
+                << significant(std::max(std::abs(bounds.min.x), std::max(std::abs(bounds.max.x),
+                                        std::max({std::abs(bounds.min.y), std::abs(bounds.max.y),
+                                                  std::abs(bounds.min.z), std::abs(bounds.max.z)}))), 3)
+                << " mm from the origin, where the file's coordinates step by " << significant(written.spacing, 2)
+                << " mm (the tolerance is " << mm(tolerance) << " mm); "
+                << (*format == MeshFileFormat::ThreeMf ? "" : "a .3mf file keeps the detail, or ")
+                << "move the part nearer the origin\n";
+        if (stats.trianglesOverTolerance > 0)
+            err << "kerf export: warning: " << grouped(stats.trianglesOverTolerance)
+                << " triangles stay up to " << significant(stats.worstSample, 2)
+                << " mm from the exact surface, beyond the tolerance of " << mm(tolerance) << " mm\n";
 
         if (json) {
             nlohmann::ordered_json j;
             j["file"] = file;
             j["output"] = target.string();
-            j["format"] = ascii ? "ascii" : "binary";
-            j["bytes"] = bytes;
+            j["format"] = describe(*format);
+            j["bytes"] = written.bytes;
+            j["tolerance_mm"] = tolerance;
             j["feature_size_mm"] = stats.featureSize;
             j["feature_size_source"] = source;
             j["cell_size_mm"] = stats.cellSize;
             if (!stats.note.empty()) j["note"] = stats.note;
+            // The mesh as a reader of the file gets it.
             j["triangles"] = report.triangles;
             j["vertices"] = report.vertices;
             j["closed"] = report.closed();
             j["manifold"] = report.manifold();
             j["oriented"] = report.oriented();
             j["degenerate_triangles"] = report.degenerateTriangles;
+            j["self_intersections"] = written.selfIntersections;
             j["components"] = report.components;
             j["euler_characteristic"] = report.eulerCharacteristic;
             j["genus"] = report.genus().value_or(-1);
             j["volume_mm3"] = report.volume;
             j["area_mm2"] = report.area;
+            j["simplified"] = fallback.empty();
+            if (!fallback.empty()) j["simplification_defects"] = fallback;
+            if (fallback.empty()) j["worst_sample_mm"] = stats.worstSample;
+            j["triangles_over_tolerance"] = stats.trianglesOverTolerance;
+            j["file_spacing_mm"] = written.spacing;
+            j["file_offset_mm"] = {written.offset.x, written.offset.y, written.offset.z};
+            j["fit_collapses"] = written.fit.collapses;
+            j["fit_nudges"] = written.fit.nudges;
+            j["fit_largest_move_mm"] = written.fit.largestMove;
+            j["lattice_triangles"] = stats.latticeTriangles;
+            j["feature_vertices"] = stats.featureVertices;
+            j["zero_corners"] = stats.zeroCorners;
+            j["collapses"] = stats.collapses;
+            j["splits"] = stats.splits;
             j["seconds"] = seconds;
-            j["mesh_seconds"] = meshSeconds;
-            j["check_seconds"] = checkSeconds;
-            j["write_seconds"] = writeSeconds;
+            j["lattice_seconds"] = stats.seconds - stats.simplifySeconds - stats.refineSeconds;
+            j["simplify_seconds"] = stats.simplifySeconds;
+            j["refine_seconds"] = stats.refineSeconds;
             out << j.dump(2) << "\n";
             return 0;
         }
-        out << printable(target.string()) << ": " << grouped(report.triangles) << " triangles, "
-            << (ascii ? "ASCII" : "binary") << " STL (" << megabytes(bytes) << "), from " << printable(file) << "\n";
+        out << printable(target.string()) << ": " << grouped(report.triangles) << " triangles, " << describe(*format)
+            << " (" << megabytes(written.bytes) << "), from " << printable(file) << "\n";
+        out << "  tolerance:     " << mm(tolerance) << " mm" << (a.value("--tolerance") ? "" : " (default)");
+        if (fallback.empty())
+            out << "; samples of every triangle within " << significant(stats.worstSample, 2) << " mm\n";
+        else
+            out << "; not reached (plain marching-cubes mesh written, see the warning)\n";
         out << "  feature size:  " << mm(stats.featureSize) << " mm"
             << (requested                  ? ""
                 : doc.settings.featureSize ? " (document)"
                                            : " (default: the document sets none)")
             << "\n";
         if (!stats.note.empty()) out << "  note:          " << stats.note << "\n";
-        out << "  mesh:          closed, consistently oriented 2-manifold, no degenerate triangles ("
+        out << "  as read back:  closed, consistently oriented 2-manifold, no degenerate or crossing triangles ("
             << report.components << (report.components == 1 ? " component" : " components") << ", genus "
             << report.genus().value_or(-1) << ", " << grouped(report.vertices) << " vertices)\n";
         out << "  volume:        " << number(report.volume, 1) << " mm^3 (area " << number(report.area, 1)
             << " mm^2)\n";
-        out << "  time:          " << number(seconds, 2) << " s (meshing " << number(meshSeconds, 2) << " s, checking "
-            << number(checkSeconds, 2) << " s, writing " << number(writeSeconds, 2) << " s)\n";
+        out << "  time:          " << number(seconds, 2) << " s (meshing " << number(stats.seconds, 2)
+            << " s, checking and writing " << number(meshSeconds - stats.seconds, 2) << " s)\n";
         return 0;
     } catch (const UsageError& e) {
         err << "kerf export: " << e.what() << " (see kerf export --help)\n";

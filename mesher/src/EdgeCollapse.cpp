@@ -1,6 +1,8 @@
 #include "EdgeCollapse.hpp"
 
+#include "TriangleGrid.hpp"
 #include "TriangleSamples.hpp"
+#include "kerf/mesher/SelfIntersections.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -28,7 +30,7 @@ constexpr double kCreaseCosine = 0.8660254037844387; // 30 degrees
 class Collapser {
 public:
     Collapser(CollapseMesh& mesh, const CollapseLimits& limits, SurfaceQueries& surface)
-        : m_(mesh), limits_(limits), surface_(surface)
+        : m_(mesh), limits_(limits), surface_(surface), grid_(typicalSize(mesh))
     {
         const std::size_t n = m_.positions.size();
         head_.assign(n, kNone);
@@ -40,6 +42,8 @@ public:
                 next_[3 * t + i] = head_[v];
                 head_[v] = 3 * t + i;
             }
+            const auto [lo, hi] = boxOf(m_.triangles[t], kNone, glm::dvec3(0.0));
+            grid_.insert(t, lo, hi);
         }
         stamp_.assign(n, 0);
         common_.assign(n, 0);
@@ -233,6 +237,72 @@ private:
         return facingAfter >= std::min(limits_.minSurfaceCosine, facingBefore);
     }
 
+    static double typicalSize(const CollapseMesh& mesh)
+    {
+        double sum = 0.0;
+        std::size_t count = 0;
+        for (const Triangle& t : mesh.triangles) {
+            if (t[0] == kRemoved) continue;
+            sum += glm::length(mesh.positions[t[1]] - mesh.positions[t[0]]);
+            if (++count == 4096) break;
+        }
+        return count ? 2.0 * sum / double(count) : 1.0;
+    }
+
+    // Vertex positions with `moved` at `to`.
+    glm::dvec3 position(std::uint32_t v, std::uint32_t moved, const glm::dvec3& to) const
+    {
+        return v == moved ? to : m_.positions[v];
+    }
+    std::pair<glm::dvec3, glm::dvec3> boxOf(const Triangle& tri, std::uint32_t moved, const glm::dvec3& to) const
+    {
+        glm::dvec3 lo = position(tri[0], moved, to), hi = lo;
+        for (int k = 1; k < 3; ++k) {
+            lo = glm::min(lo, position(tri[std::size_t(k)], moved, to));
+            hi = glm::max(hi, position(tri[std::size_t(k)], moved, to));
+        }
+        return {lo, hi};
+    }
+
+    // Whether a triangle the collapse leaves (a's become b's, b at `at`)
+    // would cross one that is not around a or b: on a thin part or in a
+    // narrow gap a collapse can push a triangle through the other side, and
+    // a crossing mesh does not bound a solid.
+    bool wouldCross(std::uint32_t a, std::uint32_t b, const glm::dvec3& at)
+    {
+        changed_.clear();
+        for (const std::uint32_t t : trisA_) {
+            Triangle tri = m_.triangles[t];
+            if (tri[0] == b || tri[1] == b || tri[2] == b) continue;
+            for (std::uint32_t& u : tri)
+                if (u == a) u = b;
+            changed_.push_back(tri);
+        }
+        if (at != m_.positions[b])
+            for (const std::uint32_t t : trisB_) {
+                const Triangle& tri = m_.triangles[t];
+                if (tri[0] != a && tri[1] != a && tri[2] != a) changed_.push_back(tri);
+            }
+        for (const Triangle& tri : changed_) {
+            const glm::dvec3 p[3] = {position(tri[0], b, at), position(tri[1], b, at), position(tri[2], b, at)};
+            const auto [lo, hi] = boxOf(tri, b, at);
+            bool crossing = false;
+            grid_.query(lo, hi, [&](std::uint32_t t) {
+                if (crossing || removed(t)) return;
+                const Triangle& other = m_.triangles[t];
+                for (const std::uint32_t u : other)
+                    if (u == a || u == b) return; // around the edge: replaced or moved with it
+                const glm::dvec3 q[3] = {m_.positions[other[0]], m_.positions[other[1]], m_.positions[other[2]]};
+                if (glm::any(glm::lessThan(hi, glm::min(q[0], glm::min(q[1], q[2])))) ||
+                    glm::any(glm::greaterThan(lo, glm::max(q[0], glm::max(q[1], q[2])))))
+                    return;
+                crossing = trianglesCross(tri, p, other, q);
+            });
+            if (crossing) return true;
+        }
+        return false;
+    }
+
     bool legal(std::uint32_t a, std::uint32_t b, const glm::dvec3& at, const glm::dvec3& normal)
     {
         gather(a, trisA_);
@@ -286,7 +356,8 @@ private:
                 if (!keepsShape(tri, b, at, normal)) return false;
             }
         }
-        return !(limits_.tolerance > 0.0) || withinTolerance(a, b, at, normal, moves);
+        if (limits_.tolerance > 0.0 && !withinTolerance(a, b, at, normal, moves)) return false;
+        return !wouldCross(a, b, at);
     }
 
     // Whether every triangle the collapse makes lies within the tolerance of
@@ -363,6 +434,14 @@ private:
     void collapse(std::uint32_t a, std::uint32_t b, const glm::dvec3& at, const glm::dvec3& normal)
     {
         gather(a, trisA_);
+        gather(b, trisB_);
+        // Every triangle around a or b leaves the grid; those that stay come
+        // back at their new place.
+        for (const auto* list : {&trisA_, &trisB_})
+            for (const std::uint32_t t : *list) {
+                const auto [lo, hi] = boxOf(m_.triangles[t], kNone, glm::dvec3(0.0));
+                grid_.erase(t, lo, hi);
+            }
         for (const std::uint32_t t : trisA_) {
             Triangle& tri = m_.triangles[t];
             if (tri[0] == b || tri[1] == b || tri[2] == b) {
@@ -386,6 +465,11 @@ private:
         m_.positions[b] = at;
         m_.normals[b] = normal;
         m_.removed[a] = 1;
+        gather(b, trisB_);
+        for (const std::uint32_t t : trisB_) {
+            const auto [lo, hi] = boxOf(m_.triangles[t], kNone, glm::dvec3(0.0));
+            grid_.insert(t, lo, hi);
+        }
     }
 
     void markTouched(std::uint32_t b, std::vector<std::uint32_t>& list)
@@ -407,6 +491,8 @@ private:
     std::uint32_t clock_ = 0;
     std::vector<std::uint8_t> touched_, dirty_;
     std::vector<std::uint32_t> trisA_, trisB_, trisC_, neighbours_;
+    TriangleGrid grid_;
+    std::vector<Triangle> changed_;
     std::vector<glm::dvec3> samples_, errorSamples_;
     std::vector<double> values_;
     std::vector<double> errors_;                              // per triangle: sampled error, -1 unknown

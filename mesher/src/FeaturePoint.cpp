@@ -41,7 +41,7 @@ FeatureFit fitTangentPlanes(const glm::dvec3* points, const glm::dvec3* normals,
     symmetricEigen(a, w, v);
     // Strongest direction first.
     int order[3] = {0, 1, 2};
-    std::sort(order, order + 3, [&](int a, int b) { return w[a] > w[b]; });
+    std::sort(order, order + 3, [&](int i, int j) { return w[i] > w[j]; });
     const double largest = w[order[0]];
     glm::dvec3 offset(0.0);
     // Singular values of the normal matrix are sqrt(w): keep those above a

@@ -23,10 +23,13 @@ public:
         const glm::dvec3& p = mesh_.vertices[std::size_t(v.idx())];
         return {float(p.x), float(p.y), float(p.z)};
     }
+    // The float32 value in double: binary STL stores float32, and ASCII STL
+    // (printed with 9 significant digits) then holds exactly the same
+    // coordinates, so that both read back as WrittenFormat::Float32 says.
     OpenMesh::Vec3d pointd(OpenMesh::VertexHandle v) const override
     {
-        const glm::dvec3& p = mesh_.vertices[std::size_t(v.idx())];
-        return {p.x, p.y, p.z};
+        const OpenMesh::Vec3f p = point(v);
+        return {double(p[0]), double(p[1]), double(p[2])};
     }
     bool is_point_double() const override { return true; }
     OpenMesh::Vec3f normal(OpenMesh::VertexHandle) const override { return {0.0f, 0.0f, 0.0f}; }

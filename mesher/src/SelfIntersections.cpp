@@ -112,22 +112,6 @@ private:
     std::vector<Node> nodes_;
 };
 
-double orient(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d)
-{
-    return glm::dot(glm::cross(b - a, c - a), d - a);
-}
-
-// Whether segment pq crosses triangle abc at a single point strictly inside
-// both (touching counts as no crossing).
-bool segmentCrosses(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& a, const glm::dvec3& b,
-                    const glm::dvec3& c)
-{
-    const double sp = orient(a, b, c, p), sq = orient(a, b, c, q);
-    if (!((sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0))) return false;
-    const double s1 = orient(p, q, a, b), s2 = orient(p, q, b, c), s3 = orient(p, q, c, a);
-    return (s1 > 0.0 && s2 > 0.0 && s3 > 0.0) || (s1 < 0.0 && s2 < 0.0 && s3 < 0.0);
-}
-
 // 2D: whether segments ab and cd cross properly.
 bool crosses2(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, const glm::dvec2& d)
 {
@@ -147,26 +131,58 @@ bool inside2(const glm::dvec2& p, const glm::dvec2* t)
     return (s1 > 0 && s2 > 0 && s3 > 0) || (s1 < 0 && s2 < 0 && s3 < 0);
 }
 
-bool intersect(const Mesh& mesh, std::uint32_t s, std::uint32_t t)
+// The two axes of the plane with normal n that keep its area best.
+int droppedAxis(const glm::dvec3& n)
 {
-    const auto& A = mesh.triangles[s];
-    const auto& B = mesh.triangles[t];
+    const glm::dvec3 m = glm::abs(n);
+    return m.x > m.y ? (m.x > m.z ? 0 : 2) : (m.y > m.z ? 1 : 2);
+}
+glm::dvec2 flatten(const glm::dvec3& p, int drop)
+{
+    return drop == 0 ? glm::dvec2(p.y, p.z) : drop == 1 ? glm::dvec2(p.x, p.z) : glm::dvec2(p.x, p.y);
+}
+
+// Whether segment pq passes through the inside of triangle abc: its ends
+// on opposite sides of the plane, and the point where it meets the plane
+// strictly inside the triangle (in the plane's best projection). Not
+// orientations of pq against abc's edges: for a segment nearly in the
+// plane those are rounding noise.
+bool segmentCrosses(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& a, const glm::dvec3& b,
+                    const glm::dvec3& c)
+{
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    const double sp = glm::dot(n, p - a), sq = glm::dot(n, q - a);
+    if (!((sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0))) return false;
+    const glm::dvec3 x = p + (q - p) * (sp / (sp - sq));
+    const int drop = droppedAxis(n);
+    const glm::dvec2 t[3] = {flatten(a, drop), flatten(b, drop), flatten(c, drop)};
+    return inside2(flatten(x, drop), t);
+}
+
+} // namespace
+
+bool trianglesCross(const std::array<std::uint32_t, 3>& A, const glm::dvec3* a, const std::array<std::uint32_t, 3>& B,
+                    const glm::dvec3* b)
+{
     int shared = 0;
     for (const std::uint32_t u : A)
         for (const std::uint32_t v : B)
             if (u == v) ++shared;
-    const glm::dvec3 a[3] = {mesh.vertices[A[0]], mesh.vertices[A[1]], mesh.vertices[A[2]]};
-    const glm::dvec3 b[3] = {mesh.vertices[B[0]], mesh.vertices[B[1]], mesh.vertices[B[2]]};
-    const bool coplanar = orient(b[0], b[1], b[2], a[0]) == 0.0 && orient(b[0], b[1], b[2], a[1]) == 0.0 &&
-                          orient(b[0], b[1], b[2], a[2]) == 0.0;
+    // In one plane to rounding (a flat face simplified into large triangles
+    // is not exactly planar in double): distances of A's corners from B's
+    // plane within a billionth of the triangles' size.
+    const glm::dvec3 nb = glm::cross(b[1] - b[0], b[2] - b[0]);
+    const double nbLength = glm::length(nb);
+    const double size = std::max({glm::length(a[1] - a[0]), glm::length(a[2] - a[1]), glm::length(a[0] - a[2]),
+                                  glm::length(b[1] - b[0]), glm::length(b[2] - b[1]), glm::length(b[0] - b[2])});
+    bool coplanar = nbLength > 0.0;
+    for (int i = 0; i < 3 && coplanar; ++i)
+        coplanar = std::abs(glm::dot(nb, a[i] - b[0])) <= 1e-9 * size * nbLength;
     if (coplanar) {
         // Project to the plane's dominant axes; overlap other than at what
         // they share.
-        const glm::dvec3 n = glm::abs(glm::cross(b[1] - b[0], b[2] - b[0]));
-        const int drop = n.x > n.y ? (n.x > n.z ? 0 : 2) : (n.y > n.z ? 1 : 2);
-        auto flat = [&](const glm::dvec3& p) {
-            return drop == 0 ? glm::dvec2(p.y, p.z) : drop == 1 ? glm::dvec2(p.x, p.z) : glm::dvec2(p.x, p.y);
-        };
+        const int drop = droppedAxis(nb);
+        auto flat = [&](const glm::dvec3& p) { return flatten(p, drop); };
         const glm::dvec2 fa[3] = {flat(a[0]), flat(a[1]), flat(a[2])}, fb[3] = {flat(b[0]), flat(b[1]), flat(b[2])};
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j)
@@ -191,6 +207,17 @@ bool intersect(const Mesh& mesh, std::uint32_t s, std::uint32_t t)
         if (!touchesShared && segmentCrosses(b[i], b[(i + 1) % 3], a[0], a[1], a[2])) return true;
     }
     return false;
+}
+
+namespace {
+
+bool intersect(const Mesh& mesh, std::uint32_t s, std::uint32_t t)
+{
+    const auto& A = mesh.triangles[s];
+    const auto& B = mesh.triangles[t];
+    const glm::dvec3 a[3] = {mesh.vertices[A[0]], mesh.vertices[A[1]], mesh.vertices[A[2]]};
+    const glm::dvec3 b[3] = {mesh.vertices[B[0]], mesh.vertices[B[1]], mesh.vertices[B[2]]};
+    return trianglesCross(A, a, B, b);
 }
 
 } // namespace

@@ -27,7 +27,8 @@ void writeStl(const Mesh& mesh, const std::filesystem::path& file, StlFormat for
     if (format == StlFormat::Binary) options += OpenMesh::IO::Options::Binary;
     writeFileAtomically(file, [&](std::ostream& out) {
         mesher::MeshExporter exporter(mesh);
-        if (!OpenMesh::IO::IOManager().write(out, ".stl", exporter, options))
+        // 9 significant digits print every float32 so that it reads back exactly.
+        if (!OpenMesh::IO::IOManager().write(out, ".stl", exporter, options, 9))
             throw std::runtime_error(file.string() + ": OpenMesh could not write the STL");
     });
 }

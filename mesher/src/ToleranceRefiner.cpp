@@ -1,7 +1,9 @@
 #include "ToleranceRefiner.hpp"
 
 #include "CreaseSnap.hpp"
+#include "TriangleGrid.hpp"
 #include "TriangleSamples.hpp"
+#include "kerf/mesher/SelfIntersections.hpp"
 
 #include "kerf/evaluator/PointEvaluator.hpp"
 
@@ -100,7 +102,8 @@ private:
 class Splitter {
 public:
     Splitter(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape, double tolerance, double minHeight)
-        : mesh_(mesh), normals_(normals), tape_(tape), tolerance_(tolerance), minHeight_(minHeight)
+        : mesh_(mesh), normals_(normals), tape_(tape), tolerance_(tolerance), minHeight_(minHeight),
+          grid_(std::max(4.0 * tolerance, 1e-3))
     {
         halfedges_.reserve(3 * mesh.triangles.size() * 2);
         for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
@@ -137,7 +140,7 @@ public:
                 if (tri2[std::size_t(j)] != u && tri2[std::size_t(j)] != v) x = tri2[std::size_t(j)];
             bool crease = false;
             glm::dvec3 normal(0.0);
-            const std::optional<glm::dvec3> p = place(u, v, w, x, crease, normal);
+            const std::optional<glm::dvec3> p = place(t1, t2, u, v, w, x, crease, normal);
             if (!p) continue;
             remove(t1);
             remove(t2);
@@ -192,6 +195,7 @@ public:
             const double old = std::max(sampledError(pu, pv, pw), sampledError(pv, pu, px));
             const double now = std::max(sampledError(pw, pu, px), sampledError(px, pv, pw));
             if (!(now < old)) continue;
+            if (wouldCross(std::array<Tri, 2>{Tri{w, u, x}, Tri{x, v, w}}, nullptr, t1, t2)) continue;
             remove(t1);
             remove(t2);
             mesh_.triangles[t1] = {w, u, x};
@@ -225,12 +229,65 @@ private:
         const Tri& tri = mesh_.triangles[t];
         for (int k = 0; k < 3; ++k)
             halfedges_[halfedgeKey(tri[std::size_t(k)], tri[std::size_t(k + 1) % 3])] = t;
+        const auto [lo, hi] = boxOf(tri, nullptr);
+        grid_.insert(t, lo, hi);
     }
     void remove(std::uint32_t t)
     {
         const Tri& tri = mesh_.triangles[t];
         for (int k = 0; k < 3; ++k)
             halfedges_.erase(halfedgeKey(tri[std::size_t(k)], tri[std::size_t(k + 1) % 3]));
+        const auto [lo, hi] = boxOf(tri, nullptr);
+        grid_.erase(t, lo, hi);
+    }
+
+    // The position of vertex i, where index vertices.size() is the vertex
+    // about to be added at `pending`.
+    glm::dvec3 at(std::uint32_t i, const glm::dvec3* pending) const
+    {
+        return i < mesh_.vertices.size() ? mesh_.vertices[i] : *pending;
+    }
+    std::pair<glm::dvec3, glm::dvec3> boxOf(const Tri& tri, const glm::dvec3* pending) const
+    {
+        glm::dvec3 lo(at(tri[0], pending)), hi(lo);
+        for (int k = 1; k < 3; ++k) {
+            lo = glm::min(lo, at(tri[std::size_t(k)], pending));
+            hi = glm::max(hi, at(tri[std::size_t(k)], pending));
+        }
+        return {lo, hi};
+    }
+
+    // Whether any of the new triangles would cross a triangle of the mesh
+    // other than the two they replace: a split vertex placed on the surface
+    // or a flip can reach through a thin part or a neighbouring fold, and a
+    // crossing mesh does not bound a solid.
+    template <std::size_t N>
+    bool wouldCross(const std::array<Tri, N>& added, const glm::dvec3* pending, std::uint32_t t1,
+                    std::uint32_t t2) const
+    {
+        for (std::size_t i = 0; i < N; ++i) {
+            const Tri& a = added[i];
+            const glm::dvec3 pa[3] = {at(a[0], pending), at(a[1], pending), at(a[2], pending)};
+            const auto [lo, hi] = boxOf(a, pending);
+            bool crossing = false;
+            grid_.query(lo, hi, [&](std::uint32_t t) {
+                if (crossing || t == t1 || t == t2) return;
+                const Tri& b = mesh_.triangles[t];
+                const glm::dvec3 pb[3] = {mesh_.vertices[b[0]], mesh_.vertices[b[1]], mesh_.vertices[b[2]]};
+                if (glm::any(glm::lessThan(hi, glm::min(pb[0], glm::min(pb[1], pb[2])))) ||
+                    glm::any(glm::greaterThan(lo, glm::max(pb[0], glm::max(pb[1], pb[2])))))
+                    return;
+                crossing = trianglesCross(a, pa, b, pb);
+            });
+            if (crossing) return true;
+            // The new triangles among themselves.
+            for (std::size_t j = i + 1; j < N; ++j) {
+                const Tri& b = added[j];
+                const glm::dvec3 pb[3] = {at(b[0], pending), at(b[1], pending), at(b[2], pending)};
+                if (trianglesCross(a, pa, b, pb)) return true;
+            }
+        }
+        return false;
     }
 
     // Newton steps along the gradient from p onto the surface; false when
@@ -279,8 +336,8 @@ private:
     // The new vertex of edge (u, v) between triangles (u, v, w) and (v, u, x),
     // on the surface, and its normal (0 on a sharp edge); nothing when no such
     // point keeps the four triangles turning their parents' way.
-    std::optional<glm::dvec3> place(std::uint32_t u, std::uint32_t v, std::uint32_t w, std::uint32_t x, bool& crease,
-                                    glm::dvec3& normal)
+    std::optional<glm::dvec3> place(std::uint32_t t1, std::uint32_t t2, std::uint32_t u, std::uint32_t v,
+                                    std::uint32_t w, std::uint32_t x, bool& crease, glm::dvec3& normal)
     {
         const glm::dvec3 pu = mesh_.vertices[u], pv = mesh_.vertices[v], pw = mesh_.vertices[w],
                          px = mesh_.vertices[x];
@@ -321,7 +378,9 @@ private:
         };
         for (int i = 0; i < count; ++i) {
             const auto& [at, an] = candidates[std::size_t(i)];
-            if (fits(pu, at, pw, n1) && fits(at, pv, pw, n1) && fits(pv, at, px, n2) && fits(at, pu, px, n2)) {
+            const std::uint32_t m = std::uint32_t(mesh_.vertices.size());
+            if (fits(pu, at, pw, n1) && fits(at, pv, pw, n1) && fits(pv, at, px, n2) && fits(at, pu, px, n2) &&
+                !wouldCross(std::array<Tri, 4>{Tri{u, m, w}, Tri{v, m, x}, Tri{m, v, w}, Tri{m, u, x}}, &at, t1, t2)) {
                 crease = an == glm::dvec3(0.0);
                 normal = an;
                 return at;
@@ -337,6 +396,7 @@ private:
     double tolerance_;
     double minHeight_;
     std::unordered_map<std::uint64_t, std::uint32_t> halfedges_;
+    TriangleGrid grid_;
     std::vector<glm::dvec3> samples_;
     GradientEvaluator<double> gradients_;
     PointEvaluator<double> points_;

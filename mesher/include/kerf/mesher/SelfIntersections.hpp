@@ -12,6 +12,8 @@
 
 #include "kerf/mesher/Mesh.hpp"
 
+#include <glm/vec3.hpp>
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -25,5 +27,10 @@ struct SelfIntersections {
 };
 
 SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples = 8);
+
+/// Whether triangles A and B (vertex indices, and their positions a[3], b[3])
+/// intersect other than along the vertices or the edge they share by index.
+bool trianglesCross(const std::array<std::uint32_t, 3>& A, const glm::dvec3* a, const std::array<std::uint32_t, 3>& B,
+                    const glm::dvec3* b);
 
 } // namespace kerf

@@ -1,0 +1,84 @@
+#pragma once
+// A mesh written as a file for slicers and CAM programs, and what they will
+// read back from it. Both kerf export and the export dialog go through
+// here, so that they write the same file and report the same figures.
+//
+// The format follows the file's extension: .stl (binary, or ASCII when
+// asked) or .3mf. Before writing, the mesh is fitted to the file's
+// coordinates (WrittenCoordinates.hpp): rounding to float32 or to 3MF's
+// decimals may join vertices or flatten triangles, and a reader would see
+// an open or pinched mesh. The report then describes the mesh as a reader
+// gets it (STL welded by written position, 3MF by index), not the mesh in
+// memory.
+
+#include "kerf/mesher/Mesh.hpp"
+#include "kerf/mesher/MeshCheck.hpp"
+#include "kerf/mesher/MeshPart.hpp"
+#include "kerf/mesher/WrittenCoordinates.hpp"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace kerf {
+
+enum class MeshFileFormat { BinaryStl, AsciiStl, ThreeMf };
+
+/// The format the file's extension asks for (case-insensitive): .stl gives
+/// binary STL, or ASCII with `ascii`; .3mf gives 3MF. Nothing for any other.
+std::optional<MeshFileFormat> meshFileFormatFor(const std::filesystem::path& file, bool ascii = false);
+
+/// "binary STL", "ASCII STL", "3MF".
+const char* describe(MeshFileFormat format);
+
+WrittenFormat writtenFormatOf(MeshFileFormat format);
+
+/// Where the file's coordinates start: zero for STL (it has no transform),
+/// for 3MF a float32-exact point near the part once the part is so far from
+/// the origin that float32 would lose more than `tolerance` / 10 there.
+glm::dvec3 fileOffsetFor(const Mesh& mesh, MeshFileFormat format, double tolerance);
+
+struct MeshFileReport {
+    WrittenFit fit;            // what fitting to the written coordinates changed
+    MeshReport asRead;         // the mesh as a reader gets it
+    std::size_t selfIntersections = 0; // triangle pairs that cross, as read
+    double spacing = 0.0;      // mm: the coordinates' step at the part in the file
+    glm::dvec3 offset{0.0};    // 3MF: the build item's translation
+    std::uint64_t bytes = 0;
+
+    /// A closed, oriented 2-manifold without degenerate or crossing triangles.
+    bool solid() const { return asRead.watertight() && selfIntersections == 0; }
+};
+
+/// Fits `mesh` to the format's coordinates (it may change), checks it as a
+/// reader will see it and writes it whole or not at all. `partName` names
+/// the 3MF object. Throws std::runtime_error (or OutputFileError) naming the
+/// file on failure; with `writeOnlyIfSolid` a mesh that a reader would not
+/// see as a solid is not written, and the report says why.
+MeshFileReport writeMeshFile(Mesh& mesh, const std::filesystem::path& file, MeshFileFormat format,
+                             const std::string& partName, double tolerance, bool writeOnlyIfSolid = true);
+
+/// The defects of a report in words ("12 open edges, 3 crossing triangle
+/// pairs"), empty when it is a solid.
+std::string describeDefects(const MeshFileReport& report);
+
+struct ExportedPart {
+    bool cancelled = false;
+    bool empty = false;           // nothing to write (nothing written)
+    MeshStats stats;              // of the mesh written
+    MeshFileReport report;        // of the file written (or refused)
+    std::string simplificationDefects; // non-empty: the simplified mesh had these, the plain one was written
+};
+
+/// Meshes the part to options.tolerance and writes it. Where the simplified
+/// and refined mesh would not read back as a solid (crossing triangles on
+/// some parts: a known weakness), the plain marching-cubes mesh at the
+/// feature size is written instead and simplificationDefects says why. The
+/// file is written only when report.solid().
+ExportedPart exportPart(const Document& doc, const MeshOptions& options, const std::filesystem::path& file,
+                        MeshFileFormat format, const std::string& partName, const MeshProgress& progress = {});
+
+} // namespace kerf

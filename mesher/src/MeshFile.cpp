@@ -1,0 +1,148 @@
+#include "kerf/mesher/MeshFile.hpp"
+
+#include "kerf/mesher/FilePrecision.hpp"
+#include "kerf/mesher/SelfIntersections.hpp"
+#include "kerf/mesher/StlWriter.hpp"
+#include "kerf/mesher/ThreeMfWriter.hpp"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+
+namespace kerf {
+
+std::optional<MeshFileFormat> meshFileFormatFor(const std::filesystem::path& file, bool ascii)
+{
+    std::string ext = file.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext == ".stl") return ascii ? MeshFileFormat::AsciiStl : MeshFileFormat::BinaryStl;
+    if (ext == ".3mf") return MeshFileFormat::ThreeMf;
+    return std::nullopt;
+}
+
+const char* describe(MeshFileFormat format)
+{
+    switch (format) {
+    case MeshFileFormat::BinaryStl: return "binary STL";
+    case MeshFileFormat::AsciiStl: return "ASCII STL";
+    case MeshFileFormat::ThreeMf: return "3MF";
+    }
+    return "?";
+}
+
+WrittenFormat writtenFormatOf(MeshFileFormat format)
+{
+    return format == MeshFileFormat::ThreeMf ? WrittenFormat::Float32SixDecimals : WrittenFormat::Float32;
+}
+
+namespace {
+
+double largestCoordinate(const Mesh& mesh, const glm::dvec3& offset)
+{
+    double m = 0.0;
+    for (const glm::dvec3& v : mesh.vertices)
+        for (int a = 0; a < 3; ++a)
+            m = std::max(m, std::abs(v[a] - offset[a]));
+    return m;
+}
+
+// The step between written coordinates at magnitude x: float32's, and for
+// 3MF at least the sixth decimal.
+double spacingAt(double x, MeshFileFormat format)
+{
+    const double f = float32Spacing(x);
+    return format == MeshFileFormat::ThreeMf ? std::max(f, 1e-6) : f;
+}
+
+} // namespace
+
+glm::dvec3 fileOffsetFor(const Mesh& mesh, MeshFileFormat format, double tolerance)
+{
+    if (format != MeshFileFormat::ThreeMf || mesh.vertices.empty()) return glm::dvec3(0.0);
+    if (spacingAt(largestCoordinate(mesh, glm::dvec3(0.0)), format) <= 0.1 * std::max(tolerance, 1e-4))
+        return glm::dvec3(0.0);
+    glm::dvec3 lo(mesh.vertices[0]), hi(mesh.vertices[0]);
+    for (const glm::dvec3& v : mesh.vertices) {
+        lo = glm::min(lo, v);
+        hi = glm::max(hi, v);
+    }
+    // A whole number of millimetres: exact in float32 up to 16 km.
+    glm::dvec3 centre = glm::round(0.5 * (lo + hi));
+    for (int a = 0; a < 3; ++a)
+        centre[a] = double(float(centre[a]));
+    return centre;
+}
+
+MeshFileReport writeMeshFile(Mesh& mesh, const std::filesystem::path& file, MeshFileFormat format,
+                             const std::string& partName, double tolerance, bool writeOnlyIfSolid)
+{
+    MeshFileReport report;
+    const WrittenFormat written = writtenFormatOf(format);
+    report.offset = fileOffsetFor(mesh, format, tolerance);
+    report.spacing = spacingAt(largestCoordinate(mesh, report.offset), format);
+    report.fit = fitToWritten(mesh, written, report.offset);
+    // STL readers weld by position; 3MF readers keep the indices.
+    const Mesh asRead = readBack(mesh, written, format != MeshFileFormat::ThreeMf, report.offset);
+    report.asRead = checkMesh(asRead);
+    report.selfIntersections = findSelfIntersections(asRead, 0).pairs;
+    if (writeOnlyIfSolid && !report.solid()) return report;
+    if (format == MeshFileFormat::ThreeMf)
+        writeThreeMf(mesh, file, partName, report.offset);
+    else
+        writeStl(mesh, file, format == MeshFileFormat::AsciiStl ? StlFormat::Ascii : StlFormat::Binary);
+    std::error_code ec;
+    report.bytes = std::filesystem::file_size(file, ec);
+    return report;
+}
+
+std::string describeDefects(const MeshFileReport& report)
+{
+    std::string s;
+    auto add = [&](std::size_t n, const std::string& what) {
+        if (!n) return;
+        if (!s.empty()) s += ", ";
+        s += std::to_string(n) + " " + what;
+    };
+    const MeshReport& r = report.asRead;
+    add(r.boundaryEdges, "open edges");
+    add(r.nonManifoldEdges, "non-manifold edges");
+    add(r.misorientedEdges, "misoriented edges");
+    add(r.nonManifoldVertices, "non-manifold vertices");
+    add(r.degenerateTriangles, "degenerate triangles");
+    add(report.selfIntersections, "crossing triangle pairs");
+    if (s.empty() && r.triangles > 0 && !(r.volume > 0.0)) s = "triangles face inward";
+    return s;
+}
+
+ExportedPart exportPart(const Document& doc, const MeshOptions& options, const std::filesystem::path& file,
+                        MeshFileFormat format, const std::string& partName, const MeshProgress& progress)
+{
+    ExportedPart out;
+    std::optional<Mesh> mesh = meshPart(doc, options, progress, &out.stats);
+    if (!mesh) {
+        out.cancelled = true;
+        return out;
+    }
+    if (mesh->empty()) {
+        out.empty = true;
+        return out;
+    }
+    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance);
+    if (out.report.solid() || options.tolerance == 0.0) return out;
+    out.simplificationDefects = describeDefects(out.report);
+    MeshOptions plain = options;
+    plain.tolerance = 0.0;
+    out.stats = {};
+    mesh = meshPart(doc, plain, progress, &out.stats);
+    if (!mesh) {
+        out.cancelled = true;
+        return out;
+    }
+    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance);
+    return out;
+}
+
+} // namespace kerf
