@@ -48,9 +48,12 @@ of the mesh as read back from those coordinates.
 
 Options:
   -o, --output OUT       the file to write: .stl or .3mf (required)
-  --tolerance MM         the largest distance allowed between the mesh and
-                         the exact surface (default 0.01 mm, finer than any
-                         saw, router or printer works)
+  --tolerance MM         simplify and refine the mesh to this largest
+                         distance from the exact surface (for instance
+                         0.01 mm: flat faces become a few large triangles).
+                         Slow on large parts (minutes on the examples; see
+                         docs/benchmarks.md). Default: none, the marching-
+                         cubes mesh at the feature size, sharp edges kept
   --feature-size MM      the smallest feature resolved: the cell edge of the
                          marching cubes (default: the document's feature
                          size, else about a thousandth of the part's largest
@@ -60,8 +63,8 @@ Options:
   --help                 show this help
 
 STL stores float32 coordinates: a part far from the origin (about 10 m and
-more at the default tolerance) cannot keep its detail there and gets a
-warning; 3MF then stores it around its own centre.
+more at 0.01 mm) cannot keep its detail there and gets a warning; 3MF then
+stores it around its own centre.
 
 Exit status: 0 written; 1 the part is empty or the export failed (nothing is
 written); 2 bad usage, a refused document, an output that is not a regular
@@ -69,10 +72,10 @@ file, or a mesh larger than this machine allows (the reason, naming the
 file, goes to stderr; docs/cli.md has the limits).
 )";
 
-// The tolerance a woodworker never has to touch: a hundredth of a
-// millimetre is below what a saw, a router bit or a printer's nozzle shows,
-// and it costs little more than coarser ones (docs/benchmarks.md).
-constexpr double kDefaultTolerance = 0.01;
+// No simplification unless asked: the tolerance pipeline still takes
+// minutes on the bundled examples (docs/benchmarks.md), too slow for a
+// default. 0 = the marching-cubes mesh at the feature size.
+constexpr double kDefaultTolerance = 0.0;
 
 // Ctrl-C (SIGINT) or SIGTERM while meshing cancels it: nothing is written.
 std::atomic<bool> interrupted{false};
@@ -129,7 +132,16 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const bool ascii = a.has("--ascii"), json = a.has("--json");
         file = a.positional()[0];
         const std::filesystem::path target = *output;
-        const std::optional<MeshFileFormat> format = meshFileFormatFor(target, ascii);
+        std::optional<MeshFileFormat> format = meshFileFormatFor(target, ascii);
+        if (!format) {
+            // A target that is no regular file is refused as such first; a
+            // link to a file takes the format of the file it points to.
+            try {
+                format = meshFileFormatFor(checkOutputFile(target), ascii);
+            } catch (const OutputFileError& e) {
+                throw RefusedRequest(e.what());
+            }
+        }
         if (!format)
             throw UsageError("cannot tell the format of '" + printable(target.string()) +
                              "': name it .stl (STL) or .3mf (3MF)");
@@ -159,8 +171,8 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
                 const int percent = int(fraction * 100.0);
                 if (percent == shownPercent) return;
                 shownPercent = percent;
-                err << "\rkerf export: meshing at " << mm(options.featureSize) << " mm to " << mm(tolerance)
-                    << " mm... " << percent << "%" << std::flush;
+                err << "\rkerf export: meshing at " << mm(options.featureSize) << " mm... " << percent << "%"
+                    << std::flush;
             };
         }
         const auto meshStart = std::chrono::steady_clock::now();
@@ -197,7 +209,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const double seconds = since(start);
         // STL cannot hold the part's detail where float32 steps by more than
         // a tenth of the tolerance.
-        const bool imprecise = written.spacing > 0.1 * tolerance;
+        const bool imprecise = written.spacing > 0.1 * (tolerance > 0.0 ? tolerance : 0.01);
         if (imprecise)
             err << "kerf export: warning: " << printable(target.string()) << ": the part reaches "
                 << significant(std::max(std::abs(bounds.min.x), std::max(std::abs(bounds.max.x),
@@ -238,7 +250,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             j["area_mm2"] = report.area;
             j["simplified"] = fallback.empty();
             if (!fallback.empty()) j["simplification_defects"] = fallback;
-            if (fallback.empty()) j["worst_sample_mm"] = stats.worstSample;
+            if (fallback.empty() && tolerance > 0.0) j["worst_sample_mm"] = stats.worstSample;
             j["triangles_over_tolerance"] = stats.trianglesOverTolerance;
             j["file_spacing_mm"] = written.spacing;
             j["file_offset_mm"] = {written.offset.x, written.offset.y, written.offset.z};
@@ -259,11 +271,14 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         }
         out << printable(target.string()) << ": " << grouped(report.triangles) << " triangles, " << describe(*format)
             << " (" << megabytes(written.bytes) << "), from " << printable(file) << "\n";
-        out << "  tolerance:     " << mm(tolerance) << " mm" << (a.value("--tolerance") ? "" : " (default)");
-        if (fallback.empty())
-            out << "; samples of every triangle within " << significant(stats.worstSample, 2) << " mm\n";
+        if (tolerance == 0.0)
+            out << "  tolerance:     none (marching cubes at the feature size; --tolerance simplifies)\n";
+        else if (fallback.empty())
+            out << "  tolerance:     " << mm(tolerance) << " mm; samples of every triangle within "
+                << significant(stats.worstSample, 2) << " mm\n";
         else
-            out << "; not reached (plain marching-cubes mesh written, see the warning)\n";
+            out << "  tolerance:     " << mm(tolerance)
+                << " mm not reached (plain marching-cubes mesh written, see the warning)\n";
         out << "  feature size:  " << mm(stats.featureSize) << " mm"
             << (requested                  ? ""
                 : doc.settings.featureSize ? " (document)"
