@@ -148,6 +148,14 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         if (ascii && *format != MeshFileFormat::AsciiStl) throw UsageError("--ascii applies to .stl files only");
 
         const auto start = std::chrono::steady_clock::now();
+        // Ctrl+C from here on cancels cleanly: loading and the estimate
+        // below take seconds on large documents and slow builds.
+        const InterruptGuard guard;
+        auto interruptedMessage = [&] {
+            err << "kerf export: " << printable(file) << ": interrupted; " << printable(target.string())
+                << " not written\n";
+            return 1;
+        };
         const Document doc = Document::load(file);
         const Aabb bounds = partBounds(doc);
         if (bounds.isEmpty()) {
@@ -160,9 +168,9 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         options.tolerance = tolerance;
         // The output and the machine's budget, before any meshing.
         preflightExport(doc, file, target, options.featureSize);
+        if (interrupted) return interruptedMessage();
 
         const bool terminal = ::isatty(STDERR_FILENO);
-        const InterruptGuard guard;
         MeshProgress progress;
         progress.cancelled = [] { return interrupted.load(); };
         int shownPercent = -1;
@@ -182,11 +190,9 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const ExportedPart exported = exportPart(doc, options, target, *format, partName, progress);
         const double meshSeconds = since(meshStart);
         if (terminal) err << "\r\033[K" << std::flush;
-        if (exported.cancelled || interrupted) {
-            err << "kerf export: " << printable(file) << ": interrupted; " << printable(target.string())
-                << " not written\n";
-            return 1;
-        }
+        // (A signal that came only while the file was being written leaves
+        // it complete: then it is reported as written.)
+        if (exported.cancelled) return interruptedMessage();
         const MeshStats& stats = exported.stats;
         if (exported.empty) {
             err << "kerf export: " << printable(file) << ": the part is empty at a feature size of "

@@ -77,17 +77,26 @@ glm::dvec3 fileOffsetFor(const Mesh& mesh, MeshFileFormat format, double toleran
 }
 
 MeshFileReport writeMeshFile(Mesh& mesh, const std::filesystem::path& file, MeshFileFormat format,
-                             const std::string& partName, double tolerance, bool writeOnlyIfSolid)
+                             const std::string& partName, double tolerance, bool writeOnlyIfSolid,
+                             const std::function<bool()>& cancelled)
 {
     MeshFileReport report;
+    auto stop = [&] { return report.cancelled = cancelled && cancelled(); };
     const WrittenFormat written = writtenFormatOf(format);
     report.offset = fileOffsetFor(mesh, format, tolerance);
     report.spacing = spacingAt(largestCoordinate(mesh, report.offset), format);
     report.fit = fitToWritten(mesh, written, report.offset);
+    if (stop()) return report;
     // STL readers weld by position; 3MF readers keep the indices.
     const Mesh asRead = readBack(mesh, written, format != MeshFileFormat::ThreeMf, report.offset);
     report.asRead = checkMesh(asRead);
-    report.selfIntersections = findSelfIntersections(asRead, 0).pairs;
+    if (stop()) return report;
+    const SelfIntersections crossings = findSelfIntersections(asRead, 0, cancelled);
+    report.selfIntersections = crossings.pairs;
+    if (crossings.stopped || stop()) {
+        report.cancelled = true;
+        return report;
+    }
     if (writeOnlyIfSolid && !report.solid()) return report;
     if (format == MeshFileFormat::ThreeMf)
         writeThreeMf(mesh, file, partName, report.offset);
@@ -130,7 +139,11 @@ ExportedPart exportPart(const Document& doc, const MeshOptions& options, const s
         out.empty = true;
         return out;
     }
-    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance);
+    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance, true, progress.cancelled);
+    if (out.report.cancelled) {
+        out.cancelled = true;
+        return out;
+    }
     if (out.report.solid() || options.tolerance == 0.0) return out;
     out.simplificationDefects = describeDefects(out.report);
     MeshOptions plain = options;
@@ -141,7 +154,8 @@ ExportedPart exportPart(const Document& doc, const MeshOptions& options, const s
         out.cancelled = true;
         return out;
     }
-    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance);
+    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance, true, progress.cancelled);
+    out.cancelled = out.report.cancelled;
     return out;
 }
 

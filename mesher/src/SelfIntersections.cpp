@@ -1,6 +1,7 @@
 #include "kerf/mesher/SelfIntersections.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <glm/glm.hpp>
@@ -222,7 +223,8 @@ bool intersect(const Mesh& mesh, std::uint32_t s, std::uint32_t t)
 
 } // namespace
 
-SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples)
+SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples,
+                                        const std::function<bool()>& cancelled)
 {
     SelfIntersections out;
     std::vector<Box> boxes(mesh.triangles.size());
@@ -232,15 +234,24 @@ SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples)
     const Hierarchy hierarchy(boxes);
     std::atomic<std::size_t> pairs{0};
     std::mutex mutex;
-    tbb::parallel_for(std::size_t(0), mesh.triangles.size(), [&](std::size_t s) {
-        hierarchy.query(boxes[s], [&](std::uint32_t t) {
-            if (t <= s || !intersect(mesh, std::uint32_t(s), t)) return;
-            ++pairs;
-            std::lock_guard lock(mutex);
-            if (out.examples.size() < examples) out.examples.push_back({std::uint32_t(s), t});
-        });
+    std::atomic<bool> stop{false};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 4096),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+        if (stop.load(std::memory_order_relaxed)) return;
+        if (cancelled && cancelled()) {
+            stop = true;
+            return;
+        }
+        for (std::size_t s = range.begin(); s != range.end(); ++s)
+            hierarchy.query(boxes[s], [&](std::uint32_t t) {
+                if (t <= s || !intersect(mesh, std::uint32_t(s), t)) return;
+                ++pairs;
+                std::lock_guard lock(mutex);
+                if (out.examples.size() < examples) out.examples.push_back({std::uint32_t(s), t});
+            });
     });
     out.pairs = pairs;
+    out.stopped = stop;
     std::sort(out.examples.begin(), out.examples.end());
     return out;
 }

@@ -44,7 +44,7 @@ check_installed() {
   out=$(expect 0 "part.stl: [0-9,]+ triangles, binary STL" \
     "$kerf" export "$prefix/share/kerf/examples/stool.kerf" -o "$work/part.stl" --feature-size 6)
   printf '%s\n' "$out"
-  grep -Eq "mesh: +closed, consistently oriented 2-manifold" <<<"$out" || fail "the exported mesh is not closed"
+  grep -Eq "as read back: +closed, consistently oriented 2-manifold" <<<"$out" || fail "the exported mesh is not closed"
   # A binary STL is an 84-byte header and count, then 50 bytes a triangle.
   triangles=$(sed -n 's/.*part\.stl: \([0-9,]*\) triangles.*/\1/p' <<<"$out" | tr -d ,)
   bytes=$(stat -c %s "$work/part.stl")

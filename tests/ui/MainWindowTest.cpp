@@ -18,10 +18,9 @@
 #include "kerf/mesher/MeshCheck.hpp"
 #include "kerf/mesher/MeshPart.hpp"
 #include "kerf/mesher/StlWriter.hpp"
-#include "kerf/mesher/OpenMeshAdapter.hpp"
 #include "kerf/viewport/qt/ViewportWidget.hpp"
+#include "support/MeshFileReader.hpp"
 
-#include <OpenMesh/Core/IO/MeshIO.hh>
 
 #include <QAction>
 #include <QDragEnterEvent>
@@ -457,15 +456,46 @@ void MainWindowTest::exportDialogWritesAClosedMesh()
     QVERIFY2(dialog->outcome().written, qPrintable(dialog->outcome().message));
     QVERIFY(dialog->outcome().closed);
 
-    // The file itself: read back with OpenMesh, every edge between two faces.
-    OpenTriMesh mesh;
-    OpenMesh::IO::Options opt = OpenMesh::IO::Options::Binary;
-    QVERIFY(OpenMesh::IO::read_mesh(mesh, out.toStdString(), opt));
-    QCOMPARE(std::size_t(mesh.n_faces()), dialog->outcome().triangles);
-    const MeshReport report = checkMesh(fromOpenMesh(mesh));
-    QCOMPARE(report.boundaryEdges, std::size_t(0));
-    QCOMPARE(report.nonManifoldEdges, std::size_t(0));
-    QVERIFY(report.volume > 0.0);
+    // The file itself, read back as a slicer reads it (welded by its float32
+    // coordinates): every edge between two faces, the triangles reported.
+    {
+        const MeshReport report = checkMesh(test::readMeshFile(out.toStdString()));
+        QCOMPARE(report.triangles, dialog->outcome().triangles);
+        QVERIFY(report.watertight());
+        QVERIFY(report.volume > 0.0);
+        QVERIFY2(dialog->outcome().message.contains("As read back: closed"), qPrintable(dialog->outcome().message));
+    }
+
+    // 3MF chosen in the format box: the extension follows, and a tolerance
+    // gives far fewer triangles than the marching-cubes mesh, within it.
+    auto* format = dialog->findChild<QComboBox*>("export.format");
+    format->setCurrentIndex(2);
+    QCOMPARE(dialog->findChild<QLineEdit*>("export.path")->text(), files_.path() + "/stool.3mf");
+    dialog->findChild<QCheckBox*>("export.simplify")->setChecked(true);
+    dialog->findChild<QuantityEdit*>("export.tolerance")->setValue(0.5);
+    const std::size_t plainTriangles = dialog->outcome().triangles;
+    QTest::mouseClick(dialog->findChild<QPushButton*>("export.start"), Qt::LeftButton);
+    QVERIFY(done.wait(600000));
+    QVERIFY2(dialog->outcome().written, qPrintable(dialog->outcome().message));
+    {
+        const MeshReport report = checkMesh(test::readMeshFile((files_.path() + "/stool.3mf").toStdString()));
+        QVERIFY(report.watertight());
+        QCOMPARE(report.triangles, dialog->outcome().triangles);
+        if (dialog->outcome().simplified) {
+            QVERIFY2(report.triangles * 3 < plainTriangles, qPrintable(dialog->outcome().message));
+            QVERIFY2(dialog->outcome().message.contains("within 0.5 mm"), qPrintable(dialog->outcome().message));
+        }
+    }
+    // A name the dialog cannot tell the format of is refused, nothing written.
+    dialog->findChild<QLineEdit*>("export.path")->setText(files_.path() + "/stool.obj");
+    dialog->start();
+    QVERIFY(!dialog->outcome().written);
+    QVERIFY2(dialog->outcome().message.contains(".stl (STL) or .3mf (3MF)"), qPrintable(dialog->outcome().message));
+    QVERIFY(!QFile::exists(files_.path() + "/stool.obj"));
+    dialog->findChild<QCheckBox*>("export.simplify")->setChecked(false);
+    dialog->findChild<QLineEdit*>("export.path")->setText(files_.path() + "/stool.3mf");
+    format->setCurrentIndex(0);
+    QCOMPARE(dialog->findChild<QLineEdit*>("export.path")->text(), files_.path() + "/stool.stl");
 
     // Cancelled: nothing is written.
     const QString cancelled = files_.path() + "/cancelled.stl";

@@ -1,14 +1,14 @@
 #include "ExportDialog.hpp"
 
 #include "QuantityEdit.hpp"
-#include "kerf/mesher/MeshCheck.hpp"
-#include "kerf/mesher/MeshPart.hpp"
-#include "kerf/mesher/StlWriter.hpp"
 #include "kerf/document/AtomicFile.hpp"
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/mesher/MeshFile.hpp"
+#include "kerf/mesher/MeshPart.hpp"
 #include "kerf/voxelizer/GridLayout.hpp"
 #include "kerf/voxelizer/RequestBudget.hpp"
-#include "kerf/evaluator/TapeCompiler.hpp"
 
+#include <QCheckBox>
 #include <QComboBox>
 #include <QDialogButtonBox>
 #include <QFileDialog>
@@ -16,6 +16,7 @@
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QLineEdit>
+#include <QLocale>
 #include <QProgressBar>
 #include <QPushButton>
 #include <QTimer>
@@ -26,10 +27,71 @@
 
 namespace kerf::ui {
 
+namespace {
+
+// The format box's entries, in this order.
+constexpr MeshFileFormat kFormats[] = {MeshFileFormat::BinaryStl, MeshFileFormat::AsciiStl, MeshFileFormat::ThreeMf};
+
+// The tolerance offered when the user ticks "Simplify": a hundredth of a
+// millimetre is below what a router or a printer reproduces.
+constexpr double kSuggestedTolerance = 0.01;
+
+QString extensionOf(MeshFileFormat format) { return format == MeshFileFormat::ThreeMf ? ".3mf" : ".stl"; }
+
+QString withExtension(const QString& path, MeshFileFormat format)
+{
+    const QString ext = extensionOf(format);
+    if (path.endsWith(ext, Qt::CaseInsensitive)) return path;
+    QString base = path;
+    if (base.endsWith(".stl", Qt::CaseInsensitive) || base.endsWith(".3mf", Qt::CaseInsensitive)) base.chop(4);
+    return base + ext;
+}
+
+QString megabytes(std::uint64_t bytes)
+{
+    return bytes < 1000000 ? QObject::tr("%1 kB").arg(double(bytes) / 1e3, 0, 'f', 1)
+                           : QObject::tr("%1 MB").arg(double(bytes) / 1e6, 0, 'f', 1);
+}
+
+// What a reader of the file gets, in one paragraph.
+QString describeWritten(const std::filesystem::path& file, MeshFileFormat format, const ExportedPart& exported,
+                        double tolerance, double seconds)
+{
+    const MeshReport& r = exported.report.asRead;
+    const QLocale locale;
+    QString s = QObject::tr("%1: %2 triangles, %3 (%4) in %5 s.")
+                    .arg(QString::fromStdString(file.filename().string()))
+                    .arg(locale.toString(qulonglong(r.triangles)))
+                    .arg(QString::fromUtf8(describe(format)))
+                    .arg(megabytes(exported.report.bytes))
+                    .arg(seconds, 0, 'f', 2);
+    s += "\n" + QObject::tr("As read back: closed, consistently oriented 2-manifold, no crossing triangles "
+                            "(%n component(s), genus %1).", nullptr, int(r.components))
+                    .arg(r.genus().value_or(-1));
+    if (tolerance > 0.0 && exported.simplificationDefects.empty())
+        s += "\n" + QObject::tr("Every triangle within %1 mm of the exact surface (worst sample %2 mm).")
+                        .arg(tolerance)
+                        .arg(exported.stats.worstSample, 0, 'g', 2);
+    if (!exported.simplificationDefects.empty())
+        s += "\n" + QObject::tr("The mesh simplified to %1 mm had %2; the marching-cubes mesh at %3 mm was written "
+                                "instead (closed, sharp edges kept, larger, not held to the tolerance).")
+                        .arg(tolerance)
+                        .arg(QString::fromStdString(exported.simplificationDefects))
+                        .arg(exported.stats.cellSize);
+    if (exported.stats.trianglesOverTolerance > 0)
+        s += "\n" + QObject::tr("%1 triangles stay up to %2 mm from the exact surface, beyond the tolerance.")
+                        .arg(locale.toString(qulonglong(exported.stats.trianglesOverTolerance)))
+                        .arg(exported.stats.worstSample, 0, 'g', 2);
+    if (!exported.stats.note.empty()) s += "\n" + QString::fromStdString(exported.stats.note);
+    return s;
+}
+
+} // namespace
+
 ExportDialog::ExportDialog(const Document& doc, const std::filesystem::path& suggested, QWidget* parent)
     : QDialog(parent), doc_(doc)
 {
-    setWindowTitle(tr("Export STL"));
+    setWindowTitle(tr("Export"));
     auto* layout = new QVBoxLayout(this);
     auto* form = new QFormLayout;
     auto* pathRow = new QWidget(this);
@@ -37,22 +99,43 @@ ExportDialog::ExportDialog(const Document& doc, const std::filesystem::path& sug
     ph->setContentsMargins(0, 0, 0, 0);
     path_ = new QLineEdit(QString::fromStdString(suggested.string()), pathRow);
     path_->setObjectName("export.path");
+    path_->setToolTip(tr("The file to write: .stl (STL) or .3mf (3MF)"));
     auto* browse = new QPushButton(tr("Browse…"), pathRow);
     ph->addWidget(path_, 1);
     ph->addWidget(browse);
     form->addRow(tr("File"), pathRow);
+    format_ = new QComboBox(this);
+    format_->setObjectName("export.format");
+    format_->addItem(tr("Binary STL"));
+    format_->addItem(tr("ASCII STL"));
+    format_->addItem(tr("3MF"));
+    format_->setToolTip(tr("STL: what every slicer reads (float32 coordinates). 3MF: millimetres, the part's name, "
+                           "exact to six decimals anywhere"));
+    form->addRow(tr("Format"), format_);
     featureSize_ = new QuantityEdit(QuantityEdit::Unit::Millimetres, this);
     featureSize_->setObjectName("export.featureSize");
     const Tape tape = compileTape(doc_);
     featureSize_->setValue(doc_.settings.featureSize.value_or(
         tape.bounds().isEmpty() || !tape.bounds().isBounded() ? 1.0 : defaultFeatureSize(tape.bounds())));
-    featureSize_->setToolTip(tr("Edge of the marching-cubes cells: smaller is more accurate, slower and larger"));
+    featureSize_->setToolTip(tr("The smallest feature resolved: the edge of the marching-cubes cells. Sharp edges "
+                                "and corners are kept at any size"));
     form->addRow(tr("Feature size"), featureSize_);
-    format_ = new QComboBox(this);
-    format_->setObjectName("export.format");
-    format_->addItem(tr("Binary STL"));
-    format_->addItem(tr("ASCII STL"));
-    form->addRow(tr("Format"), format_);
+    auto* toleranceRow = new QWidget(this);
+    auto* th = new QHBoxLayout(toleranceRow);
+    th->setContentsMargins(0, 0, 0, 0);
+    simplify_ = new QCheckBox(tr("Simplify to within"), toleranceRow);
+    simplify_->setObjectName("export.simplify");
+    simplify_->setToolTip(tr("Flat faces become a few large triangles and curved faces get as many as the "
+                             "tolerance needs. Slow on large parts (minutes)"));
+    tolerance_ = new QuantityEdit(QuantityEdit::Unit::Millimetres, toleranceRow);
+    tolerance_->setObjectName("export.tolerance");
+    tolerance_->setValue(kSuggestedTolerance);
+    tolerance_->setEnabled(false);
+    tolerance_->setToolTip(tr("The largest distance allowed between the mesh and the exact surface"));
+    th->addWidget(simplify_);
+    th->addWidget(tolerance_, 1);
+    form->addRow(tr("Tolerance"), toleranceRow);
+    connect(simplify_, &QCheckBox::toggled, tolerance_, &QWidget::setEnabled);
     layout->addLayout(form);
     progress_ = new QProgressBar(this);
     progress_->setRange(0, 1000);
@@ -61,6 +144,7 @@ ExportDialog::ExportDialog(const Document& doc, const std::filesystem::path& sug
     result_ = new QLabel(this);
     result_->setObjectName("export.result");
     result_->setWordWrap(true);
+    result_->setTextInteractionFlags(Qt::TextSelectableByMouse);
     layout->addWidget(result_);
     auto* buttons = new QDialogButtonBox(this);
     exportButton_ = buttons->addButton(tr("Export"), QDialogButtonBox::AcceptRole);
@@ -73,9 +157,18 @@ ExportDialog::ExportDialog(const Document& doc, const std::filesystem::path& sug
         else QDialog::reject();
     });
     connect(browse, &QPushButton::clicked, this, [this] {
-        const QString f = QFileDialog::getSaveFileName(this, tr("Export STL"), path_->text(), tr("STL files (*.stl)"));
-        if (!f.isEmpty()) path_->setText(f.endsWith(".stl", Qt::CaseInsensitive) ? f : f + ".stl");
+        const QString stl = tr("STL files (*.stl)"), threeMf = tr("3MF files (*.3mf)");
+        QString filter = format_->currentIndex() == 2 ? threeMf : stl;
+        const QString f = QFileDialog::getSaveFileName(this, tr("Export"), path_->text(), stl + ";;" + threeMf,
+                                                       &filter);
+        if (f.isEmpty()) return;
+        const bool asThreeMf = f.endsWith(".3mf", Qt::CaseInsensitive) ||
+                               (!f.endsWith(".stl", Qt::CaseInsensitive) && filter == threeMf);
+        path_->setText(withExtension(f, asThreeMf ? MeshFileFormat::ThreeMf : MeshFileFormat::BinaryStl));
     });
+    connect(format_, &QComboBox::currentIndexChanged, this, &ExportDialog::formatChosen);
+    connect(path_, &QLineEdit::textChanged, this, &ExportDialog::pathEdited);
+    pathEdited(path_->text());
     timer_ = new QTimer(this);
     timer_->setInterval(50);
     connect(timer_, &QTimer::timeout, this, &ExportDialog::poll);
@@ -87,21 +180,42 @@ ExportDialog::~ExportDialog()
     if (worker_.joinable()) worker_.join();
 }
 
+void ExportDialog::formatChosen(int index)
+{
+    const QString path = path_->text().trimmed();
+    if (path.isEmpty()) return;
+    const QString changed = withExtension(path, kFormats[index]);
+    if (changed != path) path_->setText(changed);
+}
+
+void ExportDialog::pathEdited(const QString& text)
+{
+    // The extension decides; the box follows (ASCII stays ASCII for .stl).
+    const QString t = text.trimmed();
+    const QSignalBlocker block(format_);
+    if (t.endsWith(".3mf", Qt::CaseInsensitive)) format_->setCurrentIndex(2);
+    else if (t.endsWith(".stl", Qt::CaseInsensitive) && format_->currentIndex() == 2) format_->setCurrentIndex(0);
+}
+
 void ExportDialog::start()
 {
     if (running()) return;
     if (worker_.joinable()) worker_.join();
     const std::filesystem::path file = path_->text().trimmed().toStdString();
-    if (file.empty()) {
-        result_->setText(tr("Choose a file to export to."));
-        return;
-    }
+    auto refuse = [this](const QString& why) {
+        outcome_ = ExportOutcome{};
+        outcome_.message = why;
+        result_->setText(why);
+        emit finished(outcome_);
+    };
+    if (file.empty()) return refuse(tr("Choose a file to export to."));
     const double featureSize = featureSize_->value();
-    if (!(featureSize > 0.0)) {
-        result_->setText(tr("The feature size must be a positive number of millimetres."));
-        return;
-    }
-    const StlFormat format = format_->currentIndex() == 1 ? StlFormat::Ascii : StlFormat::Binary;
+    if (!(featureSize > 0.0)) return refuse(tr("The feature size must be a positive number of millimetres."));
+    const double tolerance = simplify_->isChecked() ? tolerance_->value() : 0.0;
+    if (simplify_->isChecked() && !(tolerance > 0.0))
+        return refuse(tr("The tolerance must be a positive number of millimetres."));
+    std::optional<MeshFileFormat> format = meshFileFormatFor(file, format_->currentIndex() == 1);
+    if (!format) return refuse(tr("Name the file .stl (STL) or .3mf (3MF)."));
     cancel_ = false;
     done_ = false;
     fraction_ = 0.0;
@@ -110,7 +224,8 @@ void ExportDialog::start()
     result_->setText(tr("Meshing…"));
     progress_->setValue(0);
     timer_->start();
-    worker_ = std::thread([this, file, featureSize, format] {
+    const std::string partName = file.stem().string();
+    worker_ = std::thread([this, file, featureSize, tolerance, format = *format, partName] {
         ExportOutcome o;
         try {
             // What cannot be done is refused before any meshing (issue 14):
@@ -127,31 +242,29 @@ void ExportDialog::start()
             }
             MeshOptions options;
             options.featureSize = featureSize;
+            options.tolerance = tolerance;
             MeshProgress progress;
             progress.onProgress = [this](double f) { fraction_ = f; };
             progress.cancelled = [this] { return cancel_.load(); };
-            MeshStats stats;
             const auto t0 = std::chrono::steady_clock::now();
-            std::optional<Mesh> mesh = meshPart(doc_, options, progress, &stats);
-            if (!mesh) {
+            const ExportedPart exported = exportPart(doc_, options, file, format, partName, progress);
+            const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            if (exported.cancelled) {
                 o.cancelled = true;
                 o.message = tr("Cancelled; nothing was written.");
-            } else if (mesh->triangles.empty()) {
-                o.message = tr("The part is empty; nothing was written.");
+            } else if (exported.empty) {
+                o.message = tr("The part is empty at a feature size of %1 mm (thinner than a cell everywhere); "
+                               "nothing was written.")
+                                .arg(exported.stats.cellSize);
+            } else if (!exported.report.solid()) {
+                o.message = tr("Not exported: a reader of the file would not get a closed solid (%1).")
+                                .arg(QString::fromStdString(describeDefects(exported.report)));
             } else {
-                const MeshReport report = checkMesh(*mesh);
-                writeStl(*mesh, file, format);
-                const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
                 o.written = true;
-                o.triangles = mesh->triangles.size();
-                o.closed = report.watertight();
-                o.message = tr("%1: %L2 triangles in %3 s; %4")
-                                .arg(QString::fromStdString(file.filename().string()))
-                                .arg(qulonglong(o.triangles))
-                                .arg(seconds, 0, 'f', 2)
-                                .arg(o.closed ? tr("closed, consistently oriented 2-manifold")
-                                              : tr("NOT closed: check the part"));
-                if (!stats.note.empty()) o.message += "\n" + QString::fromStdString(stats.note);
+                o.closed = true;
+                o.triangles = exported.report.asRead.triangles;
+                o.simplified = tolerance > 0.0 && exported.simplificationDefects.empty();
+                o.message = describeWritten(file, format, exported, tolerance, seconds);
             }
         } catch (const std::bad_alloc&) {
             o.message = tr("Export failed: out of memory; choose a larger feature size.");

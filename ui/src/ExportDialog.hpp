@@ -1,9 +1,11 @@
 #pragma once
-// Export STL: the file, the feature size (cell edge; the document's by
-// default), binary or ASCII. Meshing runs on a worker thread with a
-// progress bar and a Cancel button; the dialog stays responsive and the
-// file is written whole or not at all. The result line says the triangle
-// count and whether the mesh is closed.
+// Export: the file (.stl or .3mf: the format follows the extension), the
+// feature size (cell edge; the document's by default), an optional
+// tolerance (the mesh simplified and refined against the exact surface to
+// that distance), binary or ASCII STL. Meshing and writing go through the
+// core's exportPart(), as `kerf export` does, on a worker thread with a
+// progress bar and a Cancel button; the file is written whole or not at
+// all. The result line describes the file as a reader gets it back.
 
 #include "kerf/document/Document.hpp"
 
@@ -14,6 +16,7 @@
 #include <memory>
 #include <thread>
 
+class QCheckBox;
 class QLineEdit;
 class QComboBox;
 class QProgressBar;
@@ -29,8 +32,9 @@ struct ExportOutcome {
     bool written = false;
     bool cancelled = false;
     QString message; // the result or the reason it failed
-    std::size_t triangles = 0;
-    bool closed = false;
+    std::size_t triangles = 0; // as a reader of the file gets them
+    bool closed = false;       // read back as a closed, oriented 2-manifold without crossings
+    bool simplified = false;   // held to the tolerance (not the marching-cubes fallback)
 };
 
 class ExportDialog : public QDialog {
@@ -54,10 +58,15 @@ protected:
 
 private:
     void poll();
+    /// Keeps the format box and the file's extension in step.
+    void formatChosen(int index);
+    void pathEdited(const QString& text);
 
     Document doc_;
     QLineEdit* path_;
     QuantityEdit* featureSize_;
+    QCheckBox* simplify_;
+    QuantityEdit* tolerance_;
     QComboBox* format_;
     QProgressBar* progress_;
     QLabel* result_;

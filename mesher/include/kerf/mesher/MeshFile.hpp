@@ -20,6 +20,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -48,6 +49,7 @@ struct MeshFileReport {
     double spacing = 0.0;      // mm: the coordinates' step at the part in the file
     glm::dvec3 offset{0.0};    // 3MF: the build item's translation
     std::uint64_t bytes = 0;
+    bool cancelled = false;    // stopped on request before writing: nothing written
 
     /// A closed, oriented 2-manifold without degenerate or crossing triangles.
     bool solid() const { return asRead.watertight() && selfIntersections == 0; }
@@ -57,9 +59,12 @@ struct MeshFileReport {
 /// reader will see it and writes it whole or not at all. `partName` names
 /// the 3MF object. Throws std::runtime_error (or OutputFileError) naming the
 /// file on failure; with `writeOnlyIfSolid` a mesh that a reader would not
-/// see as a solid is not written, and the report says why.
+/// see as a solid is not written, and the report says why. `cancelled`
+/// (asked between the steps and during the crossing search) stops before
+/// anything is written.
 MeshFileReport writeMeshFile(Mesh& mesh, const std::filesystem::path& file, MeshFileFormat format,
-                             const std::string& partName, double tolerance, bool writeOnlyIfSolid = true);
+                             const std::string& partName, double tolerance, bool writeOnlyIfSolid = true,
+                             const std::function<bool()>& cancelled = {});
 
 /// The defects of a report in words ("12 open edges, 3 crossing triangle
 /// pairs"), empty when it is a solid.

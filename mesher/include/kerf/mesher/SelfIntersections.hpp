@@ -17,6 +17,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace kerf {
@@ -24,9 +25,13 @@ namespace kerf {
 struct SelfIntersections {
     std::size_t pairs = 0;                               // intersecting triangle pairs
     std::vector<std::array<std::uint32_t, 2>> examples; // the first few (triangle indices)
+    bool stopped = false;                                // cancelled before the end
 };
 
-SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples = 8);
+/// `cancelled`, asked now and then from the worker threads, stops the
+/// search early (the count is then incomplete and `stopped` is set).
+SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples = 8,
+                                        const std::function<bool()>& cancelled = {});
 
 /// Whether triangles A and B (vertex indices, and their positions a[3], b[3])
 /// intersect other than along the vertices or the edge they share by index.
