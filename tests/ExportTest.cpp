@@ -30,6 +30,8 @@ struct Case {
     const char* root;
     double featureSize;
 };
+// ctest's test names carry the parameter as printed: the name, not the bytes.
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
 class ToleranceCases : public ::testing::TestWithParam<Case> {};
 
@@ -79,6 +81,7 @@ struct FileCase {
     double featureSize;
     double volume; // mm^3, closed form; 0 where there is none
 };
+void PrintTo(const FileCase& c, std::ostream* os) { *os << c.name; }
 
 // Parts built to break an exporter: bodies touching face to face and edge to
 // edge, tools flush with the body's faces, faces on lattice planes and corners

@@ -66,7 +66,8 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
                     .arg(megabytes(exported.report.bytes))
                     .arg(seconds, 0, 'f', 2);
     s += "\n" + QObject::tr("As read back: closed, consistently oriented 2-manifold, no crossing triangles "
-                            "(%n component(s), genus %1).", nullptr, int(r.components))
+                            "(%1, genus %2).")
+                    .arg(r.components == 1 ? QObject::tr("1 component") : QObject::tr("%1 components").arg(r.components))
                     .arg(r.genus().value_or(-1));
     if (tolerance > 0.0 && exported.simplificationDefects.empty())
         s += "\n" + QObject::tr("Every triangle within %1 mm of the exact surface (worst sample %2 mm).")
@@ -92,6 +93,7 @@ ExportDialog::ExportDialog(const Document& doc, const std::filesystem::path& sug
     : QDialog(parent), doc_(doc)
 {
     setWindowTitle(tr("Export"));
+    setMinimumWidth(560); // room for a path and the result's sentences
     auto* layout = new QVBoxLayout(this);
     auto* form = new QFormLayout;
     auto* pathRow = new QWidget(this);

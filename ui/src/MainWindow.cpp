@@ -229,6 +229,7 @@ void MainWindow::buildActions()
     QAction* saveAsAct = action(tr("Save &As…"), "action.saveAs", QKeySequence::SaveAs);
     connect(saveAsAct, &QAction::triggered, this, [this] { saveAs(); });
     QAction* exportAct = action(tr("&Export (STL, 3MF)…"), "action.export", QKeySequence(tr("Ctrl+E")));
+    exportAct->setIconText(tr("Export…")); // the toolbar keeps its width
     connect(exportAct, &QAction::triggered, this, [this] {
         fs::path suggested = session_->path() ? session_->path()->parent_path() / session_->path()->stem()
                                               : fs::path(QDir::homePath().toStdString()) / "part";
