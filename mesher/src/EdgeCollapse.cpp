@@ -1,5 +1,6 @@
 #include "EdgeCollapse.hpp"
 
+#include "CrossingGuard.hpp"
 #include "TriangleGrid.hpp"
 #include "TriangleSamples.hpp"
 #include "kerf/mesher/SelfIntersections.hpp"
@@ -285,19 +286,21 @@ private:
             }
         for (const Triangle& tri : changed_) {
             const glm::dvec3 p[3] = {position(tri[0], b, at), position(tri[1], b, at), position(tri[2], b, at)};
-            const auto [lo, hi] = boxOf(tri, b, at);
-            bool crossing = false;
-            grid_.query(lo, hi, [&](std::uint32_t t) {
-                if (crossing || removed(t)) return;
-                const Triangle& other = m_.triangles[t];
-                for (const std::uint32_t u : other)
-                    if (u == a || u == b) return; // around the edge: replaced or moved with it
-                const glm::dvec3 q[3] = {m_.positions[other[0]], m_.positions[other[1]], m_.positions[other[2]]};
-                if (glm::any(glm::lessThan(hi, glm::min(q[0], glm::min(q[1], q[2])))) ||
-                    glm::any(glm::greaterThan(lo, glm::max(q[0], glm::max(q[1], q[2])))))
-                    return;
-                crossing = trianglesCross(tri, p, other, q);
-            });
+            const bool crossing = crossesAnyInGrid(
+                grid_, tri, p,
+                [&](std::uint32_t t) {
+                    if (removed(t)) return true;
+                    const Triangle& other = m_.triangles[t];
+                    // Around the edge: replaced, or moved with it.
+                    return other[0] == a || other[0] == b || other[1] == a || other[1] == b || other[2] == a ||
+                           other[2] == b;
+                },
+                [&](std::uint32_t t, glm::dvec3(&q)[3]) {
+                    const Triangle& other = m_.triangles[t];
+                    for (int k = 0; k < 3; ++k)
+                        q[k] = m_.positions[other[std::size_t(k)]];
+                    return other;
+                });
             if (crossing) return true;
         }
         return false;

@@ -1,6 +1,7 @@
 #include "ToleranceRefiner.hpp"
 
 #include "CreaseSnap.hpp"
+#include "CrossingGuard.hpp"
 #include "TriangleGrid.hpp"
 #include "TriangleSamples.hpp"
 #include "kerf/mesher/SelfIntersections.hpp"
@@ -268,17 +269,14 @@ private:
         for (std::size_t i = 0; i < N; ++i) {
             const Tri& a = added[i];
             const glm::dvec3 pa[3] = {at(a[0], pending), at(a[1], pending), at(a[2], pending)};
-            const auto [lo, hi] = boxOf(a, pending);
-            bool crossing = false;
-            grid_.query(lo, hi, [&](std::uint32_t t) {
-                if (crossing || t == t1 || t == t2) return;
-                const Tri& b = mesh_.triangles[t];
-                const glm::dvec3 pb[3] = {mesh_.vertices[b[0]], mesh_.vertices[b[1]], mesh_.vertices[b[2]]};
-                if (glm::any(glm::lessThan(hi, glm::min(pb[0], glm::min(pb[1], pb[2])))) ||
-                    glm::any(glm::greaterThan(lo, glm::max(pb[0], glm::max(pb[1], pb[2])))))
-                    return;
-                crossing = trianglesCross(a, pa, b, pb);
-            });
+            const bool crossing = crossesAnyInGrid(
+                grid_, a, pa, [&](std::uint32_t t) { return t == t1 || t == t2; },
+                [&](std::uint32_t t, glm::dvec3(&q)[3]) {
+                    const Tri& b = mesh_.triangles[t];
+                    for (int k = 0; k < 3; ++k)
+                        q[k] = mesh_.vertices[b[std::size_t(k)]];
+                    return b;
+                });
             if (crossing) return true;
             // The new triangles among themselves.
             for (std::size_t j = i + 1; j < N; ++j) {
