@@ -4,7 +4,7 @@
 // that makes two triangles cross leaves a mesh that no longer bounds a
 // solid (a slicer fills it wrongly), so such changes are not made.
 
-#include "TriangleGrid.hpp"
+#include "TriangleTree.hpp"
 
 #include "kerf/mesher/SelfIntersections.hpp"
 
@@ -20,7 +20,7 @@ namespace kerf::mesher {
 /// with t's corners and returns t's vertex indices (shared indices are
 /// what trianglesCross allows two triangles to share).
 template <class Skip, class Corners>
-bool crossesAnyInGrid(const TriangleGrid& grid, const std::array<std::uint32_t, 3>& tri, const glm::dvec3 (&p)[3],
+bool crossesAnyInGrid(const TriangleTree& grid, const std::array<std::uint32_t, 3>& tri, const glm::dvec3 (&p)[3],
                       Skip&& skip, Corners&& corners)
 {
     const glm::dvec3 lo = glm::min(p[0], glm::min(p[1], p[2]));

@@ -1,7 +1,7 @@
 #include "EdgeCollapse.hpp"
 
 #include "CrossingGuard.hpp"
-#include "TriangleGrid.hpp"
+#include "TriangleTree.hpp"
 #include "TriangleSamples.hpp"
 #include "kerf/mesher/SelfIntersections.hpp"
 
@@ -31,7 +31,7 @@ constexpr double kCreaseCosine = 0.8660254037844387; // 30 degrees
 class Collapser {
 public:
     Collapser(CollapseMesh& mesh, const CollapseLimits& limits, SurfaceQueries& surface)
-        : m_(mesh), limits_(limits), surface_(surface), grid_(typicalSize(mesh))
+        : m_(mesh), limits_(limits), surface_(surface)
     {
         const std::size_t n = m_.positions.size();
         head_.assign(n, kNone);
@@ -238,18 +238,6 @@ private:
         return facingAfter >= std::min(limits_.minSurfaceCosine, facingBefore);
     }
 
-    static double typicalSize(const CollapseMesh& mesh)
-    {
-        double sum = 0.0;
-        std::size_t count = 0;
-        for (const Triangle& t : mesh.triangles) {
-            if (t[0] == kRemoved) continue;
-            sum += glm::length(mesh.positions[t[1]] - mesh.positions[t[0]]);
-            if (++count == 4096) break;
-        }
-        return count ? 2.0 * sum / double(count) : 1.0;
-    }
-
     // Vertex positions with `moved` at `to`.
     glm::dvec3 position(std::uint32_t v, std::uint32_t moved, const glm::dvec3& to) const
     {
@@ -265,12 +253,46 @@ private:
         return {lo, hi};
     }
 
+    // Whether a's triangles (trisA_) lie in one plane, facing one way. Then a
+    // collapse of a onto its neighbour b, b staying put, cannot make a
+    // crossing when no new triangle turns over (keepsShape): the new fan
+    // from b, all its triangles turning the plane's way, covers each point
+    // of the plane as often as the winding number of a's link, which is
+    // simple (the mesh crosses nowhere), so it covers exactly the polygon
+    // a's triangles covered, once. Most collapses on furniture are on flat
+    // faces: this spares their searches of the grid.
+    bool flatStar(std::uint32_t a) const
+    {
+        glm::dvec3 first(0.0);
+        double firstLength = 0.0;
+        for (const std::uint32_t t : trisA_) {
+            const Triangle& tri = m_.triangles[t];
+            const glm::dvec3 n = glm::cross(m_.positions[tri[1]] - m_.positions[tri[0]],
+                                            m_.positions[tri[2]] - m_.positions[tri[0]]);
+            const double length = glm::length(n);
+            if (!(length > 0.0)) return false;
+            if (firstLength == 0.0) {
+                first = n;
+                firstLength = length;
+                continue;
+            }
+            if (!(glm::dot(n, first) >= (1.0 - 1e-15) * length * firstLength)) return false;
+            // In one plane, not only parallel: every corner on first's plane.
+            for (const std::uint32_t v : tri)
+                if (std::abs(glm::dot(m_.positions[v] - m_.positions[a], first)) > 1e-12 * firstLength *
+                        glm::length(m_.positions[v] - m_.positions[a]))
+                    return false;
+        }
+        return firstLength > 0.0;
+    }
+
     // Whether a triangle the collapse leaves (a's become b's, b at `at`)
     // would cross one that is not around a or b: on a thin part or in a
     // narrow gap a collapse can push a triangle through the other side, and
     // a crossing mesh does not bound a solid.
     bool wouldCross(std::uint32_t a, std::uint32_t b, const glm::dvec3& at)
     {
+        if (at == m_.positions[b] && flatStar(a)) return false;
         changed_.clear();
         for (const std::uint32_t t : trisA_) {
             Triangle tri = m_.triangles[t];
@@ -494,7 +516,7 @@ private:
     std::uint32_t clock_ = 0;
     std::vector<std::uint8_t> touched_, dirty_;
     std::vector<std::uint32_t> trisA_, trisB_, trisC_, neighbours_;
-    TriangleGrid grid_;
+    TriangleTree grid_;
     std::vector<Triangle> changed_;
     std::vector<glm::dvec3> samples_, errorSamples_;
     std::vector<double> values_;

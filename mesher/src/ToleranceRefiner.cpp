@@ -2,10 +2,11 @@
 
 #include "CreaseSnap.hpp"
 #include "CrossingGuard.hpp"
-#include "TriangleGrid.hpp"
+#include "TriangleTree.hpp"
 #include "TriangleSamples.hpp"
 #include "kerf/mesher/SelfIntersections.hpp"
 
+#include "kerf/evaluator/IntervalEvaluator.hpp"
 #include "kerf/evaluator/PointEvaluator.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -57,7 +58,16 @@ public:
             y_[k] = points_[k].y;
             z_[k] = points_[k].z;
         }
-        evaluator_.evaluate(tape, x_.data(), y_.data(), z_.data(), n, f_.data());
+        // The tape simplified for the samples' box: a chunk of triangles
+        // lies in a small part of the part, where most of the tape is
+        // decided (and the simplified tape equals the full one there).
+        glm::dvec3 lo(points_.empty() ? glm::dvec3(0.0) : points_[0]), hi(lo);
+        for (const glm::dvec3& p : points_) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+        intervals_.simplify(tape, Aabb{lo, hi}, region_);
+        evaluator_.evaluate(region_, x_.data(), y_.data(), z_.data(), n, f_.data());
         for (std::size_t i = 0; i < count; ++i) {
             // The edges in the order of their worst sample (the one the
             // triangle strays most along); the inside samples count for the
@@ -95,6 +105,8 @@ public:
 
 private:
     PointEvaluator<double> evaluator_;
+    IntervalEvaluator intervals_;
+    Tape region_;
     std::vector<glm::dvec3> points_;
     std::vector<double> x_, y_, z_, f_;
 };
@@ -103,8 +115,7 @@ private:
 class Splitter {
 public:
     Splitter(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape, double tolerance, double minHeight)
-        : mesh_(mesh), normals_(normals), tape_(tape), tolerance_(tolerance), minHeight_(minHeight),
-          grid_(std::max(4.0 * tolerance, 1e-3))
+        : mesh_(mesh), normals_(normals), tape_(tape), tolerance_(tolerance), minHeight_(minHeight)
     {
         halfedges_.reserve(3 * mesh.triangles.size() * 2);
         for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
@@ -394,7 +405,7 @@ private:
     double tolerance_;
     double minHeight_;
     std::unordered_map<std::uint64_t, std::uint32_t> halfedges_;
-    TriangleGrid grid_;
+    TriangleTree grid_;
     std::vector<glm::dvec3> samples_;
     GradientEvaluator<double> gradients_;
     PointEvaluator<double> points_;
