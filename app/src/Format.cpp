@@ -46,17 +46,6 @@ std::string significant(double v, int digits)
     return number(v, std::max(0, digits - 1 - magnitude));
 }
 
-std::string grouped(std::uint64_t n)
-{
-    const std::string digits = std::to_string(n);
-    std::string out;
-    for (std::size_t i = 0; i < digits.size(); ++i) {
-        if (i && (digits.size() - i) % 3 == 0) out += ',';
-        out += digits[i];
-    }
-    return out;
-}
-
 std::string megabytes(std::uint64_t bytes) { return number(double(bytes) / 1e6, 1) + " MB"; }
 
 } // namespace kerf

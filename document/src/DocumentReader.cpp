@@ -6,6 +6,7 @@
 #include "kerf/document/Document.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/Expansion.hpp"
+#include "kerf/document/GroupedNumber.hpp"
 #include "kerf/document/Limits.hpp"
 #include "kerf/document/NodeBounds.hpp"
 #include "kerf/document/ProfileCheck.hpp"
@@ -40,18 +41,6 @@ std::string describeKind(const Json& v)
     case Json::value_t::number_float: return "a number with a fraction";
     default: return "a number";
     }
-}
-
-// 1234567 as "1,234,567".
-std::string grouped(std::uint64_t n)
-{
-    const std::string digits = std::to_string(n);
-    std::string out;
-    for (std::size_t i = 0; i < digits.size(); ++i) {
-        if (i && (digits.size() - i) % 3 == 0) out += ',';
-        out += digits[i];
-    }
-    return out;
 }
 
 std::string formatNumber(double v)

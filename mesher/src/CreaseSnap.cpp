@@ -7,17 +7,8 @@
 
 namespace kerf::mesher {
 
-namespace {
-
-struct SheetPoint {
-    glm::dvec3 p;
-    glm::dvec3 n; // unit
-};
-
-// Newton steps along the gradient onto the surface from `start`; nothing
-// when they wander further than `reach`.
-std::optional<SheetPoint> ontoSurface(const Tape& tape, GradientEvaluator<double>& gradients, glm::dvec3 p,
-                                      double reach, double tolerance, const glm::dvec3& expected)
+std::optional<SurfacePoint> projectOntoSurface(const Tape& tape, GradientEvaluator<double>& gradients, glm::dvec3 p,
+                                               double reach, double settled, const glm::dvec3& expected)
 {
     // The normal is the gradient of the step before the last: at the
     // surface itself the gradient can be rounding noise, or 0 where the
@@ -30,17 +21,17 @@ std::optional<SheetPoint> ontoSurface(const Tape& tape, GradientEvaluator<double
         const glm::dvec3 g(d.d[0], d.d[1], d.d[2]);
         const double g2 = glm::dot(g, g);
         if (!std::isfinite(d.v)) return std::nullopt;
-        if (std::abs(d.v) <= 1e-3 * tolerance) {
+        if (std::abs(d.v) <= settled) {
             if (normal == glm::dvec3(0.0)) {
                 // Started on the surface: the gradient a hair off it, on the
                 // side the sheet's normal says.
-                const glm::dvec3 off = q + 1e-3 * tolerance * expected;
+                const glm::dvec3 off = q + settled * expected;
                 const Dual<double> e = gradients.evaluate(tape, off.x, off.y, off.z);
                 const glm::dvec3 ge(e.d[0], e.d[1], e.d[2]);
                 if (!(glm::dot(ge, ge) > 1e-12)) return std::nullopt;
                 normal = glm::normalize(ge);
             }
-            return SheetPoint{p, normal};
+            return SurfacePoint{p, normal};
         }
         if (!(g2 > 1e-12)) return std::nullopt;
         normal = g / std::sqrt(g2);
@@ -49,6 +40,10 @@ std::optional<SheetPoint> ontoSurface(const Tape& tape, GradientEvaluator<double
     }
     return std::nullopt;
 }
+
+namespace {
+
+using SheetPoint = SurfacePoint;
 
 // A point of the sheet with normal about `own`, `delta` away from x on the
 // sheet's side of the edge (the side away from the other sheet, tried
@@ -61,7 +56,7 @@ std::optional<SheetPoint> sample(const Tape& tape, GradientEvaluator<double>& gr
     if (!(length > 1e-9)) return std::nullopt;
     t /= length;
     for (const double sign : {-1.0, 1.0}) {
-        const auto s = ontoSurface(tape, gradients, x + sign * delta * t, 4.0 * delta, tolerance, own);
+        const auto s = projectOntoSurface(tape, gradients, x + sign * delta * t, 4.0 * delta, 1e-3 * tolerance, own);
         if (s && glm::dot(s->n, own) > 0.9) return s;
     }
     return std::nullopt;

@@ -21,6 +21,20 @@
 
 namespace kerf::mesher {
 
+struct SurfacePoint {
+    glm::dvec3 p;
+    glm::dvec3 n; // unit
+};
+
+/// Newton steps along the gradient from `p` onto the surface, until
+/// |f| <= `settled`; nothing when they wander further than `reach` from p
+/// or meet a zero gradient. The normal is the gradient of the step before
+/// the last (at the surface itself the gradient can be rounding noise, or 0
+/// where the field is exactly 0); a start already on the surface takes it a
+/// hair off, on the side of `expected`.
+std::optional<SurfacePoint> projectOntoSurface(const Tape& tape, GradientEvaluator<double>& gradients, glm::dvec3 p,
+                                               double reach, double settled, const glm::dvec3& expected);
+
 /// The point of the sharp edge near `x` in the plane across it through `x`,
 /// where the sheets have (about) unit normals `nA` and `nB` near x (at least
 /// 25 degrees apart); `scale` is the size of the neighbourhood (mm: a cell, an

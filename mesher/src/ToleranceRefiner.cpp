@@ -299,41 +299,15 @@ private:
         return false;
     }
 
-    // Newton steps along the gradient from p onto the surface; false when
-    // they do not settle within `reach` of the start. `normal` receives the
-    // unit gradient where they stop (taken just before the last step, where
-    // |f| is not yet rounding noise: see TileMesher::solveRoots).
+    // p moved onto the surface (projectOntoSurface, CreaseSnap.hpp), and its
+    // normal; false when the steps do not settle within `reach`.
     bool project(glm::dvec3& p, double reach, glm::dvec3* normal = nullptr, const glm::dvec3& expected = glm::dvec3(0.0))
     {
-        const glm::dvec3 start = p;
-        glm::dvec3 last(0.0);
-        for (int i = 0; i < 16; ++i) {
-            const glm::dvec3 q = p - tape_.origin();
-            const Dual<double> d = gradients_.evaluate(tape_, q.x, q.y, q.z);
-            const glm::dvec3 g(d.d[0], d.d[1], d.d[2]);
-            const double g2 = glm::dot(g, g);
-            if (!std::isfinite(d.v)) return false;
-            if (std::abs(d.v) <= 1e-4 * tolerance_) {
-                // Exactly on the surface the gradient may be 0 or noise: the
-                // previous step's stands.
-                if (last == glm::dvec3(0.0)) {
-                    // Started on the surface: the gradient a hair off it, on
-                    // the side the triangles face.
-                    const glm::dvec3 off = q + 1e-4 * tolerance_ * expected;
-                    const Dual<double> e = gradients_.evaluate(tape_, off.x, off.y, off.z);
-                    const glm::dvec3 ge(e.d[0], e.d[1], e.d[2]);
-                    if (!(glm::dot(ge, ge) > 1e-12)) return false;
-                    last = glm::normalize(ge);
-                }
-                if (normal) *normal = last;
-                return glm::length(p - start) <= reach;
-            }
-            if (!(g2 > 1e-12)) return false;
-            last = g / std::sqrt(g2);
-            p -= g * (d.v / g2);
-            if (glm::length(p - start) > reach) return false;
-        }
-        return false;
+        const auto s = projectOntoSurface(tape_, gradients_, p, reach, 1e-4 * tolerance_, expected);
+        if (!s) return false;
+        p = s->p;
+        if (normal) *normal = s->n;
+        return true;
     }
 
     double field(const glm::dvec3& p)

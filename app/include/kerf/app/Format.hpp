@@ -2,6 +2,8 @@
 // How kerf's commands write numbers for people (the --json output writes
 // plain numbers instead).
 
+#include "kerf/document/GroupedNumber.hpp" // grouped(): counts with commas
+
 #include <cstdint>
 #include <string>
 
@@ -15,8 +17,6 @@ std::string mm(double v);
 /// Significant digits, no exponent from 1e-4 to 1e12: significant(0.012345, 3) = "0.0123",
 /// significant(1e-6, 2) = "1.0e-06".
 std::string significant(double v, int digits);
-/// Thousands separated by commas: grouped(1234567) = "1,234,567".
-std::string grouped(std::uint64_t n);
 /// Decimal megabytes with one decimal: "10.2 MB".
 std::string megabytes(std::uint64_t bytes);
 
