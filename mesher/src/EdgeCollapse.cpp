@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <unordered_map>
 #include <cmath>
 #include <limits>
 
@@ -45,6 +46,12 @@ public:
             }
             const auto [lo, hi] = boxOf(m_.triangles[t], kNone, glm::dvec3(0.0));
             grid_.insert(t, lo, hi);
+        }
+        // Obstacles after the triangles: tree entries from triangleCount_ on.
+        triangleCount_ = std::uint32_t(m_.triangles.size());
+        for (std::uint32_t i = 0; i < m_.obstacles.size(); ++i) {
+            const auto& c = m_.obstacleCorners[i];
+            grid_.insert(triangleCount_ + i, glm::min(c[0], glm::min(c[1], c[2])), glm::max(c[0], glm::max(c[1], c[2])));
         }
         stamp_.assign(n, 0);
         common_.assign(n, 0);
@@ -311,13 +318,19 @@ private:
             const bool crossing = crossesAnyInGrid(
                 grid_, tri, p,
                 [&](std::uint32_t t) {
-                    if (removed(t)) return true;
-                    const Triangle& other = m_.triangles[t];
+                    if (t < triangleCount_ && removed(t)) return true;
+                    const Triangle& other = t < triangleCount_ ? m_.triangles[t] : m_.obstacles[t - triangleCount_];
                     // Around the edge: replaced, or moved with it.
                     return other[0] == a || other[0] == b || other[1] == a || other[1] == b || other[2] == a ||
                            other[2] == b;
                 },
                 [&](std::uint32_t t, glm::dvec3(&q)[3]) {
+                    if (t >= triangleCount_) {
+                        const auto& c = m_.obstacleCorners[t - triangleCount_];
+                        for (int k = 0; k < 3; ++k)
+                            q[k] = c[std::size_t(k)];
+                        return m_.obstacles[t - triangleCount_];
+                    }
                     const Triangle& other = m_.triangles[t];
                     for (int k = 0; k < 3; ++k)
                         q[k] = m_.positions[other[std::size_t(k)]];
@@ -365,6 +378,17 @@ private:
         if (trisC_.size() <= 3) return false;
         gather(d, trisC_);
         if (trisC_.size() <= 3) return false;
+        if (limits_.maxEdgeAfter > 0.0) {
+            // Edges at b's new place: a's (now b's), and b's own when b moves.
+            auto tooLong = [&](const std::vector<std::uint32_t>& tris) {
+                for (const std::uint32_t t : tris)
+                    for (const std::uint32_t u : m_.triangles[t])
+                        if (u != a && u != b && !(glm::length(m_.positions[u] - at) <= limits_.maxEdgeAfter))
+                            return true;
+                return false;
+            };
+            if (tooLong(trisA_) || (at != m_.positions[b] && tooLong(trisB_))) return false;
+        }
         if (!limits_.checkGeometry) return true;
         // Geometry of every triangle that stays: a's become b's at `at`, and
         // b's own move with b.
@@ -517,6 +541,7 @@ private:
     std::vector<std::uint8_t> touched_, dirty_;
     std::vector<std::uint32_t> trisA_, trisB_, trisC_, neighbours_;
     TriangleTree grid_;
+    std::uint32_t triangleCount_ = 0; // tree entries from here on are obstacles
     std::vector<Triangle> changed_;
     std::vector<glm::dvec3> samples_, errorSamples_;
     std::vector<double> values_;
@@ -577,10 +602,34 @@ std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits
         groups.emplace_back(first, last);
         first = last;
     }
+    // Cubes side by side are never simplified together: eight phases, by
+    // the parity of the cube's coordinates, and each cube's collapses kept
+    // from crossing its 26 neighbours' triangles (which stand still while
+    // it works: they are of other phases). Without them a collapse at a
+    // cube's face could push a triangle through a thin board's other side
+    // lying in the next cube.
+    constexpr std::uint64_t kAxis = 0x1FFFFF;
+    auto colour = [](std::uint64_t key) {
+        return int((key & 1) | ((key >> 21) & 1) << 1 | ((key >> 42) & 1) << 2);
+    };
+    std::unordered_map<std::uint64_t, std::size_t> groupOf;
+    for (std::size_t g = 0; g < groups.size(); ++g)
+        groupOf[order[groups[g].first].cube] = g;
+    auto neighbour = [](std::uint64_t key, int dx, int dy, int dz) {
+        auto axis = [&](int bit, int d) { return ((((key >> bit) & kAxis) + std::uint64_t(std::int64_t(d))) & kAxis) << bit; };
+        return axis(0, dx) | axis(21, dy) | axis(42, dz);
+    };
+    std::vector<std::vector<std::size_t>> phases(8);
+    for (std::size_t g = 0; g < groups.size(); ++g)
+        phases[std::size_t(colour(order[groups[g].first].cube))].push_back(g);
+    CollapseLimits cubeLimits = limits;
+    cubeLimits.maxEdgeAfter = 0.25 * cube;
     std::atomic<std::size_t> total{0};
+    for (const std::vector<std::size_t>& phase : phases)
     arena.execute([&] {
-        tbb::parallel_for(std::size_t(0), groups.size(), [&](std::size_t g) {
+        tbb::parallel_for(std::size_t(0), phase.size(), [&](std::size_t member) {
             if (cancelled && cancelled()) return;
+            const std::size_t g = phase[member];
             const auto [first, last] = groups[g];
             // The cube's vertices, numbered locally.
             std::vector<std::uint32_t> global;
@@ -615,8 +664,37 @@ std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits
                 hi = glm::max(hi, p);
             }
             const glm::dvec3 margin(1e-6 * (1.0 + glm::length(hi - lo)));
+            // The neighbours' triangles near this cube's, as obstacles.
+            const std::uint64_t key = order[first].cube;
+            std::uint32_t outside = kObstacleVertex;
+            for (int dz = -1; dz <= 1; ++dz)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        if (!dx && !dy && !dz) continue;
+                        const auto it = groupOf.find(neighbour(key, dx, dy, dz));
+                        if (it == groupOf.end()) continue;
+                        const auto [nFirst, nLast] = groups[it->second];
+                        for (std::size_t k = nFirst; k < nLast; ++k) {
+                            const Triangle& t = mesh.triangles[order[k].triangle];
+                            if (t[0] == kRemoved) continue;
+                            const std::array<glm::dvec3, 3> c = {mesh.positions[t[0]], mesh.positions[t[1]],
+                                                                 mesh.positions[t[2]]};
+                            if (glm::any(glm::lessThan(hi + margin, glm::min(c[0], glm::min(c[1], c[2])))) ||
+                                glm::any(glm::greaterThan(lo - margin, glm::max(c[0], glm::max(c[1], c[2])))))
+                                continue;
+                            Triangle o;
+                            for (int j = 0; j < 3; ++j) {
+                                const auto at = std::lower_bound(global.begin(), global.end(), t[std::size_t(j)]);
+                                o[std::size_t(j)] = at != global.end() && *at == t[std::size_t(j)]
+                                                        ? std::uint32_t(at - global.begin())
+                                                        : outside++;
+                            }
+                            part.obstacles.push_back(o);
+                            part.obstacleCorners.push_back(c);
+                        }
+                    }
             SurfaceQueries cubeSurface = surface.region(lo - margin, hi + margin);
-            total += collapseEdges(part, limits, cubeSurface, cancelled);
+            total += collapseEdges(part, cubeLimits, cubeSurface, cancelled);
             // Back: this cube alone owns its triangles and its vertices that
             // were not held, so the writes of different cubes never meet.
             for (std::size_t k = first; k < last; ++k) {

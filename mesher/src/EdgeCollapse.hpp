@@ -53,6 +53,7 @@ using Triangle = std::array<std::uint32_t, 3>;
 
 /// Marks a removed triangle (in its first slot).
 inline constexpr std::uint32_t kRemoved = 0xFFFFFFFFu;
+inline constexpr std::uint32_t kObstacleVertex = 0xC0000000u;
 
 struct CollapseMesh {
     std::vector<glm::dvec3> positions; // mm, relative to a nearby origin (Quadric.hpp)
@@ -61,6 +62,12 @@ struct CollapseMesh {
     std::vector<std::uint8_t> held;    // 1: never removed, never collapsed into
     std::vector<std::uint8_t> removed; // 1: collapsed away
     std::vector<Triangle> triangles;   // outward orientation; kRemoved in [0] once removed
+    /// Triangles of the surrounding mesh that this part must not cross
+    /// (the neighbouring cubes' of the partitioned collapse), read-only:
+    /// their vertex indices are this part's where they share a vertex with
+    /// it, else values no vertex of it has (kObstacleVertex and up).
+    std::vector<Triangle> obstacles;
+    std::vector<std::array<glm::dvec3, 3>> obstacleCorners;
 
     std::size_t liveTriangles() const;
 };
@@ -78,6 +85,11 @@ struct CollapseLimits {
     double tolerance = 0.0;
     /// Only edges shorter than this (mm) collapse; 0: any.
     double maxEdgeLength = 0.0;
+    /// No collapse makes an edge longer than this (mm); 0: any length. The
+    /// partitioned collapse sets it to a quarter of its cube, so that every
+    /// triangle that could meet a cube's lies in the cube or its 26
+    /// neighbours (its obstacles).
+    double maxEdgeAfter = 0.0;
     /// Off: topology only (link condition, valence). For edges so short
     /// that moving a vertex along one changes the surface by nothing that
     /// matters, but may turn a sliver over on the way: the clusters of
