@@ -260,46 +260,12 @@ private:
         return {lo, hi};
     }
 
-    // Whether a's triangles (trisA_) lie in one plane, facing one way. Then a
-    // collapse of a onto its neighbour b, b staying put, cannot make a
-    // crossing when no new triangle turns over (keepsShape): the new fan
-    // from b, all its triangles turning the plane's way, covers each point
-    // of the plane as often as the winding number of a's link, which is
-    // simple (the mesh crosses nowhere), so it covers exactly the polygon
-    // a's triangles covered, once. Most collapses on furniture are on flat
-    // faces: this spares their searches of the grid.
-    bool flatStar(std::uint32_t a) const
-    {
-        glm::dvec3 first(0.0);
-        double firstLength = 0.0;
-        for (const std::uint32_t t : trisA_) {
-            const Triangle& tri = m_.triangles[t];
-            const glm::dvec3 n = glm::cross(m_.positions[tri[1]] - m_.positions[tri[0]],
-                                            m_.positions[tri[2]] - m_.positions[tri[0]]);
-            const double length = glm::length(n);
-            if (!(length > 0.0)) return false;
-            if (firstLength == 0.0) {
-                first = n;
-                firstLength = length;
-                continue;
-            }
-            if (!(glm::dot(n, first) >= (1.0 - 1e-15) * length * firstLength)) return false;
-            // In one plane, not only parallel: every corner on first's plane.
-            for (const std::uint32_t v : tri)
-                if (std::abs(glm::dot(m_.positions[v] - m_.positions[a], first)) > 1e-12 * firstLength *
-                        glm::length(m_.positions[v] - m_.positions[a]))
-                    return false;
-        }
-        return firstLength > 0.0;
-    }
-
     // Whether a triangle the collapse leaves (a's become b's, b at `at`)
     // would cross one that is not around a or b: on a thin part or in a
     // narrow gap a collapse can push a triangle through the other side, and
     // a crossing mesh does not bound a solid.
     bool wouldCross(std::uint32_t a, std::uint32_t b, const glm::dvec3& at)
     {
-        if (at == m_.positions[b] && flatStar(a)) return false;
         changed_.clear();
         for (const std::uint32_t t : trisA_) {
             Triangle tri = m_.triangles[t];
@@ -313,16 +279,20 @@ private:
                 const Triangle& tri = m_.triangles[t];
                 if (tri[0] != a && tri[1] != a && tri[2] != a) changed_.push_back(tri);
             }
-        for (const Triangle& tri : changed_) {
+        const bool moves = at != m_.positions[b];
+        for (std::size_t i = 0; i < changed_.size(); ++i) {
+            const Triangle& tri = changed_[i];
             const glm::dvec3 p[3] = {position(tri[0], b, at), position(tri[1], b, at), position(tri[2], b, at)};
             const bool crossing = crossesAnyInGrid(
                 grid_, tri, p,
                 [&](std::uint32_t t) {
                     if (t < triangleCount_ && removed(t)) return true;
                     const Triangle& other = t < triangleCount_ ? m_.triangles[t] : m_.obstacles[t - triangleCount_];
-                    // Around the edge: replaced, or moved with it.
-                    return other[0] == a || other[0] == b || other[1] == a || other[1] == b || other[2] == a ||
-                           other[2] == b;
+                    auto has = [&](std::uint32_t v) { return other[0] == v || other[1] == v || other[2] == v; };
+                    // a's triangles are replaced by changed_; b's are too
+                    // when b moves. b's that stay put are checked: a new
+                    // triangle of b's fan can fold over one of them.
+                    return has(a) || (moves && has(b));
                 },
                 [&](std::uint32_t t, glm::dvec3(&q)[3]) {
                     if (t >= triangleCount_) {
@@ -337,6 +307,13 @@ private:
                     return other;
                 });
             if (crossing) return true;
+            // The new triangles among themselves.
+            for (std::size_t j = i + 1; j < changed_.size(); ++j) {
+                const Triangle& other = changed_[j];
+                const glm::dvec3 q[3] = {position(other[0], b, at), position(other[1], b, at),
+                                         position(other[2], b, at)};
+                if (trianglesCross(tri, p, other, q)) return true;
+            }
         }
         return false;
     }
