@@ -238,5 +238,31 @@ TEST_P(ExampleFile, ReadsBackClosed)
     EXPECT_EQ(findSelfIntersections(read, 0).pairs, 0u) << GetParam();
 }
 
+// A board with rounded edges and two square pockets through its underside
+// (the table top's mortises, small): at 4 mm cells and 0.1 mm the
+// simplification once left a sliver at a pocket's corner touching a face
+// triangle of the underside, apart in double and crossing it once the
+// coordinates were float32, and the export fell back to the plain mesh.
+// New triangles now keep a clearance (TriangleClearance.hpp): the
+// simplified mesh itself is written, and reads back as a solid.
+TEST(ExportedFileSimplified, PocketCornersStayClearOfTheFacesAroundThem)
+{
+    const Document doc = parse(R"({"id":"d","type":"difference","children":[
+        {"id":"b","type":"box","size":[300,200,28],"round":8,"transform":{"translate":[0,0,14]}},
+        {"id":"m","type":"mirror","normal":[1,0,0],"offset":0,"children":[
+            {"id":"p","type":"box","size":[40,40,19],"transform":{"translate":[110,60,8.5]}}]}]})");
+    MeshOptions o;
+    o.featureSize = 4.0;
+    o.tolerance = 0.1;
+    const auto file = scratch("pockets.stl");
+    const ExportedPart exported = exportPart(doc, o, file, MeshFileFormat::BinaryStl, "pockets");
+    ASSERT_TRUE(exported.report.solid()) << describeDefects(exported.report);
+    EXPECT_EQ(exported.simplificationDefects, "");
+    const Mesh read = test::readMeshFile(file);
+    EXPECT_TRUE(checkMesh(read).watertight());
+    EXPECT_EQ(findSelfIntersections(read, 0).pairs, 0u);
+    EXPECT_LT(read.triangles.size(), exported.stats.latticeTriangles / 3);
+}
+
 } // namespace
 } // namespace kerf

@@ -284,7 +284,7 @@ private:
             const Triangle& tri = changed_[i];
             const glm::dvec3 p[3] = {position(tri[0], b, at), position(tri[1], b, at), position(tri[2], b, at)};
             const bool crossing = crossesAnyInGrid(
-                grid_, tri, p,
+                grid_, tri, p, limits_.clearance,
                 [&](std::uint32_t t) {
                     if (t < triangleCount_ && removed(t)) return true;
                     const Triangle& other = t < triangleCount_ ? m_.triangles[t] : m_.obstacles[t - triangleCount_];
@@ -312,7 +312,7 @@ private:
                 const Triangle& other = changed_[j];
                 const glm::dvec3 q[3] = {position(other[0], b, at), position(other[1], b, at),
                                          position(other[2], b, at)};
-                if (trianglesCross(tri, p, other, q)) return true;
+                if (trianglesTooClose(tri, p, other, q, limits_.clearance)) return true;
             }
         }
         return false;

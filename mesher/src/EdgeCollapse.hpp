@@ -107,6 +107,10 @@ struct CollapseLimits {
     /// longest edge): a triangle must stay a triangle in the file's
     /// coordinates (FilePrecision.hpp).
     double minHeight = 0.0;
+    /// mm: a new triangle keeps this distance from every triangle it shares
+    /// no vertex with (TriangleClearance.hpp), so that rounding to the
+    /// file's coordinates cannot make them touch or cross.
+    double clearance = 0.0;
 };
 
 /// Simplifies `mesh` on the calling thread. Returns the number of collapses;

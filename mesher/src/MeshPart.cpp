@@ -262,6 +262,7 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     SimplifySettings simplify;
     simplify.rmsDistance = options.tolerance;
     simplify.minHeight = 4.0 * float32Spacing(tape.bounds());
+    simplify.clearance = simplify.minHeight;
     simplify.cube = 64.0 * stats.cellSize;
     simplify.placement = 0.25 * options.tolerance;
     simplify.tolerance = options.tolerance;
@@ -274,6 +275,7 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     RefineSettings refineSettings;
     refineSettings.tolerance = options.tolerance;
     refineSettings.minHeight = simplify.minHeight;
+    refineSettings.clearance = simplify.clearance;
     refineSettings.maxTriangles = std::max<std::size_t>(16 * mesh.triangles.size(), 1 << 20);
     RefineStats refine;
     if (!refineToTolerance(mesh, normals, tape, refineSettings, arena, refine, cancelled)) return std::nullopt;

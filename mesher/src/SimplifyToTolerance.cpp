@@ -72,6 +72,7 @@ std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, 
     limits.minHeight = settings.minHeight;
     limits.placement = settings.placement;
     limits.tolerance = settings.tolerance;
+    limits.clearance = settings.clearance;
     SurfaceQueries field(tape, origin, settings.placement);
 
     std::uint64_t collapses = 0;

@@ -29,6 +29,7 @@ struct SimplifySettings {
     double minHeight = 0.0;   // mm: no triangle becomes lower than this (EdgeCollapse.hpp)
     double cube = 0.0;        // mm: edge of the cubes simplified in parallel
     double placement = 0.0;   // mm: a vertex moved onto a sharp edge must lie this close to the surface
+    double clearance = 0.0;   // mm: new triangles keep this far from others (TriangleClearance.hpp)
     double tolerance = 0.0;   // mm: every new triangle's samples lie this close to the surface (0: unchecked)
     /// mm: edges shorter than this collapse first, on topology alone
     /// (CollapseLimits::checkGeometry); 0: none.

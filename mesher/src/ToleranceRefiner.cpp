@@ -114,8 +114,10 @@ private:
 // Splits edges and places their new vertices. Sequential.
 class Splitter {
 public:
-    Splitter(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape, double tolerance, double minHeight)
-        : mesh_(mesh), normals_(normals), tape_(tape), tolerance_(tolerance), minHeight_(minHeight)
+    Splitter(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape, double tolerance, double minHeight,
+             double clearance)
+        : mesh_(mesh), normals_(normals), tape_(tape), tolerance_(tolerance), minHeight_(minHeight),
+          clearance_(clearance)
     {
         halfedges_.reserve(3 * mesh.triangles.size() * 2);
         for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
@@ -281,7 +283,7 @@ private:
             const Tri& a = added[i];
             const glm::dvec3 pa[3] = {at(a[0], pending), at(a[1], pending), at(a[2], pending)};
             const bool crossing = crossesAnyInGrid(
-                grid_, a, pa, [&](std::uint32_t t) { return t == t1 || t == t2; },
+                grid_, a, pa, clearance_, [&](std::uint32_t t) { return t == t1 || t == t2; },
                 [&](std::uint32_t t, glm::dvec3(&q)[3]) {
                     const Tri& b = mesh_.triangles[t];
                     for (int k = 0; k < 3; ++k)
@@ -293,7 +295,7 @@ private:
             for (std::size_t j = i + 1; j < N; ++j) {
                 const Tri& b = added[j];
                 const glm::dvec3 pb[3] = {at(b[0], pending), at(b[1], pending), at(b[2], pending)};
-                if (trianglesCross(a, pa, b, pb)) return true;
+                if (trianglesTooClose(a, pa, b, pb, clearance_)) return true;
             }
         }
         return false;
@@ -378,6 +380,7 @@ private:
     const Tape& tape_;
     double tolerance_;
     double minHeight_;
+    double clearance_;
     std::unordered_map<std::uint64_t, std::uint32_t> halfedges_;
     TriangleTree grid_;
     std::vector<glm::dvec3> samples_;
@@ -398,7 +401,7 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
         dirty[t] = t;
     std::vector<double> worst(mesh.triangles.size(), 0.0);
     tbb::enumerable_thread_specific<Sampler> samplers;
-    Splitter splitter(mesh, normals, tape, tolerance, settings.minHeight);
+    Splitter splitter(mesh, normals, tape, tolerance, settings.minHeight, settings.clearance);
     std::vector<std::uint8_t> splitThisRound;
     std::vector<std::uint32_t> stuck;
     constexpr std::size_t kChunk = 256;

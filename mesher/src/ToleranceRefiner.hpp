@@ -49,6 +49,7 @@ struct RefineStats {
 struct RefineSettings {
     double tolerance = 0.0; // mm
     double minHeight = 0.0; // mm: no new triangle lower than this (EdgeCollapse.hpp)
+    double clearance = 0.0; // mm: new triangles keep this far from others (TriangleClearance.hpp)
     int maxRounds = 40;
     /// A safety limit: refinement stops once the mesh has this many
     /// triangles (what is left over the tolerance is then reported).
