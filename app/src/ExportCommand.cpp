@@ -228,7 +228,10 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         if (stats.trianglesOverTolerance > 0)
             err << "kerf export: warning: " << grouped(stats.trianglesOverTolerance)
                 << " triangles stay up to " << significant(stats.worstSample, 2)
-                << " mm from the exact surface, beyond the tolerance of " << mm(tolerance) << " mm\n";
+                << " mm from the exact surface, beyond the tolerance of " << mm(tolerance)
+                << " mm: detail finer than the " << mm(stats.cellSize)
+                << " mm cells (a gap, a groove, a rounded edge) is not resolved; --feature-size "
+                << mm(finerFeatureSize(stats)) << " resolves more of it\n";
 
         if (json) {
             nlohmann::ordered_json j;

@@ -25,10 +25,11 @@ booleans, blends, offsets, shells, arrays and mirrors, in millimetres.
 Commands:
   check FILE.kerf      load and validate a document; print its feature count,
                        bounding box, feature size and voxel memory
-  export FILE.kerf -o OUT.stl [--feature-size MM] [--ascii]
-                       mesh the part (marching cubes on the exact field) and
-                       write it as STL, binary by default; print triangles,
-                       time and the mesh's closedness
+  export FILE.kerf -o OUT.stl|OUT.3mf [--tolerance MM] [--feature-size MM]
+         [--ascii]     mesh the part (marching cubes on the exact field,
+                       sharp edges kept, simplified to the tolerance) and
+                       write it as STL or 3MF; print the mesh as a reader
+                       of the file gets it
   render FILE.kerf -o OUT.png [--size WxH] [--view iso|front|top|...]
          [--quality voxels|exact]
                        voxelize and trace the part with the Vulkan compute

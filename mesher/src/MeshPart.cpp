@@ -294,6 +294,11 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     return finish(std::move(mesh));
 }
 
+double finerFeatureSize(const MeshStats& stats)
+{
+    return stats.trianglesOverTolerance > 0 ? 0.5 * stats.cellSize : 0.0;
+}
+
 std::optional<Mesh> meshPart(const Document& doc, const MeshOptions& options, const MeshProgress& progress,
                              MeshStats* stats)
 {

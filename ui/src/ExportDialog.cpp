@@ -80,9 +80,13 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
                         .arg(QString::fromStdString(exported.simplificationDefects))
                         .arg(exported.stats.cellSize);
     if (exported.stats.trianglesOverTolerance > 0)
-        s += "\n" + QObject::tr("%1 triangles stay up to %2 mm from the exact surface, beyond the tolerance.")
+        s += "\n" + QObject::tr("%1 triangles stay up to %2 mm from the exact surface, beyond the tolerance: detail "
+                                "finer than the %3 mm cells (a gap, a groove, a rounded edge) is not resolved; a "
+                                "feature size of %4 mm resolves more of it.")
                         .arg(locale.toString(qulonglong(exported.stats.trianglesOverTolerance)))
-                        .arg(exported.stats.worstSample, 0, 'g', 2);
+                        .arg(exported.stats.worstSample, 0, 'g', 2)
+                        .arg(exported.stats.cellSize)
+                        .arg(finerFeatureSize(exported.stats));
     if (!exported.stats.note.empty()) s += "\n" + QString::fromStdString(exported.stats.note);
     return s;
 }

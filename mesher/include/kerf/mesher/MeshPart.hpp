@@ -109,6 +109,14 @@ struct MeshStats {
     double seconds = 0.0; // wall clock, all of it
 };
 
+/// Where triangles stay beyond the tolerance (stats.trianglesOverTolerance),
+/// the cells missed detail: a gap, a groove or a rounded edge smaller than a
+/// cell, or a sharp edge whose crease a cell's triangles cut across and no
+/// split could reach. Half the cell resolves more of it (each halving
+/// did on the bundled examples: docs/benchmarks.md); returns that feature
+/// size, or 0 when every triangle keeps to the tolerance.
+double finerFeatureSize(const MeshStats& stats);
+
 /// Meshes the document's part. An empty part gives an empty mesh. Returns
 /// nothing when cancelled (never half a mesh). Throws std::invalid_argument
 /// when no feature size is given or set, std::runtime_error when the part is
