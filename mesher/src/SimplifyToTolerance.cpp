@@ -43,6 +43,19 @@ std::vector<Quadric> tangentQuadrics(const std::vector<glm::dvec3>& positions, c
     return quadrics;
 }
 
+// Whether any live triangle has an edge shorter than `length`: the micro
+// passes walk the whole mesh, and most meshes have no such edge left.
+bool hasEdgeShorterThan(const CollapseMesh& mesh, double length)
+{
+    for (const Triangle& t : mesh.triangles) {
+        if (t[0] == kRemoved) continue;
+        for (int k = 0; k < 3; ++k)
+            if (glm::length(mesh.positions[t[std::size_t(k)]] - mesh.positions[t[std::size_t(k + 1) % 3]]) < length)
+                return true;
+    }
+    return false;
+}
+
 } // namespace
 
 std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape,
@@ -76,13 +89,13 @@ std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, 
     SurfaceQueries field(tape, origin, settings.placement);
 
     std::uint64_t collapses = 0;
-    if (settings.microLength > 0.0) {
+    if (settings.microLength > 0.0 && hasEdgeShorterThan(work, settings.microLength)) {
         CollapseLimits micro;
         micro.maxMeanSquaredError = std::numeric_limits<double>::infinity();
         micro.maxEdgeLength = settings.microLength;
         micro.checkGeometry = false;
         collapses += collapsePartitioned(work, micro, settings.cube, lo - origin, arena, field, cancelled);
-        collapses += collapseEdges(work, micro, field, cancelled);
+        if (hasEdgeShorterThan(work, settings.microLength)) collapses += collapseEdges(work, micro, field, cancelled);
     }
     collapses += collapsePartitioned(work, limits, settings.cube, lo - origin, arena, field, cancelled);
     collapses += collapsePartitioned(work, limits, settings.cube, lo - origin + glm::dvec3(0.5 * settings.cube), arena,
