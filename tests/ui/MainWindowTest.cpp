@@ -199,6 +199,7 @@ private slots:
     void reVoxelizesOnlyTheTilesTheEditReaches();
     void viewportShowsThePartAndChangesAfterAnEdit();
     void exportDialogWritesAClosedMesh();
+    void exportDialogNamesWhatTheToleranceMissed();
     void cutListMeasureAndSection();
     void refusedFilesChangeNothing();
     void dragAndDropRegroupsInTheTree();
@@ -438,6 +439,42 @@ void MainWindowTest::viewportShowsThePartAndChangesAfterAnEdit()
     } else {
         QVERIFY2(status.vulkan, qPrintable(status.fallbackReason));
     }
+}
+
+// A part whose pocket corners the 4 mm cells cut across: the report says
+// which triangles stay beyond the tolerance and the feature size to try,
+// never "every triangle within", and the dialog grows to show it whole.
+void MainWindowTest::exportDialogNamesWhatTheToleranceMissed()
+{
+    const QString doc = files_.path() + "/pockets.kerf";
+    {
+        QFile f(doc);
+        QVERIFY(f.open(QIODevice::WriteOnly));
+        f.write(R"({"format":"kerf","version":1,"root":{"id":"d","type":"difference","children":[
+            {"id":"b","type":"box","size":[300,200,28],"round":8,"transform":{"translate":[0,0,14]}},
+            {"id":"m","type":"mirror","normal":[1,0,0],"offset":0,"children":[
+                {"id":"p","type":"box","size":[40,40,19],"transform":{"translate":[110,60,8.5]}}]}]}})");
+    }
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(doc.toStdString()));
+    action(w.get(), "action.export")->trigger();
+    auto* dialog = w->findChild<ExportDialog*>("exportDialog");
+    QVERIFY(dialog);
+    dialog->findChild<QLineEdit*>("export.path")->setText(files_.path() + "/pockets.stl");
+    dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(4.0);
+    dialog->findChild<QCheckBox*>("export.simplify")->setChecked(true);
+    dialog->findChild<QuantityEdit*>("export.tolerance")->setValue(0.1);
+    QSignalSpy done(dialog, &ExportDialog::finished);
+    QTest::mouseClick(dialog->findChild<QPushButton*>("export.start"), Qt::LeftButton);
+    QVERIFY(done.wait(300000));
+    const QString message = dialog->outcome().message;
+    QVERIFY2(dialog->outcome().written, qPrintable(message));
+    QVERIFY2(dialog->outcome().simplified, qPrintable(message));
+    QVERIFY2(message.contains("beyond the tolerance"), qPrintable(message));
+    QVERIFY2(message.contains("feature size of 2 mm"), qPrintable(message));
+    QVERIFY2(!message.contains("Every triangle within"), qPrintable(message));
+    auto* result = dialog->findChild<QLabel*>("export.result");
+    QTRY_VERIFY2(result->height() >= result->heightForWidth(result->width()), qPrintable(message));
 }
 
 void MainWindowTest::exportDialogWritesAClosedMesh()

@@ -69,7 +69,7 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
                             "(%1, genus %2).")
                     .arg(r.components == 1 ? QObject::tr("1 component") : QObject::tr("%1 components").arg(r.components))
                     .arg(r.genus().value_or(-1));
-    if (tolerance > 0.0 && exported.simplificationDefects.empty())
+    if (tolerance > 0.0 && exported.simplificationDefects.empty() && exported.stats.trianglesOverTolerance == 0)
         s += "\n" + QObject::tr("Every triangle within %1 mm of the exact surface (worst sample %2 mm).")
                         .arg(tolerance)
                         .arg(exported.stats.worstSample, 0, 'g', 2);
@@ -294,6 +294,8 @@ void ExportDialog::poll()
     outcome_ = workerOutcome_;
     if (outcome_.written) progress_->setValue(1000);
     result_->setText(outcome_.message);
+    // The report is several lines: grow to show them whole.
+    adjustSize();
     exportButton_->setEnabled(true);
     emit finished(outcome_);
 }
