@@ -44,7 +44,8 @@ std::vector<Quadric> tangentQuadrics(const std::vector<glm::dvec3>& positions, c
 }
 
 // Whether any live triangle has an edge shorter than `length`: the micro
-// passes walk the whole mesh, and most meshes have no such edge left.
+// passes walk the whole mesh (the sequential one about a third of a second
+// on the chair at 4 mm), and a mesh without such edges can skip them.
 bool hasEdgeShorterThan(const CollapseMesh& mesh, double length)
 {
     for (const Triangle& t : mesh.triangles) {
