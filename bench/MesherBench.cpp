@@ -147,6 +147,7 @@ void BM_ChairMeshOnly(benchmark::State& state)
     MeshOptions options;
     options.featureSize = double(state.range(0)) / 1000.0;
     options.threads = int(state.range(1));
+    options.findHiddenDetail = state.range(2) != 0;
     MeshStats stats;
     double peak = 0;
     for (auto _ : state) {
@@ -163,13 +164,16 @@ void BM_ChairMeshOnly(benchmark::State& state)
     state.counters["seed_cpu_s"] = stats.seedSeconds;
     state.counters["cell_cpu_s"] = stats.cellSeconds;
     state.counters["merge_s"] = stats.mergeSeconds;
+    state.counters["hidden_searches"] = double(stats.hiddenDetailSearches);
 }
 BENCHMARK(BM_ChairMeshOnly)
-    ->ArgNames({"fs_um", "threads"})
-    ->Args({1000, 1})
-    ->Args({1000, 2})
-    ->Args({500, 1})
-    ->Args({500, 2})
+    ->ArgNames({"fs_um", "threads", "hidden"})
+    ->Args({1000, 1, 1})
+    ->Args({1000, 2, 1})
+    ->Args({500, 1, 1})
+    ->Args({500, 2, 1})
+    ->Args({1000, 2, 0})
+    ->Args({500, 2, 0})
     ->Iterations(3)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

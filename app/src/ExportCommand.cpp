@@ -57,7 +57,9 @@ Options:
   --feature-size MM      the smallest feature resolved: the cell edge of the
                          marching cubes (default: the document's feature
                          size, else about a thousandth of the part's largest
-                         extent). Parts thinner than this may vanish.
+                         extent). Walls, pins and gaps thinner than this
+                         are found and named in a warning, with the
+                         feature size that resolves them.
   --ascii                write ASCII STL instead of binary (.stl only)
   --json                 print the figures as one JSON object
   --help                 show this help
@@ -196,7 +198,9 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const MeshStats& stats = exported.stats;
         if (exported.empty) {
             err << "kerf export: " << printable(file) << ": the part is empty at a feature size of "
-                << mm(stats.cellSize) << " mm (thinner than a cell everywhere); nothing to export\n";
+                << mm(stats.cellSize) << " mm (thinner than a cell everywhere";
+            if (stats.hiddenDetailCells > 0) err << ": " << describeHiddenDetail(stats);
+            err << "); nothing to export\n";
             return 1;
         }
         const MeshFileReport& written = exported.report;
@@ -225,6 +229,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
                 << " mm (the tolerance is " << mm(tolerance) << " mm); "
                 << (*format == MeshFileFormat::ThreeMf ? "" : "a .3mf file keeps the detail, or ")
                 << "move the part nearer the origin\n";
+        if (stats.hiddenDetailCells > 0) err << "kerf export: warning: " << describeHiddenDetail(stats) << "\n";
         if (stats.trianglesOverTolerance > 0)
             err << "kerf export: warning: " << grouped(stats.trianglesOverTolerance)
                 << " triangles stay up to " << significant(stats.worstSample, 2)
@@ -261,6 +266,12 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             if (!fallback.empty()) j["simplification_defects"] = fallback;
             if (fallback.empty() && tolerance > 0.0) j["worst_sample_mm"] = stats.worstSample;
             j["triangles_over_tolerance"] = stats.trianglesOverTolerance;
+            if (stats.hiddenDetailCells > 0)
+                j["hidden_detail"] = {{"kind", stats.hiddenDetailIsMaterial ? "material" : "gap"},
+                                      {"thickness_mm", stats.hiddenDetailThickness},
+                                      {"at_mm", {stats.hiddenDetailAt.x, stats.hiddenDetailAt.y, stats.hiddenDetailAt.z}},
+                                      {"cells", stats.hiddenDetailCells}};
+            if (const double finer = finerFeatureSize(stats); finer > 0.0) j["finer_feature_size_mm"] = finer;
             j["file_spacing_mm"] = written.spacing;
             j["file_offset_mm"] = {written.offset.x, written.offset.y, written.offset.z};
             j["fit_collapses"] = written.fit.collapses;

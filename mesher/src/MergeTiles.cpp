@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <tuple>
 #include <unordered_map>
 
 #ifdef __GLIBC__
@@ -34,6 +35,19 @@ void addCounters(const TileCounters& c, MeshStats& stats)
     stats.centreVertices += c.centreVertices;
     stats.featureVertices += c.featureVertices;
     stats.zeroCorners += c.zeroCorners;
+    stats.hiddenDetailSearches += c.hiddenDetailSearches;
+    stats.hiddenDetailCells += c.hiddenDetailCells;
+    // The thinnest; among equals the lowest position, so that the report
+    // does not depend on the order of the tiles.
+    if (const auto& found = c.thinnestHidden) {
+        const auto key = [](double t, const glm::dvec3& p) { return std::make_tuple(t, p.x, p.y, p.z); };
+        if (stats.hiddenDetailThickness == 0.0 ||
+            key(found->thickness, found->at) < key(stats.hiddenDetailThickness, stats.hiddenDetailAt)) {
+            stats.hiddenDetailThickness = found->thickness;
+            stats.hiddenDetailAt = found->at;
+            stats.hiddenDetailIsMaterial = found->material;
+        }
+    }
     if (c.cellsMeshed) ++stats.surfaceTiles;
 }
 

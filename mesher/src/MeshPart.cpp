@@ -10,6 +10,8 @@
 
 #include "kerf/mesher/FilePrecision.hpp"
 
+#include "kerf/document/GroupedNumber.hpp"
+
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/voxelizer/TileBuilder.hpp"
 
@@ -21,6 +23,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -68,7 +71,7 @@ namespace {
 
 // How cells meet the file's precision and the part's exact zeros (see
 // CellMeshing in TileMesher.hpp and FilePrecision.hpp).
-CellMeshing cellMeshing(const Lattice& lattice, const GridLayout& layout, double tolerance)
+CellMeshing cellMeshing(const Lattice& lattice, const GridLayout& layout, double tolerance, bool findHidden)
 {
     const Aabb grid{layout.origin, layout.origin + glm::dvec3(layout.dims) * layout.tileSize};
     double magnitude = 0.0;
@@ -87,6 +90,7 @@ CellMeshing cellMeshing(const Lattice& lattice, const GridLayout& layout, double
     m.zeroBand = std::max(1e-9 * h, 64.0 * doubleSpacing);
     m.nudge = std::max(1e-6 * h, 1e3 * m.zeroBand);
     m.featureTolerance = tolerance > 0.0 ? 0.25 * tolerance : 1e-5 * h;
+    m.findHiddenDetail = findHidden;
     return m;
 }
 
@@ -104,7 +108,7 @@ std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layou
     if (std::max({lattice.dims.x, lattice.dims.y, lattice.dims.z}) >= (std::int64_t(1) << 20))
         throw std::runtime_error("the part is too large to mesh at a feature size of " +
                                  std::to_string(options.featureSize) + " mm");
-    const CellMeshing meshing = cellMeshing(lattice, layout, options.tolerance);
+    const CellMeshing meshing = cellMeshing(lattice, layout, options.tolerance, options.findHiddenDetail);
     stats.edgeMargin = meshing.edgeMargin * lattice.h;
     const TileMesher mesher(tape, lattice, meshing);
     TileShares states(lattice);
@@ -122,29 +126,39 @@ std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layou
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<long>(0, tileCount, 1), [&](const tbb::blocked_range<long>& r) {
             std::vector<std::vector<std::uint64_t>> seeds(std::size_t(split * split * split));
+            std::vector<std::vector<QuietCell>> quiet(seeds.size());
             for (long i = r.begin(); i != r.end(); ++i) {
                 if (stop.load(std::memory_order_relaxed)) return;
                 TileScratch& s = scratch.local();
                 const I3 t(layout.tileCoord(i));
                 auto t0 = Clock::now();
+                s.quietVoxels.clear();
+                s.build.quietVoxels = meshing.findHiddenDetail ? &s.quietVoxels : nullptr;
                 std::optional<TileData> built =
                     buildTile(tape, layout, glm::ivec3(t), layout.levels, s.build, buildCancelled);
                 if (!built) {
                     stop = true;
                     return;
                 }
+                const auto subTile = [&](const glm::ivec3& v) {
+                    const I3 sub = I3(v) / lattice.n;
+                    return std::pair{std::size_t(sub.x + split * (sub.y + split * sub.z)), I3(v) - sub * lattice.n};
+                };
                 forEachSeed(*built, [&](const glm::ivec3& v) {
                     const I3 cell = t * voxelizerTile + I3(v);
                     if (options.keepSeed && !options.keepSeed(cell)) return;
-                    const I3 sub = I3(v) / lattice.n;
-                    seeds[std::size_t(sub.x + split * (sub.y + split * sub.z))].push_back(
-                        localKey(I3(v) - sub * lattice.n) | kSeedFlag);
+                    const auto [k, local] = subTile(v);
+                    seeds[k].push_back(localKey(local) | kSeedFlag);
                 });
+                for (const QuietVoxel& q : s.quietVoxels) {
+                    const auto [k, local] = subTile(q.voxel);
+                    quiet[k].push_back({localKey(local), q.inside});
+                }
                 built.reset();
                 addSeconds(seedNanos, t0);
                 t0 = Clock::now();
                 for (std::size_t k = 0; k < seeds.size(); ++k) {
-                    if (seeds[k].empty()) continue;
+                    if (seeds[k].empty() && quiet[k].empty()) continue;
                     const I3 sub(std::int64_t(k) % split, std::int64_t(k) / split % split,
                                  std::int64_t(k) / (split * split));
                     auto state = std::make_unique<TileShare>(t * split + sub);
@@ -153,8 +167,10 @@ std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layou
                         stop = true;
                         return;
                     }
+                    mesher.lookForHiddenDetail(*state, quiet[k], s);
                     states.gridSlot(state->tile) = std::move(state);
                     seeds[k].clear();
+                    quiet[k].clear();
                 }
                 addSeconds(cellNanos, t0);
                 reporter.report(0.5 * double(++tilesDone) / double(tileCount));
@@ -294,9 +310,49 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     return finish(std::move(mesh));
 }
 
+namespace {
+// The largest of 1, 2 and 5 times a power of ten that is at most x (> 0).
+double roundDownToStep(double x)
+{
+    const double decade = std::pow(10.0, std::floor(std::log10(x)));
+    for (const double step : {5.0, 2.0, 1.0})
+        if (step * decade <= x * (1.0 + 1e-12)) return step * decade;
+    return decade;
+}
+} // namespace
+
 double finerFeatureSize(const MeshStats& stats)
 {
-    return stats.trianglesOverTolerance > 0 ? 0.5 * stats.cellSize : 0.0;
+    double size = 0.0;
+    if (stats.trianglesOverTolerance > 0) size = 0.5 * stats.cellSize;
+    if (stats.hiddenDetailCells > 0 && stats.hiddenDetailThickness > 0.0) {
+        const double hidden = roundDownToStep(0.5 * stats.hiddenDetailThickness);
+        size = size > 0.0 ? std::min(size, hidden) : hidden;
+    }
+    return size;
+}
+
+namespace {
+// A length or a coordinate as people read it: 0.05, 1, 139.9.
+std::string shortNumber(double v)
+{
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", std::abs(v) < 5e-13 ? 0.0 : v);
+    return buf;
+}
+} // namespace
+
+std::string describeHiddenDetail(const MeshStats& stats)
+{
+    if (stats.hiddenDetailCells == 0) return {};
+    const glm::dvec3& p = stats.hiddenDetailAt;
+    const bool material = stats.hiddenDetailIsMaterial;
+    return std::string(material ? "material " : "a gap ") + shortNumber(stats.hiddenDetailThickness) + " mm " +
+           (material ? "thin" : "wide") + " at (" + shortNumber(p.x) + ", " + shortNumber(p.y) + ", " +
+           shortNumber(p.z) + ") mm lies between the corners of the " + shortNumber(stats.cellSize) + " mm cells (" +
+           grouped(stats.hiddenDetailCells) + (stats.hiddenDetailCells == 1 ? " cell hides" : " cells hide") +
+           " detail like it): " + (material ? "it is missing from the mesh or in pieces" : "it is closed in the mesh") +
+           "; a feature size of " + shortNumber(finerFeatureSize(stats)) + " mm resolves it";
 }
 
 std::optional<Mesh> meshPart(const Document& doc, const MeshOptions& options, const MeshProgress& progress,

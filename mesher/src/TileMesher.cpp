@@ -412,6 +412,30 @@ std::optional<std::uint32_t> TileMesher::featureVertex(TileShare& st, const I3& 
     return std::uint32_t(st.vertices.size() - 1);
 }
 
+// A seed cell whose corners agree in sign: does it hide something thin?
+void TileMesher::lookForHiddenDetail(TileShare& st, const I3& localCell, bool cornersInside, TileScratch& s) const
+{
+    const I3 cell = st.tile * lattice_.n + localCell;
+    const Tape& local = s.tapes.blockTape(lattice_.blockOf(cell)); // its closed box holds the cell
+    ++st.counters.hiddenDetailSearches;
+    const std::optional<HiddenDetailFound> found =
+        findHiddenDetail(local, tape_, lattice_.box(cell, 1), cornersInside, meshing_.zeroBand, s.hidden);
+    if (!found) return;
+    ++st.counters.hiddenDetailCells;
+    if (!st.counters.thinnestHidden || found->thickness < st.counters.thinnestHidden->thickness)
+        st.counters.thinnestHidden = found;
+}
+
+void TileMesher::lookForHiddenDetail(TileShare& st, const std::vector<QuietCell>& cells, TileScratch& s) const
+{
+    if (!meshing_.findHiddenDetail) return;
+    for (const QuietCell& q : cells) {
+        const I3 cell = fromLocalKey(q.key);
+        if (st.processed.contains(cell)) continue;
+        lookForHiddenDetail(st, cell, q.inside, s);
+    }
+}
+
 bool TileMesher::process(TileShare& st, const std::vector<std::uint64_t>& cells, TileScratch& s,
                          const std::function<bool()>& cancelled) const
 {
@@ -440,7 +464,10 @@ bool TileMesher::process(TileShare& st, const std::vector<std::uint64_t>& cells,
             for (int q = 0; q < cell::kCorners; ++q)
                 inside |= std::uint8_t((s.pointValue[corners[q]] < 0.0) << q);
             if (inside == 0 || inside == 0xFF) {
-                if (seed) ++counters.seedsNotMeshed;
+                if (seed) {
+                    ++counters.seedsNotMeshed;
+                    if (meshing_.findHiddenDetail) lookForHiddenDetail(st, fromLocalKey(key), inside != 0, s);
+                }
                 continue;
             }
             s.meshed.push_back(key);

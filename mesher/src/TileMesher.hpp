@@ -22,6 +22,7 @@
 #include "CellSet.hpp"
 #include "ChunkedVector.hpp"
 #include "FlatHash.hpp"
+#include "HiddenDetail.hpp"
 #include "Lattice.hpp"
 #include "LatticeTapes.hpp"
 
@@ -67,15 +68,27 @@ struct CellMeshing {
     /// point is inside the cell and within this many mm of the surface; 0
     /// disables feature vertices.
     double featureTolerance = 0.0;
+    /// Search the voxelizer's seed cells without a sign change at their
+    /// corners for detail thinner than a cell (HiddenDetail.hpp).
+    bool findHiddenDetail = true;
 };
 
 struct TileCounters {
     std::uint64_t seeds = 0, seedsNotMeshed = 0, cellsMeshed = 0, cellsFromFloodFill = 0, crossTileRequests = 0;
     std::uint64_t pointEvaluations = 0, rootEvaluations = 0, centreVertices = 0, featureVertices = 0;
     std::uint64_t zeroCorners = 0; // lattice values that were (about) 0, given a side by the nudge
+    std::uint64_t hiddenDetailSearches = 0, hiddenDetailCells = 0; // seed cells hiding material or a gap thinner than a cell (HiddenDetail.hpp)
+    std::optional<HiddenDetailFound> thinnestHidden;
 };
 
 using Triangle = std::array<std::uint32_t, 3>;
+
+/// A cell whose corners the voxelizer found on one side, near the surface
+/// (QuietVoxel in TileBuilder.hpp): tile-local key and that side.
+struct QuietCell {
+    std::uint64_t key;
+    bool inside;
+};
 
 struct TileShare {
     explicit TileShare(const I3& t) : tile(t) {}
@@ -105,6 +118,8 @@ struct TileScratch {
     GradientEvaluator<double> gradients;
     EdgeRootFinder roots;
     TileBuildScratch build;
+    HiddenDetailScratch hidden;
+    std::vector<QuietVoxel> quietVoxels; // of the voxelizer tile being read
     // Corner values of this round; pointIndex maps a point key to its index
     // in pointValue within one slice of a wave.
     FlatMap<std::uint32_t> pointIndex;
@@ -137,6 +152,11 @@ public:
     bool process(TileShare& state, const std::vector<std::uint64_t>& cells, TileScratch& scratch,
                  const std::function<bool()>& cancelled) const;
 
+    /// Looks for detail thinner than a cell (HiddenDetail.hpp) in the quiet
+    /// cells that the tile has not examined (a cell examined was meshed, or
+    /// looked at by process as a seed without a sign change).
+    void lookForHiddenDetail(TileShare& state, const std::vector<QuietCell>& cells, TileScratch& scratch) const;
+
 private:
     void evaluateCorners(TileShare& state, TileScratch& s) const;
     void evaluatePending(TileShare& state, TileScratch& s) const;
@@ -147,6 +167,7 @@ private:
                                int size, TileScratch& s) const;
     std::optional<std::uint32_t> featureVertex(TileShare& state, const I3& cell, const glm::dvec3* points,
                                                const glm::dvec3* normals, int size, TileScratch& s) const;
+    void lookForHiddenDetail(TileShare& state, const I3& localCell, bool cornersInside, TileScratch& s) const;
     double sideOfZero(const Tape& tape, const glm::dvec3& relative, TileScratch& s) const;
     glm::dvec3 unitNormal(const Tape& tape, const glm::dvec3& world, TileScratch& s) const;
 

@@ -200,6 +200,7 @@ private slots:
     void viewportShowsThePartAndChangesAfterAnEdit();
     void exportDialogWritesAClosedMesh();
     void exportDialogNamesWhatTheToleranceMissed();
+    void exportDialogSaysWhereDetailHidesBetweenTheCells();
     void cutListMeasureAndSection();
     void refusedFilesChangeNothing();
     void dragAndDropRegroupsInTheTree();
@@ -475,6 +476,27 @@ void MainWindowTest::exportDialogNamesWhatTheToleranceMissed()
     QVERIFY2(!message.contains("Every triangle within"), qPrintable(message));
     auto* result = dialog->findChild<QLabel*>("export.result");
     QTRY_VERIFY2(result->height() >= result->heightForWidth(result->width()), qPrintable(message));
+}
+
+void MainWindowTest::exportDialogSaysWhereDetailHidesBetweenTheCells()
+{
+    // The bookshelf side at 4 mm cells: the 1 mm of panel between the toe
+    // kick and the bottom dado lies between lattice points.
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side.kerf"));
+    action(w.get(), "action.export")->trigger();
+    auto* dialog = w->findChild<ExportDialog*>("exportDialog");
+    QVERIFY(dialog);
+    dialog->findChild<QLineEdit*>("export.path")->setText(files_.path() + "/side.stl");
+    dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(4.0);
+    QSignalSpy done(dialog, &ExportDialog::finished);
+    QTest::mouseClick(dialog->findChild<QPushButton*>("export.start"), Qt::LeftButton);
+    QVERIFY(done.wait(120000));
+    const QString message = dialog->outcome().message;
+    QVERIFY2(dialog->outcome().written, qPrintable(message));
+    QVERIFY2(message.contains("Material 1 mm thin at ("), qPrintable(message));
+    QVERIFY2(message.contains("it is missing from the mesh or in pieces; a feature size of 0.5 mm resolves it."),
+             qPrintable(message));
 }
 
 void MainWindowTest::exportDialogWritesAClosedMesh()

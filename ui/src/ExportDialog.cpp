@@ -22,6 +22,7 @@
 #include <QTimer>
 #include <QVBoxLayout>
 
+#include <cctype>
 #include <chrono>
 #include <new>
 
@@ -79,6 +80,11 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
                         .arg(tolerance)
                         .arg(QString::fromStdString(exported.simplificationDefects))
                         .arg(exported.stats.cellSize);
+    if (exported.stats.hiddenDetailCells > 0) {
+        std::string sentence = describeHiddenDetail(exported.stats);
+        sentence[0] = char(std::toupper(static_cast<unsigned char>(sentence[0])));
+        s += "\n" + QString::fromStdString(sentence) + ".";
+    }
     if (exported.stats.trianglesOverTolerance > 0)
         s += "\n" + QObject::tr("%1 triangles stay up to %2 mm from the exact surface, beyond the tolerance: detail "
                                 "finer than the %3 mm cells (a gap, a groove, a rounded edge) is not resolved; a "

@@ -7,6 +7,7 @@
 #include <array>
 #include <bit>
 #include <deque>
+#include <limits>
 
 namespace kerf {
 
@@ -55,6 +56,19 @@ public:
     }
 
 private:
+    // Keeps voxel c of the leaf at `lo` as a QuietVoxel if a corner lies
+    // within its half-diagonal of the surface (with room for float rounding).
+    void noteQuiet(const glm::dvec3& lo, double voxel, int c, const std::array<int, 8>& corner,
+                   const std::array<float, 125>& d, bool inside)
+    {
+        float nearest = std::numeric_limits<float>::infinity();
+        for (const int l : corner)
+            nearest = std::min(nearest, std::abs(d[std::size_t(l)]));
+        if (!(double(nearest) < 0.875 * voxel)) return;
+        const glm::ivec3 base(glm::round(lo / voxel));
+        s_.quietVoxels->push_back({base + glm::ivec3(c & 3, (c >> 2) & 3, c >> 4), inside});
+    }
+
     bool buildLeaf(const glm::dvec3& lo, double voxel, int level, BuildNode& out)
     {
         const Tape& tape = s_.levelTapes[std::size_t(level)];
@@ -82,7 +96,10 @@ private:
                 corner[std::size_t(q)] = voxel::latticeIndex(ci + (q & 1), cj + ((q >> 1) & 1), ck + (q >> 2));
                 inside += d[std::size_t(corner[std::size_t(q)])] < 0.0f;
             }
-            if (inside == 0 || inside == 8) continue; // no sign change: no surface crossing
+            if (inside == 0 || inside == 8) { // no sign change: no surface crossing
+                if (s_.quietVoxels) noteQuiet(lo, voxel, c, corner, d, inside == 8);
+                continue;
+            }
             out.mask |= std::uint64_t(1) << c;
             voxel::LeafData ld;
             for (int q = 0; q < 8; ++q) {

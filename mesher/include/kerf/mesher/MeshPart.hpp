@@ -21,6 +21,10 @@
 //    exact field), shared through a global edge key, then triangulated
 //    (Triangulate.hpp); the rare polygon that no diagonal may split gets a
 //    vertex on the surface inside its cell and a fan around it.
+// 5. Cells without a sign change but near the surface (the voxelizer's
+//    quiet voxels) are searched for material or a gap thinner than a cell
+//    lying between their corners (HiddenDetail.hpp); what is found is
+//    reported with the feature size that resolves it (MeshStats).
 //
 // Threading: the work runs in a oneTBB arena (options.threads); tiles are
 // independent within a round, and the result does not depend on the number
@@ -35,6 +39,7 @@
 #include "kerf/voxelizer/GridLayout.hpp"
 
 #include <glm/ext/vector_int3_sized.hpp>
+#include <glm/vec3.hpp>
 
 #include <cstdint>
 #include <functional>
@@ -55,6 +60,9 @@ struct MeshOptions {
     /// marching-cubes mesh as it is, every cell's triangles.
     double tolerance = 0.0;
     int threads = 0; // 0: every core
+    /// Look for detail thinner than a cell between the cells' corners
+    /// (MeshStats::hiddenDetailCells). Off only to measure what it costs.
+    bool findHiddenDetail = true;
     GridLimits limits;
     /// Testing only: keeps a voxelizer seed (global cell coordinates) when it
     /// returns true. Dropping seeds must not change the mesh of a connected
@@ -93,6 +101,14 @@ struct MeshStats {
     std::uint64_t featureFlips = 0;       // edges flipped to join feature vertices along sharp edges
     std::uint64_t zeroCorners = 0;        // lattice points on the surface, given a side by the nudge
     double edgeMargin = 0.0;              // mm: least distance of a vertex from a lattice point
+    /// Detail thinner than a cell that no cell corner sees (a wall, a pin or
+    /// a gap between two lattice points): it is missing from the mesh or in
+    /// fragments. Cells where it was found, and the thinnest found.
+    std::uint64_t hiddenDetailSearches = 0; // cells searched (near the surface, no sign change at the corners)
+    std::uint64_t hiddenDetailCells = 0;
+    double hiddenDetailThickness = 0.0;   // mm, across the thinnest (0 when none)
+    glm::dvec3 hiddenDetailAt{0.0};       // where it is (world mm)
+    bool hiddenDetailIsMaterial = true;   // material (else a gap)
     std::size_t latticeTriangles = 0;     // the marching-cubes mesh's triangles, before simplification
     std::uint64_t collapses = 0;          // edge collapses of the simplification
     std::uint64_t splits = 0;             // edges split to reach the tolerance
@@ -109,13 +125,21 @@ struct MeshStats {
     double seconds = 0.0; // wall clock, all of it
 };
 
-/// Where triangles stay beyond the tolerance (stats.trianglesOverTolerance),
-/// the cells missed detail: a gap, a groove or a rounded edge smaller than a
-/// cell, or a sharp edge whose crease a cell's triangles cut across and no
-/// split could reach. Half the cell resolves more of it (each halving
-/// did on the bundled examples: docs/benchmarks.md); returns that feature
-/// size, or 0 when every triangle keeps to the tolerance.
+/// The feature size that resolves what the cells missed, or 0 when nothing
+/// was missed. Hidden detail (stats.hiddenDetailCells): a feature size at
+/// most half its thickness, rounded down to 1, 2 or 5 times a power of ten,
+/// puts lattice points inside it along its whole length. Triangles beyond
+/// the tolerance (stats.trianglesOverTolerance): a gap, a groove or a rounded
+/// edge smaller than a cell, or a sharp edge whose crease a cell's triangles
+/// cut across and no split could reach; half the cell resolves more of it
+/// (each halving did on the bundled examples: docs/benchmarks.md).
 double finerFeatureSize(const MeshStats& stats);
+
+/// The hidden detail (stats.hiddenDetailCells) in one sentence for people:
+/// what, how thin, where, what it does to the mesh and the feature size that
+/// resolves it; empty when there is none. For `kerf export` and the export
+/// dialog alike.
+std::string describeHiddenDetail(const MeshStats& stats);
 
 /// Meshes the document's part. An empty part gives an empty mesh. Returns
 /// nothing when cancelled (never half a mesh). Throws std::invalid_argument

@@ -11,10 +11,21 @@
 #include "kerf/voxelizer/GridLayout.hpp"
 #include "kerf/voxelizer/TileData.hpp"
 
+#include <glm/vec3.hpp>
+
 #include <functional>
 #include <optional>
 
 namespace kerf {
+
+/// A voxel of a leaf node whose corners agree in sign although one of them
+/// lies within the voxel's half-diagonal of the surface: the field is
+/// 1-Lipschitz, so only such a voxel can hide material or a gap thinner than
+/// itself between its corners (the export mesher looks inside).
+struct QuietVoxel {
+    glm::ivec3 voxel; // tile-local voxel coordinates
+    bool inside;      // the side of its corners
+};
 
 /// Per-thread scratch memory for building tiles (reused across tiles).
 struct TileBuildScratch {
@@ -22,6 +33,8 @@ struct TileBuildScratch {
     PointEvaluator<float> points;
     GradientEvaluator<float> gradients;
     std::vector<Tape> levelTapes; // the simplified tape of the node being built at each level
+    /// When set, buildTile appends the tile's quiet voxels here.
+    std::vector<QuietVoxel>* quietVoxels = nullptr;
 };
 
 /// Returns true when the work should stop (a newer edit arrived).
