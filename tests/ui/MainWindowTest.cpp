@@ -23,6 +23,9 @@
 
 
 #include <QAction>
+#include <QApplication>
+#include <QMap>
+#include <QMessageBox>
 #include <QDragEnterEvent>
 #include <QDropEvent>
 #include <QCheckBox>
@@ -38,7 +41,10 @@
 #include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QToolBar>
+#include <QToolButton>
 #include <QTreeView>
+#include <QWheelEvent>
 #include <QWindow>
 
 #include <glm/glm.hpp>
@@ -201,6 +207,11 @@ private slots:
     void exportDialogWritesAClosedMesh();
     void exportDialogNamesWhatTheToleranceMissed();
     void exportDialogSaysWhereDetailHidesBetweenTheCells();
+    void everyShortcutIsBoundOnceAndRedoAnswersBothKeys();
+    void theWheelEditsOnlyTheFieldBeingEdited();
+    void ctrlZRightAfterTypingAValueUndoesIt();
+    void theToolbarKeepsItsButtonsWhereTheyAre();
+    void aBundledExampleOpensAsAnUntitledCopy();
     void cutListMeasureAndSection();
     void refusedFilesChangeNothing();
     void dragAndDropRegroupsInTheTree();
@@ -360,6 +371,20 @@ void MainWindowTest::restoresTheAutosaveAfterACrash()
     // Offered once: the files are gone.
     w->offerRecovery();
     QCOMPARE(asked, 1);
+
+    // A second crash before the restored work is saved: it is offered again.
+    w->recovery().abandon();
+    w.reset();
+    std::optional<double> offered;
+    options.askRestore = [&](const RecoveryCandidate& c) {
+        const Document d = RecoveryStore::load(c);
+        if (const Node* s = d.root.find("sphere")) offered = s->as<SphereParams>().radius;
+        return false;
+    };
+    auto again = makeWindow(folder.path(), options);
+    again->offerRecovery();
+    QVERIFY2(offered.has_value(), "the restored work was lost with the second crash");
+    QCOMPARE(*offered, 42.0);
 }
 
 void MainWindowTest::reVoxelizesOnlyTheTilesTheEditReaches()
@@ -497,6 +522,173 @@ void MainWindowTest::exportDialogSaysWhereDetailHidesBetweenTheCells()
     QVERIFY2(message.contains("Material 1 mm thin at ("), qPrintable(message));
     QVERIFY2(message.contains("it is missing from the mesh or in pieces; a feature size of 0.5 mm resolves it."),
              qPrintable(message));
+}
+
+void MainWindowTest::everyShortcutIsBoundOnceAndRedoAnswersBothKeys()
+{
+    auto w = makeWindow(recovery_.path());
+    // Every key of every action, once: Qt ignores a key bound twice (an
+    // "ambiguous shortcut"), which is how Redo lost both of its keys.
+    QMap<QString, QString> owner;
+    for (QAction* a : w->findChildren<QAction*>()) {
+        for (const QKeySequence& k : a->shortcuts()) {
+            const QString key = k.toString(QKeySequence::PortableText);
+            const QString name = a->objectName().isEmpty() ? a->text() : a->objectName();
+            QVERIFY2(!owner.contains(key),
+                     qPrintable(key + " is bound to both " + owner.value(key) + " and " + name));
+            owner.insert(key, name);
+        }
+    }
+    QVERIFY(owner.contains("Ctrl+Z") && owner.contains("Ctrl+Shift+Z") && owner.contains("Ctrl+Y"));
+
+    action(w.get(), "action.new")->trigger();
+    action(w.get(), "action.add.box")->trigger();
+    w->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(w.get()));
+    w->featureTree()->setFocus();
+    QWidget* focus = QApplication::focusWidget();
+    QVERIFY(focus);
+    QTest::keyClick(focus, Qt::Key_Z, Qt::ControlModifier);
+    QVERIFY(w->session()->document().root.children.empty());
+    QTest::keyClick(focus, Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+    QCOMPARE(w->session()->document().root.children.size(), std::size_t(1));
+    QTest::keyClick(focus, Qt::Key_Z, Qt::ControlModifier);
+    QVERIFY(w->session()->document().root.children.empty());
+    QTest::keyClick(focus, Qt::Key_Y, Qt::ControlModifier);
+    QCOMPARE(w->session()->document().root.children.size(), std::size_t(1));
+}
+
+void MainWindowTest::theWheelEditsOnlyTheFieldBeingEdited()
+{
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    action(w.get(), "action.add.box")->trigger();
+    w->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(w.get()));
+    w->featureTree()->setFocus();
+    QuantityEdit* x = field(*w, "size.x");
+    QVERIFY(x && !x->hasFocus());
+    const std::string before = w->session()->document().serialize();
+    const int steps = w->session()->undoStack()->count();
+    const auto wheel = [&](QWidget* target) {
+        const QPointF at(target->width() / 2.0, target->height() / 2.0);
+        QWheelEvent e(at, target->mapToGlobal(at), QPoint(), QPoint(0, 120), Qt::NoButton, Qt::NoModifier,
+                      Qt::NoScrollPhase, false);
+        QApplication::sendEvent(target, &e);
+    };
+    // The wheel passing over a field on its way down the panel: nothing changes.
+    wheel(x);
+    QCOMPARE(QString::fromStdString(w->session()->document().serialize()), QString::fromStdString(before));
+    QCOMPARE(w->session()->undoStack()->count(), steps);
+    // Clicked into, the field takes the wheel.
+    QTest::mouseClick(x->findChild<QLineEdit*>(), Qt::LeftButton);
+    QTRY_VERIFY(x->hasFocus());
+    wheel(x);
+    QTRY_COMPARE(w->session()->undoStack()->count(), steps + 1);
+}
+
+void MainWindowTest::ctrlZRightAfterTypingAValueUndoesIt()
+{
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    action(w.get(), "action.add.box")->trigger();
+    w->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(w.get()));
+    QuantityEdit* x = field(*w, "size.x");
+    const double old = x->value();
+    typeInto(x, "600");
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.x, 600.0);
+    QVERIFY(x->hasFocus()); // Enter keeps the focus in the field
+    QTest::keyClick(QApplication::focusWidget(), Qt::Key_Z, Qt::ControlModifier);
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.x, old);
+    QTest::keyClick(QApplication::focusWidget(), Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.x, 600.0);
+
+    // Typing not yet committed: Ctrl+Z undoes the typing, as in any text field.
+    x = field(*w, "size.x");
+    x->setFocus();
+    x->selectAll();
+    QTest::keyClicks(x, "7");
+    QTest::keyClick(QApplication::focusWidget(), Qt::Key_Z, Qt::ControlModifier);
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.x, 600.0);
+    QVERIFY(x->text().startsWith("600"));
+
+    // The name field, and a click on the selected row of the tree (which
+    // used to open a rename editor that swallowed the key).
+    auto* name = w->propertyEditor()->findChild<QLineEdit*>("field.name");
+    QVERIFY(name);
+    name->setFocus();
+    QTest::keyClicks(name, "Side");
+    QTest::keyClick(name, Qt::Key_Return);
+    QCOMPARE(w->session()->document().root.find("box")->name.value_or(""), std::string("Side"));
+    QTest::keyClick(QApplication::focusWidget(), Qt::Key_Z, Qt::ControlModifier);
+    QVERIFY(!w->session()->document().root.find("box")->name.has_value());
+    clickRow(*w, "box");
+    QTest::qWait(QApplication::doubleClickInterval() + 100); // no rename editor opens
+    for (const QLineEdit* e : w->featureTree()->findChildren<QLineEdit*>())
+        QVERIFY2(!e->isVisible(), "a click on the selected row opened a rename editor");
+    QTest::keyClick(QApplication::focusWidget(), Qt::Key_Z, Qt::ControlModifier);
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.x, old);
+}
+
+void MainWindowTest::theToolbarKeepsItsButtonsWhereTheyAre()
+{
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    auto* bar = w->findChild<QToolBar*>("toolbar.file");
+    QVERIFY(bar);
+    QWidget* undo = bar->widgetForAction(action(w.get(), "action.undo"));
+    QWidget* exportButton = bar->widgetForAction(action(w.get(), "action.export"));
+    QVERIFY(undo && exportButton);
+    const QRect undoBefore = undo->geometry(), exportBefore = exportButton->geometry();
+    // An edit with a long command name.
+    action(w.get(), "action.add.cylinder")->trigger();
+    typeInto(field(*w, "radius"), "12");
+    QVERIFY(action(w.get(), "action.undo")->text().size() > 8); // the menu names the command
+    QCOMPARE(static_cast<QToolButton*>(undo)->text(), QString("Undo"));
+    QCOMPARE(undo->geometry(), undoBefore);
+    QCOMPARE(exportButton->geometry(), exportBefore);
+}
+
+void MainWindowTest::aBundledExampleOpensAsAnUntitledCopy()
+{
+    // An installed examples folder with the stool in it.
+    QTemporaryDir installed;
+    const std::filesystem::path example = std::filesystem::path(installed.path().toStdString()) / "stool.kerf";
+    std::filesystem::copy_file(std::filesystem::path(KERF_EXAMPLES_DIR) / "stool.kerf", example);
+    const std::string original = Document::load(example).serialize();
+    MainWindowOptions options;
+    options.examplesFolder = installed.path().toStdString();
+    QString suggested;
+    options.askFile = [&](bool, const QString& s) {
+        suggested = s;
+        return QString(); // cancelled
+    };
+    int askedToSave = 0;
+    options.askSave = [&](const QString&) {
+        ++askedToSave;
+        return QMessageBox::Save; // Enter on the prompt
+    };
+    auto w = makeWindow(recovery_.path(), options);
+    QVERIFY(w->openFile(example));
+    QVERIFY(!w->session()->path().has_value());
+    w->selectNodes({w->session()->document().root.children.front().id});
+    action(w.get(), "action.duplicate")->trigger();
+    QVERIFY(w->session()->isModified());
+    // Save, and the prompt's default answer, ask where: the installed file stays as it was.
+    action(w.get(), "action.save")->trigger();
+    QVERIFY2(suggested.endsWith("/stool.kerf"), qPrintable(suggested));
+    QVERIFY(suggested != QString::fromStdString(example.string()));
+    QVERIFY(!w->openFile(example)); // the prompt: Save, then the cancelled file dialog
+    QCOMPARE(askedToSave, 1);
+    QCOMPARE(QString::fromStdString(Document::load(example).serialize()), QString::fromStdString(original));
+    // Outside the examples folder a file opens as itself.
+    const std::filesystem::path mine = std::filesystem::path(files_.path().toStdString()) / "my-stool.kerf";
+    std::filesystem::copy_file(example, mine, std::filesystem::copy_options::overwrite_existing);
+    options.askSave = [](const QString&) { return QMessageBox::Discard; };
+    auto other = makeWindow(recovery_.path(), options);
+    QVERIFY(other->openFile(mine));
+    QCOMPARE(other->session()->path(), std::optional<std::filesystem::path>(mine));
 }
 
 void MainWindowTest::exportDialogWritesAClosedMesh()

@@ -16,7 +16,9 @@ int runDesktop(int argc, char** argv, const std::optional<std::filesystem::path>
     QApplication::setApplicationName("Kerf");
     QApplication::setOrganizationName("Kerf");
     QApplication::setApplicationVersion(KERF_VERSION);
-    MainWindow window;
+    MainWindowOptions options;
+    options.examplesFolder = defaultExample().parent_path();
+    MainWindow window(std::move(options));
     window.show();
     const std::filesystem::path toOpen = file ? *file : defaultExample();
     if (!window.openFile(toOpen) && file) std::cerr << "kerf: could not open " << toOpen.string() << "\n";

@@ -50,6 +50,20 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The platform's bindings of the standard keys, then the extra ones, each
+// key once (Qt ignores a shortcut bound twice as ambiguous).
+QList<QKeySequence> uniqueShortcuts(std::initializer_list<QKeySequence::StandardKey> standard,
+                                    std::initializer_list<QKeySequence> extra)
+{
+    QList<QKeySequence> keys;
+    for (const QKeySequence::StandardKey k : standard)
+        for (const QKeySequence& s : QKeySequence::keyBindings(k))
+            if (!keys.contains(s)) keys.append(s);
+    for (const QKeySequence& s : extra)
+        if (!keys.contains(s)) keys.append(s);
+    return keys;
+}
+
 constexpr int kMaxRecentFiles = 8;
 
 const NodeType kPrimitives[] = {NodeType::Box,   NodeType::Sphere,  NodeType::Cylinder, NodeType::Cone,
@@ -105,7 +119,9 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
     tree_->setDragEnabled(true);
     tree_->setAcceptDrops(true);
     tree_->setDropIndicatorShown(true);
-    tree_->setEditTriggers(QAbstractItemView::EditKeyPressed | QAbstractItemView::SelectedClicked);
+    // Rename with F2 or Edit > Rename only: a click on the selected row
+    // (to leave a field, say) must not open an editor that swallows Ctrl+Z.
+    tree_->setEditTriggers(QAbstractItemView::EditKeyPressed);
     tree_->setContextMenuPolicy(Qt::CustomContextMenu);
     tree_->header()->setSectionResizeMode(0, QHeaderView::Stretch);
     tree_->header()->setSectionResizeMode(1, QHeaderView::ResizeToContents);
@@ -261,10 +277,18 @@ void MainWindow::buildActions()
     QMenu* edit = menuBar()->addMenu(tr("&Edit"));
     QAction* undoAct = session_->undoStack()->createUndoAction(this, tr("&Undo"));
     undoAct->setObjectName("action.undo");
-    undoAct->setShortcut(QKeySequence::Undo);
+    undoAct->setShortcuts(uniqueShortcuts({QKeySequence::Undo}, {QKeySequence(tr("Ctrl+Z"))}));
+    // The toolbar shows the word alone: "Undo Set size" would widen the
+    // button with every edit and push the others into the overflow. The
+    // whole command stays in the menu and the tooltip.
+    undoAct->setIconText(tr("Undo"));
     QAction* redoAct = session_->undoStack()->createRedoAction(this, tr("&Redo"));
     redoAct->setObjectName("action.redo");
-    redoAct->setShortcuts({QKeySequence(tr("Ctrl+Shift+Z")), QKeySequence::Redo});
+    // Both spellings everywhere (the platform's binding may hold one of them
+    // already: a key given twice is an ambiguous shortcut, and does nothing).
+    redoAct->setShortcuts(
+        uniqueShortcuts({QKeySequence::Redo}, {QKeySequence(tr("Ctrl+Shift+Z")), QKeySequence(tr("Ctrl+Y"))}));
+    redoAct->setIconText(tr("Redo"));
     addActions({undoAct, redoAct});
     QAction* deleteAct = action(tr("&Delete"), "action.delete", QKeySequence::Delete);
     connect(deleteAct, &QAction::triggered, this, [this] { deleteSelection(); });
@@ -818,9 +842,19 @@ void MainWindow::newDocument()
 {
     if (!maybeSave()) return;
     session_->reset(edit::emptyDocument(), std::nullopt);
+    untitledStem_ = QStringLiteral("part");
     recovery_->clearAutosave();
     viewport_->setStandardView("iso");
     showMessage(tr("New part: add a feature from the Add menu or the toolbar."));
+}
+
+bool MainWindow::isBundledExample(const fs::path& file) const
+{
+    if (!options_.examplesFolder) return false;
+    std::error_code ec;
+    const fs::path folder = fs::weakly_canonical(*options_.examplesFolder, ec);
+    const fs::path parent = fs::weakly_canonical(file, ec).parent_path();
+    return !ec && parent == folder;
 }
 
 bool MainWindow::openFile(const fs::path& file)
@@ -828,10 +862,16 @@ bool MainWindow::openFile(const fs::path& file)
     if (!maybeSave()) return false;
     try {
         Document doc = Document::load(file);
-        session_->reset(std::move(doc), file);
+        // A bundled example opens as an untitled copy: Save asks where to
+        // keep it instead of overwriting the installed file.
+        const bool example = isBundledExample(file);
+        session_->reset(std::move(doc), example ? std::nullopt : std::optional<fs::path>(file));
+        untitledStem_ = example ? QString::fromStdString(file.stem().string()) : QStringLiteral("part");
         recovery_->clearAutosave();
-        addRecentFile(file);
-        showMessage(tr("Opened %1").arg(QString::fromStdString(file.string())));
+        if (!example) addRecentFile(file);
+        showMessage(example ? tr("Opened a copy of the example %1: Save asks where to keep it.")
+                                  .arg(QString::fromStdString(file.filename().string()))
+                            : tr("Opened %1").arg(QString::fromStdString(file.string())));
         tree_->expandToDepth(1);
         QTimer::singleShot(0, viewport_, [this] { viewport_->setStandardView("iso"); });
         return true;
@@ -855,7 +895,7 @@ bool MainWindow::saveAs(const std::optional<fs::path>& file)
         target = *file;
     } else {
         const QString suggested = session_->path() ? QString::fromStdString(session_->path()->string())
-                                                   : QDir::homePath() + "/part.kerf";
+                                                   : QDir::homePath() + "/" + untitledStem_ + ".kerf";
         const QString f = askFile(true, suggested);
         if (f.isEmpty()) return false;
         target = f.toStdString();
@@ -912,6 +952,10 @@ void MainWindow::offerRecovery()
                 Document doc = RecoveryStore::load(c);
                 session_->reset(std::move(doc), c.original, /*modified=*/true);
                 restored = true;
+                // This session's own autosave holds it before the orphan goes:
+                // a second crash before it is saved must not lose it.
+                autosavedRevision_ = 0;
+                autosaveNow();
                 showMessage(tr("Restored the autosave of %1 — save it to keep it.").arg(session_->displayName()), 0);
             } catch (const std::exception& e) {
                 showMessage(tr("The autosave could not be restored: %1").arg(QString::fromUtf8(e.what())), 0);

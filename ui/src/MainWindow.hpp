@@ -57,6 +57,9 @@ struct MainWindowOptions {
     /// Tells of a refused open or save (the message also goes to the status
     /// bar). Default: a warning box.
     std::function<void(const QString& title, const QString& message)> reportError;
+    /// The installed examples: a document opened from this folder opens as
+    /// an untitled copy (Save asks where). None: every file opens as itself.
+    std::optional<std::filesystem::path> examplesFolder;
 };
 
 class MainWindow : public QMainWindow {
@@ -109,6 +112,7 @@ protected:
     void dropEvent(QDropEvent* e) override;
 
 private:
+    bool isBundledExample(const std::filesystem::path& file) const;
     void buildActions();
     void buildDocks();
     void buildStatusBar();
@@ -128,6 +132,7 @@ private:
     void reportError(const QString& title, const QString& message);
 
     MainWindowOptions options_;
+    QString untitledStem_ = QStringLiteral("part"); // Save As's suggestion for an untitled document
     DocumentSession* session_;
     VoxelizerBridge* voxelizer_;
     std::unique_ptr<RecoveryStore> recovery_;

@@ -2,6 +2,7 @@
 
 #include "NodeText.hpp"
 #include "QuantityEdit.hpp"
+#include "UndoKeysToWindow.hpp"
 
 #include <QCheckBox>
 #include <QColorDialog>
@@ -204,12 +205,14 @@ void PropertyEditor::rebuild()
     name_ = new QLineEdit(this);
     name_->setObjectName("field.name");
     name_->setPlaceholderText(QString::fromStdString(n->id));
+    UndoKeysToWindow::install(name_);
     form_->addRow(tr("Name"), name_);
     generalError_ = errorLabel(this);
     form_->addRow(QString(), generalError_);
     connect(name_, &QLineEdit::editingFinished, this, [this] {
         if (refreshing_) return;
         const std::string text = name_->text().trimmed().toStdString();
+        name_->setModified(false); // committed: Ctrl+Z now undoes the rename (UndoKeysToWindow)
         applyToNode(tr("Rename"), [&](Node& m) {
             if (text.empty() || text == m.id) m.name.reset();
             else m.name = text;

@@ -1,9 +1,11 @@
 #include "QuantityEdit.hpp"
 
 #include "Expression.hpp"
+#include "UndoKeysToWindow.hpp"
 
 #include <QLineEdit>
 #include <QSignalBlocker>
+#include <QWheelEvent>
 
 #include <cmath>
 
@@ -24,7 +26,22 @@ QuantityEdit::QuantityEdit(Unit unit, QWidget* parent) : QDoubleSpinBox(parent),
     connect(lineEdit(), &QLineEdit::editingFinished, this, [this] {
         const ExpressionResult r = evaluateExpression(lineEdit()->text().toStdString(), unitText().toStdString());
         if (!r.value) emit unreadable(QString::fromStdString(r.error));
+        lineEdit()->setModified(false); // committed: Ctrl+Z now undoes the edit (UndoKeysToWindow)
     });
+    UndoKeysToWindow::install(lineEdit(), this);
+    // The wheel changes a value only in the field being edited: over any
+    // other field it scrolls the panel (a short Properties panel is scrolled
+    // past a dozen fields).
+    setFocusPolicy(Qt::StrongFocus);
+}
+
+void QuantityEdit::wheelEvent(QWheelEvent* event)
+{
+    if (!hasFocus()) {
+        event->ignore(); // to the scroll area around
+        return;
+    }
+    QDoubleSpinBox::wheelEvent(event);
 }
 
 QString QuantityEdit::unitText() const

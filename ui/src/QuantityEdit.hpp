@@ -1,6 +1,7 @@
 #pragma once
 // A numeric field with a unit ("mm", "°" or none) that takes arithmetic
-// ("18*2", "450 - 2*18"), steps with the arrows and the wheel, and reports
+// ("18*2", "450 - 2*18"), steps with the arrows and (once clicked into) the
+// wheel, and reports
 // text it cannot read instead of silently dropping it. A spin box, so a
 // value dragged with the arrows or the wheel arrives as a stream of
 // valueChanged() (merged into one undo step by the editor).
@@ -22,6 +23,9 @@ public:
     double valueFromText(const QString& text) const override;
     QString textFromValue(double value) const override;
     void fixup(QString& input) const override;
+
+protected:
+    void wheelEvent(QWheelEvent* event) override;
 
 signals:
     /// The text typed could not be read as a number (the reason).
