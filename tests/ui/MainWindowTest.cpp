@@ -212,6 +212,7 @@ private slots:
     void ctrlZRightAfterTypingAValueUndoesIt();
     void theToolbarKeepsItsButtonsWhereTheyAre();
     void aBundledExampleOpensAsAnUntitledCopy();
+    void undoStepsAndMessagesSpeakThePanelsLanguage();
     void cutListMeasureAndSection();
     void refusedFilesChangeNothing();
     void dragAndDropRegroupsInTheTree();
@@ -689,6 +690,30 @@ void MainWindowTest::aBundledExampleOpensAsAnUntitledCopy()
     auto other = makeWindow(recovery_.path(), options);
     QVERIFY(other->openFile(mine));
     QCOMPARE(other->session()->path(), std::optional<std::filesystem::path>(mine));
+}
+
+void MainWindowTest::undoStepsAndMessagesSpeakThePanelsLanguage()
+{
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    action(w.get(), "action.add.cone")->trigger();
+    typeInto(field(*w, "radius_bottom"), "30");
+    QUndoStack* stack = w->session()->undoStack();
+    QCOMPARE(stack->undoText(), QString("Set bottom radius of the cone"));
+    typeInto(field(*w, "translate.x"), "5");
+    QCOMPARE(stack->undoText(), QString("Set position X of the cone"));
+    auto* name = w->propertyEditor()->findChild<QLineEdit*>("field.name");
+    name->setFocus();
+    QTest::keyClicks(name, "Foot");
+    QTest::keyClick(name, Qt::Key_Return);
+    typeInto(field(*w, "height"), "40");
+    QCOMPARE(stack->undoText(), QString("Set height of Foot"));
+    action(w.get(), "action.add.cylinder")->trigger();
+    w->selectNodes({"cylinder"});
+    action(w.get(), "action.delete")->trigger();
+    QCOMPARE(stack->undoText(), QString("Delete the cylinder"));
+    for (QAction* a : w->findChildren<QAction*>())
+        QVERIFY2(!a->text().contains("radius_") && !a->text().contains("cylinder-"), qPrintable(a->text()));
 }
 
 void MainWindowTest::exportDialogWritesAClosedMesh()

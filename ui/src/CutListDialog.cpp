@@ -73,8 +73,9 @@ void CutListDialog::showRows(std::vector<CutListRow> rows)
         worst = std::max(worst, row.uncertainty);
     }
     status_->setText(rows_.empty() ? tr("The part has no visible body.")
-                                   : tr("%n bodies; dimensions within %1 mm.", nullptr, int(rows_.size()))
-                                         .arg(std::max(worst, 0.01), 0, 'f', 2));
+                   : (rows_.size() == 1 ? tr("1 body; dimensions within %1 mm.")
+                                        : tr("%1 bodies; dimensions within %2 mm.").arg(rows_.size()))
+                         .arg(std::max(worst, 0.01), 0, 'f', 2));
     exportButton_->setEnabled(!rows_.empty());
     ready_ = true;
     emit computed();

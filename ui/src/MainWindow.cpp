@@ -713,7 +713,7 @@ bool MainWindow::addFeature(NodeType type)
                                     },
                                     &error);
     if (!ok) {
-        showMessage(tr("Cannot add a %1: %2").arg(nodeTypeLabel(type), error));
+        showMessage(tr("Cannot add the %1: %2").arg(nodeTypeLabel(type).toLower(), error));
         return false;
     }
     selectNodes({id});
@@ -744,8 +744,9 @@ bool MainWindow::deleteSelection()
     const std::vector<std::string> ids = selectedNodeIds();
     if (ids.empty()) return false;
     QString error;
-    const bool ok = session_->apply(ids.size() == 1 ? tr("Delete %1").arg(QString::fromStdString(ids.front()))
-                                                    : tr("Delete %1 features").arg(ids.size()),
+    const Node* only = ids.size() == 1 ? session_->document().root.find(ids.front()) : nullptr;
+    const bool ok = session_->apply(only ? tr("Delete %1").arg(featureName(*only))
+                                         : tr("Delete %1 features").arg(ids.size()),
                                     [&](Document& d) {
                                         for (const auto& id : ids)
                                             if (d.root.find(id)) edit::removeNode(d, id);
@@ -1070,7 +1071,8 @@ void MainWindow::updateStatus()
                       .arg(memoryBudgetBytes() >> 20)
                       .arg(snap->coarsenedForBudget);
     if (snap && snap->hiddenTiles > 0)
-        memory += tr(" — %n hidden tile(s) kept coarse", "", int(snap->hiddenTiles));
+        memory += snap->hiddenTiles == 1 ? tr(" — 1 hidden tile kept coarse")
+                                         : tr(" — %1 hidden tiles kept coarse").arg(snap->hiddenTiles);
     memoryStatus_->setText(memory);
     memoryStatus_->setStyleSheet(snap && snap->coarsenedForBudget > 0 ? QStringLiteral("color: #b35900;") : QString());
     frameStatus_->setText(v.traceMs >= 0.0 ? tr("Frame %1 ms, trace %2 ms").arg(v.frameMs, 0, 'f', 1).arg(v.traceMs, 0, 'f', 1)

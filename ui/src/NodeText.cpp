@@ -13,4 +13,9 @@ QString nodeTypeLabel(NodeType type)
 
 QString displayName(const Node& n) { return QString::fromStdString(n.name.value_or(n.id)); }
 
+QString featureName(const Node& n)
+{
+    return n.name ? QString::fromStdString(*n.name) : QCoreApplication::translate("kerf", "the %1").arg(nodeTypeLabel(n.type).toLower());
+}
+
 } // namespace kerf::ui

@@ -11,5 +11,8 @@ namespace kerf::ui {
 QString nodeTypeLabel(NodeType type);
 /// The node's name, else its id.
 QString displayName(const Node& n);
+/// How messages and undo steps name a feature: its name, or "the cylinder"
+/// for an unnamed one (never its internal id).
+QString featureName(const Node& n);
 
 } // namespace kerf::ui

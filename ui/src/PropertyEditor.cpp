@@ -116,11 +116,14 @@ void PropertyEditor::commit(std::size_t index, double value)
     if (!n) return;
     // Copies: the edit's signals may rebuild the fields.
     const QString key = fields_[index].key;
+    // Undo's menu item names the field as its row does, never the file's key.
+    QString field = fields_[index].label;
+    if (field.size() > 1 && field[1].isLower()) field[0] = field[0].toLower(); // "Position X" -> "position X"
     const auto set = fields_[index].set;
     const auto get = fields_[index].get;
     QPointer<QuantityEdit> edit = fields_[index].edit;
     QPointer<QLabel> error = fields_[index].error;
-    const QString label = tr("Set %1 of %2").arg(key, displayName(*n));
+    const QString label = tr("Set %1 of %2").arg(field, featureName(*n));
     QString why;
     const std::string id = nodeId_;
     const bool ok = session_->apply(
@@ -153,7 +156,7 @@ void PropertyEditor::addQuantity(const QString& label, const QString& key, int u
     v->addWidget(edit);
     v->addWidget(error);
     form_->addRow(label, row);
-    fields_.push_back({key, edit, error, std::move(get), std::move(set)});
+    fields_.push_back({key, label, edit, error, std::move(get), std::move(set)});
     const std::size_t index = fields_.size() - 1;
     connect(edit, &QuantityEdit::valueChanged, this, [this, index](double value) { commit(index, value); });
     connect(edit, &QuantityEdit::unreadable, this, [this, index](const QString& why) {

@@ -43,7 +43,8 @@ public:
 
 private:
     struct Field {
-        QString key; // spec name: "radius", "size.x"
+        QString key;   // spec name: "radius", "size.x"
+        QString label; // as the row shows it: "Bottom radius", "Size X"
         QuantityEdit* edit = nullptr;
         QLabel* error = nullptr;
         std::function<double(const Node&)> get;
