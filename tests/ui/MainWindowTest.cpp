@@ -39,6 +39,8 @@
 #include <QLineEdit>
 #include <QSignalSpy>
 #include <QStandardPaths>
+#include <QSlider>
+#include <QStatusBar>
 #include <QTemporaryDir>
 #include <QTest>
 #include <QToolBar>
@@ -213,6 +215,9 @@ private slots:
     void theToolbarKeepsItsButtonsWhereTheyAre();
     void aBundledExampleOpensAsAnUntitledCopy();
     void undoStepsAndMessagesSpeakThePanelsLanguage();
+    void unreadableTextIsSaidUnderItsFieldAndOlderMessagesGo();
+    void aStatusMessageGetsTheWholeBar();
+    void theSectionKeepsATypedOffsetAndTheSliderFollowsIt();
     void cutListMeasureAndSection();
     void refusedFilesChangeNothing();
     void dragAndDropRegroupsInTheTree();
@@ -714,6 +719,88 @@ void MainWindowTest::undoStepsAndMessagesSpeakThePanelsLanguage()
     QCOMPARE(stack->undoText(), QString("Delete the cylinder"));
     for (QAction* a : w->findChildren<QAction*>())
         QVERIFY2(!a->text().contains("radius_") && !a->text().contains("cylinder-"), qPrintable(a->text()));
+}
+
+void MainWindowTest::unreadableTextIsSaidUnderItsFieldAndOlderMessagesGo()
+{
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    action(w.get(), "action.add.box")->trigger();
+    w->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(w.get())); // focus moves only in the active window
+    const Document before = w->session()->document();
+    PropertyEditor* p = w->propertyEditor();
+    // Enter on text that is no number: said under the field, nothing changes.
+    typeInto(field(*w, "size.x"), "twelve");
+    QVERIFY2(p->errorFor("size.x").contains("cannot read 'twelve'"), qPrintable(p->errorFor("size.x")));
+    QVERIFY(w->session()->document() == before);
+    // A refusal in another field replaces it.
+    typeInto(field(*w, "size.y"), "-3");
+    QVERIFY(!p->errorFor("size.y").isEmpty());
+    QCOMPARE(p->errorFor("size.x"), QString());
+    // Leaving a field with unreadable text says so too.
+    QuantityEdit* z = field(*w, "size.z");
+    z->setFocus();
+    z->selectAll();
+    QTest::keyClicks(z, "1 furlong");
+    field(*w, "size.x")->setFocus();
+    QTRY_VERIFY2(p->errorFor("size.z").contains("furlong"), qPrintable(p->errorFor("size.z")));
+    QCOMPARE(p->errorFor("size.y"), QString());
+    // An edit that goes through clears what is left.
+    typeInto(field(*w, "size.x"), "40");
+    for (const QString key : {"size.x", "size.y", "size.z"})
+        QCOMPARE(p->errorFor(key), QString());
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.x, 40.0);
+}
+
+void MainWindowTest::aStatusMessageGetsTheWholeBar()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "side-chair.kerf"));
+    QVERIFY(waitForViewport(*w));
+    QStatusBar* bar = w->statusBar();
+    auto* voxels = bar->findChild<QLabel*>("status.voxels");
+    bar->clearMessage(); // "Opened ..."
+    QVERIFY(voxels && voxels->isVisible()); // the figures, while there is no message
+    // A refused delete: the status bar is the only word on it.
+    w->selectNodes({w->session()->document().root.id});
+    action(w.get(), "action.delete")->trigger();
+    const QString message = bar->currentMessage();
+    QVERIFY2(message.startsWith("Cannot delete: "), qPrintable(message));
+    int room = bar->width();
+    for (const QLabel* l : bar->findChildren<QLabel*>())
+        if (l->objectName().startsWith("status.") && l->isVisible()) room -= l->width();
+    QVERIFY2(room > bar->fontMetrics().horizontalAdvance(message) + 8,
+             qPrintable(QString("%1 px for a %2 px message").arg(room).arg(bar->fontMetrics().horizontalAdvance(message))));
+    bar->clearMessage();
+    QVERIFY(voxels->isVisible());
+}
+
+void MainWindowTest::theSectionKeepsATypedOffsetAndTheSliderFollowsIt()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "side-chair.kerf"));
+    QVERIFY(waitForVoxels(*w));
+    auto* on = w->findChild<QCheckBox*>("section.enabled");
+    auto* slider = w->findChild<QSlider*>("section.slider");
+    auto* offset = w->findChild<QuantityEdit*>("section.offset");
+    QVERIFY(on && slider && offset);
+    on->setChecked(true);
+    const int middle = slider->value();
+    typeInto(offset, "123.4");
+    QCOMPARE(w->viewport()->section().offset, 123.4);
+    QCOMPARE(offset->value(), 123.4); // not the slider's rounding of it
+    QVERIFY(slider->value() != middle); // the slider went there too
+    const int at = slider->value();
+    on->setChecked(false);
+    on->setChecked(true);
+    QCOMPARE(offset->value(), 123.4);
+    QCOMPARE(slider->value(), at);
+    QCOMPARE(w->viewport()->section().offset, 123.4);
+    // The slider moved by hand sets the offset.
+    slider->setValue(at + 100);
+    QVERIFY(offset->value() > 123.4);
+    QCOMPARE(w->viewport()->section().offset, offset->value());
 }
 
 void MainWindowTest::exportDialogWritesAClosedMesh()

@@ -34,6 +34,7 @@
 #include <QMimeData>
 #include <QScrollArea>
 #include <QSettings>
+#include <QSignalBlocker>
 #include <QSlider>
 #include <QStatusBar>
 #include <QTimer>
@@ -469,23 +470,44 @@ void MainWindow::buildDocks()
     sv->addWidget(sectionOffset_);
     sv->addWidget(sectionFlip_);
     sv->addStretch(1);
-    // The slider spans the part's extent along the chosen axis.
-    auto sliderToOffset = [this] {
+    // The slider spans the part's extent along the chosen axis; the typed
+    // offset is the truth, and the slider follows it (a typed value is
+    // never replaced by the slider's rounding, nor lost when the section is
+    // turned off and on).
+    auto extent = [this] {
         const Aabb b = voxelizer_->latest() ? voxelizer_->latest()->layout.bounds() : Aabb{glm::dvec3(-100), glm::dvec3(100)};
         const int a = sectionAxis_->currentIndex();
-        return b.min[a] + (b.max[a] - b.min[a]) * sectionSlider_->value() / 1000.0;
+        return std::pair{b.min[a], b.max[a]};
+    };
+    auto sliderToOffset = [this, extent] {
+        const auto [lo, hi] = extent();
+        return lo + (hi - lo) * sectionSlider_->value() / 1000.0;
+    };
+    auto followOffset = [this, extent] {
+        const auto [lo, hi] = extent();
+        const double t = hi > lo ? (sectionOffset_->value() - lo) / (hi - lo) : 0.5;
+        const QSignalBlocker block(sectionSlider_);
+        sectionSlider_->setValue(int(std::lround(std::clamp(t, 0.0, 1.0) * 1000.0)));
     };
     connect(sectionSlider_, &QSlider::valueChanged, this, [this, sliderToOffset] {
+        sectionPlaced_ = true;
         sectionOffset_->showValue(sliderToOffset());
         updateSection();
     });
-    connect(sectionOffset_, &QuantityEdit::valueChanged, this, [this] { updateSection(); });
+    connect(sectionOffset_, &QuantityEdit::valueChanged, this, [this, followOffset] {
+        sectionPlaced_ = true;
+        followOffset();
+        updateSection();
+    });
     connect(sectionAxis_, &QComboBox::currentIndexChanged, this, [this, sliderToOffset] {
-        sectionOffset_->showValue(sliderToOffset());
+        sectionOffset_->showValue(sliderToOffset()); // the same place along the new axis
         updateSection();
     });
-    connect(sectionOn_, &QCheckBox::toggled, this, [this, sliderToOffset] {
-        sectionOffset_->showValue(sliderToOffset());
+    connect(sectionOn_, &QCheckBox::toggled, this, [this, sliderToOffset, followOffset] {
+        // The first time, through the middle of the part; after that where
+        // it was left.
+        if (sectionPlaced_) followOffset();
+        else sectionOffset_->showValue(sliderToOffset());
         updateSection();
     });
     connect(sectionFlip_, &QCheckBox::toggled, this, &MainWindow::updateSection);
@@ -529,6 +551,13 @@ void MainWindow::buildStatusBar()
     statusBar()->addPermanentWidget(memoryStatus_);
     statusBar()->addPermanentWidget(frameStatus_);
     statusBar()->addPermanentWidget(deviceStatus_);
+    // A message (often the only word on a refused delete or drop) gets the
+    // whole bar: the figures step aside while it shows, instead of cutting
+    // it off mid-sentence.
+    connect(statusBar(), &QStatusBar::messageChanged, this, [this](const QString& message) {
+        for (QLabel* l : {voxelStatus_, memoryStatus_, frameStatus_, deviceStatus_})
+            l->setVisible(message.isEmpty());
+    });
 }
 
 // ---------------------------------------------------------------------------

@@ -132,7 +132,8 @@ private:
     void reportError(const QString& title, const QString& message);
 
     MainWindowOptions options_;
-    QString untitledStem_ = QStringLiteral("part"); // Save As's suggestion for an untitled document
+    QString untitledStem_ = QStringLiteral("part");
+    bool sectionPlaced_ = false; // the section's offset was typed or slid (kept from then on) // Save As's suggestion for an untitled document
     DocumentSession* session_;
     VoxelizerBridge* voxelizer_;
     std::unique_ptr<RecoveryStore> recovery_;

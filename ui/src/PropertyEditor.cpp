@@ -88,6 +88,13 @@ QString PropertyEditor::errorFor(const QString& field) const
 
 void PropertyEditor::showError(QLabel* error, const QString& message)
 {
+    // One message at a time, under the field it is about: an edit that
+    // went through or a new refusal elsewhere makes older ones stale.
+    std::vector<QLabel*> all{generalError_, profileError_};
+    for (const Field& f : fields_)
+        all.push_back(f.error);
+    for (QLabel* other : all)
+        if (other && other != error) other->hide();
     error->setText(message);
     error->setVisible(!message.isEmpty());
 }

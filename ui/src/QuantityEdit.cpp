@@ -5,6 +5,7 @@
 
 #include <QLineEdit>
 #include <QSignalBlocker>
+#include <QKeyEvent>
 #include <QWheelEvent>
 
 #include <cmath>
@@ -24,8 +25,6 @@ QuantityEdit::QuantityEdit(Unit unit, QWidget* parent) : QDoubleSpinBox(parent),
     if (unit == Unit::Degrees) setSuffix(QStringLiteral(" °"));
     setCorrectionMode(QAbstractSpinBox::CorrectToPreviousValue);
     connect(lineEdit(), &QLineEdit::editingFinished, this, [this] {
-        const ExpressionResult r = evaluateExpression(lineEdit()->text().toStdString(), unitText().toStdString());
-        if (!r.value) emit unreadable(QString::fromStdString(r.error));
         lineEdit()->setModified(false); // committed: Ctrl+Z now undoes the edit (UndoKeysToWindow)
     });
     UndoKeysToWindow::install(lineEdit(), this);
@@ -33,6 +32,28 @@ QuantityEdit::QuantityEdit(Unit unit, QWidget* parent) : QDoubleSpinBox(parent),
     // other field it scrolls the panel (a short Properties panel is scrolled
     // past a dozen fields).
     setFocusPolicy(Qt::StrongFocus);
+}
+
+// Text that reads as no number never reaches editingFinished (the line
+// edit's validator holds it back) and the spin box then quietly puts the old
+// value back: say why first, on Enter and on leaving the field.
+void QuantityEdit::reportUnreadableText()
+{
+    const QString text = lineEdit()->text();
+    const ExpressionResult r = evaluateExpression(text.toStdString(), unitText().toStdString());
+    if (!r.value) emit unreadable(QString::fromStdString(r.error)); // names the text ("cannot read 'twelve' ...")
+}
+
+void QuantityEdit::keyPressEvent(QKeyEvent* event)
+{
+    if (event->key() == Qt::Key_Return || event->key() == Qt::Key_Enter) reportUnreadableText();
+    QDoubleSpinBox::keyPressEvent(event);
+}
+
+void QuantityEdit::focusOutEvent(QFocusEvent* event)
+{
+    if (lineEdit()->isModified()) reportUnreadableText();
+    QDoubleSpinBox::focusOutEvent(event);
 }
 
 void QuantityEdit::wheelEvent(QWheelEvent* event)

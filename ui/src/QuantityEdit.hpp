@@ -26,6 +26,8 @@ public:
 
 protected:
     void wheelEvent(QWheelEvent* event) override;
+    void keyPressEvent(QKeyEvent* event) override;
+    void focusOutEvent(QFocusEvent* event) override;
 
 signals:
     /// The text typed could not be read as a number (the reason).
@@ -33,6 +35,7 @@ signals:
 
 private:
     QString unitText() const;
+    void reportUnreadableText();
     Unit unit_;
 };
 
