@@ -218,6 +218,7 @@ private slots:
     void unreadableTextIsSaidUnderItsFieldAndOlderMessagesGo();
     void aStatusMessageGetsTheWholeBar();
     void theSectionKeepsATypedOffsetAndTheSliderFollowsIt();
+    void theViewsFeatureSizeIsSetWithNothingSelected();
     void cutListMeasureAndSection();
     void refusedFilesChangeNothing();
     void dragAndDropRegroupsInTheTree();
@@ -801,6 +802,41 @@ void MainWindowTest::theSectionKeepsATypedOffsetAndTheSliderFollowsIt()
     slider->setValue(at + 100);
     QVERIFY(offset->value() > 123.4);
     QCOMPARE(w->viewport()->section().offset, offset->value());
+}
+
+void MainWindowTest::theViewsFeatureSizeIsSetWithNothingSelected()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "stool.kerf"));
+    QVERIFY(waitForVoxels(*w));
+    w->selectNodes({});
+    // (The panel is rebuilt after each edit: the field is looked up each time.)
+    const auto fs = [&] { return w->propertyEditor()->findChild<QuantityEdit*>("part.featureSize"); };
+    QVERIFY(fs());
+    QCOMPARE(fs()->value(), *w->session()->document().settings.featureSize);
+    typeInto(fs(), "2");
+    QCOMPARE(*w->session()->document().settings.featureSize, 2.0);
+    QCOMPARE(w->session()->undoStack()->undoText(), QString("Set the view's feature size"));
+    QVERIFY(waitForVoxels(*w));
+    QCOMPARE(w->voxelizer()->latest()->layout.voxelSize, 2.0);
+    // Refused like any other bad value, beside the field.
+    typeInto(fs(), "0");
+    QCOMPARE(*w->session()->document().settings.featureSize, 2.0);
+    QVERIFY2(w->propertyEditor()->errorFor("part.featureSize").contains("feature_size"),
+             qPrintable(w->propertyEditor()->errorFor("part.featureSize")));
+    QCOMPARE(fs()->value(), 2.0);
+    action(w.get(), "action.undo")->trigger();
+    QCOMPARE(*w->session()->document().settings.featureSize, 0.5);
+    QTRY_COMPARE(fs()->value(), 0.5);
+
+    // A length with zeros too many (issue 17 item 9: once accepted without a
+    // word, the view's voxels then a kilometre): refused beside the field.
+    action(w.get(), "action.add.box")->trigger();
+    const Document before = w->session()->document();
+    typeInto(field(*w, "size.x"), "1e9");
+    QVERIFY2(w->propertyEditor()->errorFor("size.x").contains("limited to 100000000 mm (100 km)"),
+             qPrintable(w->propertyEditor()->errorFor("size.x")));
+    QVERIFY(w->session()->document() == before);
 }
 
 void MainWindowTest::exportDialogWritesAClosedMesh()

@@ -4,6 +4,9 @@
 #include "QuantityEdit.hpp"
 #include "UndoKeysToWindow.hpp"
 
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/voxelizer/GridLayout.hpp"
+
 #include <QCheckBox>
 #include <QColorDialog>
 #include <QFormLayout>
@@ -83,6 +86,7 @@ QString PropertyEditor::errorFor(const QString& field) const
         if (f.key == field) return f.error->isHidden() ? QString() : f.error->text();
     if (field == "profile" && profileError_) return profileError_->isHidden() ? QString() : profileError_->text();
     if (field == "name" && generalError_) return generalError_->isHidden() ? QString() : generalError_->text();
+    if (field == "part.featureSize" && partError_) return partError_->isHidden() ? QString() : partError_->text();
     return {};
 }
 
@@ -90,7 +94,7 @@ void PropertyEditor::showError(QLabel* error, const QString& message)
 {
     // One message at a time, under the field it is about: an edit that
     // went through or a new refusal elsewhere makes older ones stale.
-    std::vector<QLabel*> all{generalError_, profileError_};
+    std::vector<QLabel*> all{generalError_, profileError_, partError_};
     for (const Field& f : fields_)
         all.push_back(f.error);
     for (QLabel* other : all)
@@ -203,10 +207,14 @@ void PropertyEditor::rebuild()
     profile_ = nullptr;
     profileError_ = nullptr;
     generalError_ = nullptr;
+    partFeatureSize_ = nullptr;
+    partError_ = nullptr;
     const Node* n = session_->document().root.find(nodeId_);
     if (!n) {
         nodeId_.clear();
-        title_->setText(tr("Nothing selected"));
+        title_->setText(tr("Nothing selected — the part"));
+        addPartSettings();
+        refresh();
         return;
     }
     shownType_ = n->type;
@@ -409,9 +417,41 @@ void PropertyEditor::commitProfile()
         refresh(); // refused: the table shows the document's profile again
 }
 
+void PropertyEditor::addPartSettings()
+{
+    partFeatureSize_ = new QuantityEdit(QuantityEdit::Unit::Millimetres, this);
+    partFeatureSize_->setObjectName("part.featureSize");
+    partFeatureSize_->setDecimals(4);
+    partFeatureSize_->setSingleStep(0.1);
+    partFeatureSize_->setToolTip(tr("The smallest feature the view resolves: a 5 mm hole needs about 0.5 mm to look "
+                                    "round. Smaller is sharper and slower. Saved with the document; the export "
+                                    "dialog has its own."));
+    form_->addRow(tr("View feature size"), partFeatureSize_);
+    partError_ = errorLabel(this);
+    partError_->setObjectName("error.part.featureSize");
+    form_->addRow(QString(), partError_);
+    connect(partFeatureSize_, &QuantityEdit::unreadable, this, [this](const QString& why) { showError(partError_, why); });
+    connect(partFeatureSize_, &QuantityEdit::valueChanged, this, [this](double value) {
+        if (refreshing_) return;
+        QString why;
+        const bool ok = session_->apply(
+            tr("Set the view's feature size"), [&](Document& d) { d.settings.featureSize = value; }, &why,
+            QStringLiteral("settings.feature_size"));
+        if (partError_) showError(partError_, ok ? QString() : why);
+        if (!ok) refresh(); // the document's value again
+    });
+}
+
 void PropertyEditor::refresh()
 {
     const Node* n = session_->document().root.find(nodeId_);
+    if (partFeatureSize_ && !partFeatureSize_->hasFocus()) {
+        const Document& doc = session_->document();
+        refreshing_ = true;
+        partFeatureSize_->showValue(
+            doc.settings.featureSize.value_or(defaultFeatureSize(compileTape(doc).bounds())));
+        refreshing_ = false;
+    }
     if (!n) return;
     refreshing_ = true;
     if (name_ && !name_->hasFocus()) name_->setText(n->name ? QString::fromStdString(*n->name) : QString());

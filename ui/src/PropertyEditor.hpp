@@ -61,6 +61,7 @@ private:
                      const QString& mergeKey = {});
     void showError(QLabel* error, const QString& message);
     void addProfileTable();
+    void addPartSettings();
     void commitProfile();
 
     DocumentSession* session_;
@@ -74,6 +75,8 @@ private:
     QLabel* generalError_ = nullptr;
     QTableWidget* profile_ = nullptr;
     QLabel* profileError_ = nullptr;
+    QuantityEdit* partFeatureSize_ = nullptr; // nothing selected: the document's feature size
+    QLabel* partError_ = nullptr;
     std::vector<Field> fields_;
     bool refreshing_ = false;
 };
