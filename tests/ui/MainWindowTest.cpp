@@ -37,6 +37,8 @@
 #include <QComboBox>
 #include <QLabel>
 #include <QLineEdit>
+#include <QSettings>
+#include <QDockWidget>
 #include <QSignalSpy>
 #include <QStandardPaths>
 #include <QSlider>
@@ -66,9 +68,11 @@ namespace {
 // Generous: under AddressSanitizer on two shared cores, lavapipe frames take seconds.
 constexpr int kVoxelTimeoutMs = 300000;
 
-std::unique_ptr<MainWindow> makeWindow(const QString& recoveryDir, MainWindowOptions options = {})
+std::unique_ptr<MainWindow> makeWindow(const QString& recoveryDir, MainWindowOptions options = {},
+                                       bool rememberLayout = false)
 {
     options.recoveryFolder = recoveryDir.toStdString();
+    options.rememberLayout = rememberLayout; // by default each scenario starts from the default layout
     options.autosaveMs = 3600 * 1000; // the tests autosave by hand
     if (!options.askSave) options.askSave = [](const QString&) { return QMessageBox::Discard; };
     if (!options.askRestore) options.askRestore = [](const RecoveryCandidate&) { return false; };
@@ -219,6 +223,7 @@ private slots:
     void aStatusMessageGetsTheWholeBar();
     void theSectionKeepsATypedOffsetAndTheSliderFollowsIt();
     void theViewsFeatureSizeIsSetWithNothingSelected();
+    void theLayoutIsRememberedAndTheViewFollowsThePartsScale();
     void cutListMeasureAndSection();
     void refusedFilesChangeNothing();
     void dragAndDropRegroupsInTheTree();
@@ -837,6 +842,62 @@ void MainWindowTest::theViewsFeatureSizeIsSetWithNothingSelected()
     QVERIFY2(w->propertyEditor()->errorFor("size.x").contains("limited to 100000000 mm (100 km)"),
              qPrintable(w->propertyEditor()->errorFor("size.x")));
     QVERIFY(w->session()->document() == before);
+}
+
+void MainWindowTest::theLayoutIsRememberedAndTheViewFollowsThePartsScale()
+{
+    QSettings().clear();
+    auto w = makeWindow(recovery_.path(), {}, true);
+    // The Properties panel starts taller than the section's four controls.
+    auto* props = w->findChild<QDockWidget*>("dock.properties");
+    auto* section = w->findChild<QDockWidget*>("dock.section");
+    QTRY_VERIFY2(props->height() > 2 * section->height(),
+                 qPrintable(QString("%1 against %2").arg(props->height()).arg(section->height())));
+    // A dock closed and the window closed: the next session has it closed.
+    section->close();
+    w->close();
+    w.reset();
+    auto again = makeWindow(recovery_.path(), {}, true);
+    QVERIFY(!again->findChild<QDockWidget*>("dock.section")->isVisible());
+    QVERIFY(again->findChild<QDockWidget*>("dock.properties")->isVisible());
+    again.reset();
+    QSettings().clear();
+
+    // A board grown from 20 mm to 1800 mm is framed again; a small change is not.
+    auto v = makeWindow(recovery_.path());
+    action(v.get(), "action.new")->trigger();
+    action(v.get(), "action.add.box")->trigger();
+    for (const char* axis : {"size.x", "size.y", "size.z"})
+        typeInto(field(*v, axis), "20");
+    QVERIFY(waitForViewport(*v));
+    const double small = v->viewport()->view().distance();
+    typeInto(field(*v, "size.x"), "25");
+    QVERIFY(waitForViewport(*v));
+    QCOMPARE(v->viewport()->view().distance(), small);
+    typeInto(field(*v, "size.x"), "1800");
+    QVERIFY(waitForViewport(*v));
+    QVERIFY2(v->viewport()->view().distance() > 20.0 * small,
+             qPrintable(QString("%1 against %2").arg(v->viewport()->view().distance()).arg(small)));
+
+    // A restored autosave of another part is framed.
+    QTemporaryDir folder;
+    {
+        auto crashed = makeWindow(folder.path());
+        action(crashed.get(), "action.new")->trigger();
+        action(crashed.get(), "action.add.sphere")->trigger();
+        typeInto(field(*crashed, "translate.x"), "3000");
+        crashed->autosaveNow();
+        crashed->recovery().abandon();
+    }
+    MainWindowOptions restoring;
+    restoring.askRestore = [](const RecoveryCandidate&) { return true; };
+    auto r = makeWindow(folder.path(), restoring);
+    QVERIFY(r->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "stool.kerf"));
+    QVERIFY(waitForViewport(*r));
+    r->offerRecovery();
+    QVERIFY(waitForViewport(*r));
+    QTRY_VERIFY2(glm::length(r->viewport()->view().target() - glm::dvec3(3000, 0, 0)) < 50.0,
+                 qPrintable(QString::number(r->viewport()->view().target().x)));
 }
 
 void MainWindowTest::exportDialogWritesAClosedMesh()

@@ -136,6 +136,7 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
     buildActions();
     buildDocks();
     buildStatusBar();
+    restoreLayout();
 
     connect(session_, &DocumentSession::documentChanged, this, &MainWindow::onDocumentChanged);
     connect(session_, &DocumentSession::stateChanged, this, &MainWindow::updateTitle);
@@ -530,6 +531,9 @@ void MainWindow::buildDocks()
     tabifyDockWidget(sectionDock, measureDock);
     sectionDock->raise();
     propDock->setMinimumWidth(350);
+    // The properties take most of the right side: a box's size and position
+    // are twelve rows, the section's controls four.
+    resizeDocks({propDock, sectionDock}, {560, 180}, Qt::Vertical);
 
     // The docks' toggles go in the View menu.
     for (QAction* a : menuBar()->actions())
@@ -986,6 +990,7 @@ void MainWindow::offerRecovery()
                 // a second crash before it is saved must not lose it.
                 autosavedRevision_ = 0;
                 autosaveNow();
+                QTimer::singleShot(0, viewport_, [this] { viewport_->setStandardView("iso"); }); // frame it
                 showMessage(tr("Restored the autosave of %1 — save it to keep it.").arg(session_->displayName()), 0);
             } catch (const std::exception& e) {
                 showMessage(tr("The autosave could not be restored: %1").arg(QString::fromUtf8(e.what())), 0);
@@ -1025,7 +1030,20 @@ void MainWindow::closeEvent(QCloseEvent* e)
         e->ignore();
         return;
     }
+    if (options_.rememberLayout) {
+        QSettings settings;
+        settings.setValue("window/geometry", saveGeometry());
+        settings.setValue("window/state", saveState(kLayoutVersion));
+    }
     e->accept();
+}
+
+void MainWindow::restoreLayout()
+{
+    if (!options_.rememberLayout) return;
+    const QSettings settings;
+    restoreGeometry(settings.value("window/geometry").toByteArray());
+    restoreState(settings.value("window/state").toByteArray(), kLayoutVersion);
 }
 
 void MainWindow::dragEnterEvent(QDragEnterEvent* e)

@@ -60,6 +60,9 @@ struct MainWindowOptions {
     /// The installed examples: a document opened from this folder opens as
     /// an untitled copy (Save asks where). None: every file opens as itself.
     std::optional<std::filesystem::path> examplesFolder;
+    /// Restore the window's size and its docks and toolbars as the last
+    /// session left them (QSettings), and save them on close.
+    bool rememberLayout = true;
 };
 
 class MainWindow : public QMainWindow {
@@ -112,6 +115,8 @@ protected:
     void dropEvent(QDropEvent* e) override;
 
 private:
+    static constexpr int kLayoutVersion = 1; // saveState's version: bump when the docks change
+    void restoreLayout();
     bool isBundledExample(const std::filesystem::path& file) const;
     void buildActions();
     void buildDocks();

@@ -3,6 +3,7 @@
 #include "ViewportBackend.hpp"
 #include "kerf/tracer/ExactTracer.hpp"
 
+#include <algorithm>
 #include <QKeyEvent>
 #include <QMouseEvent>
 #include <QTimer>
@@ -185,11 +186,34 @@ void ViewportWidget::setSnapshot(std::shared_ptr<const VoxelSnapshot> snapshot)
         const QSize px = pixelSize();
         view_.setStandardView("iso", partBounds(), double(px.width()) / px.height());
         viewFramed_ = true;
+        framedExtent_ = partExtent();
     }
+    refitIfRescaled();
     sceneChanged();
 }
 
-void ViewportWidget::setPickTape(std::shared_ptr<const Tape> tape) { pickTape_ = std::move(tape); }
+void ViewportWidget::setPickTape(std::shared_ptr<const Tape> tape)
+{
+    pickTape_ = std::move(tape);
+    refitIfRescaled();
+}
+
+double ViewportWidget::partExtent() const
+{
+    const Aabb b = partBounds();
+    if (b.isEmpty() || !b.isBounded()) return 0.0;
+    const glm::dvec3 size = b.max - b.min;
+    return std::max({size.x, size.y, size.z});
+}
+
+void ViewportWidget::refitIfRescaled()
+{
+    if (!viewFramed_ || !ViewController::rescaled(framedExtent_, partExtent())) return;
+    const QSize px = pixelSize();
+    view_.fit(partBounds(), double(px.width()) / px.height());
+    framedExtent_ = partExtent();
+    sceneChanged();
+}
 
 void ViewportWidget::setMeshes(std::vector<PlacedMesh> meshes)
 {
@@ -243,6 +267,7 @@ void ViewportWidget::setStandardView(const QString& name)
     view_.setStandardView(name.toStdString(), b.isEmpty() ? Aabb{glm::dvec3(-100), glm::dvec3(100)} : b,
                           double(px.width()) / px.height());
     viewFramed_ = !b.isEmpty();
+    framedExtent_ = partExtent();
     sceneChanged();
 }
 
@@ -250,6 +275,7 @@ void ViewportWidget::fitAll()
 {
     const QSize px = pixelSize();
     view_.fit(partBounds(), double(px.width()) / px.height());
+    framedExtent_ = partExtent();
     sceneChanged();
 }
 
@@ -265,6 +291,7 @@ void ViewportWidget::setView(const ViewController& view)
 {
     view_ = view;
     viewFramed_ = true;
+    framedExtent_ = partExtent();
     sceneChanged();
 }
 

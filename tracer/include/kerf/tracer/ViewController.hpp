@@ -37,6 +37,12 @@ public:
     void setStandardView(std::string_view name, const Aabb& bounds, double aspect);
     /// Keeps the direction; centres `bounds` and fits its bounding sphere.
     void fit(const Aabb& bounds, double aspect);
+    /// Whether a part framed when it was `framed` across and now `now`
+    /// across (largest extents, mm) changed scale enough to be framed again:
+    /// by a factor of four or more either way. A board grown from 20 mm to
+    /// 1800 mm would otherwise fill the view a hundred times over; edits at
+    /// one scale never move the view.
+    static bool rescaled(double framed, double now) { return framed > 0.0 && (now > 4.0 * framed || 4.0 * now < framed); }
 
     /// Rotates the view by a mouse drag (pixels): yaw about world Z, pitch
     /// about the image's right axis, both about `pivot` (the target when

@@ -159,6 +159,7 @@ private:
 
     ViewController view_;
     bool viewFramed_ = false;
+    double framedExtent_ = 0.0; // the part's largest extent when the view last framed it (mm)
     std::shared_ptr<const VoxelSnapshot> snapshot_;
     std::shared_ptr<const Tape> pickTape_;
     std::shared_ptr<const std::vector<PlacedMesh>> meshes_, markers_;
@@ -180,6 +181,8 @@ private:
     // alone when no such picture comes (no voxels yet) or after a while.
     std::optional<ViewRequirement> untoldView_;
     class QTimer* tellView_ = nullptr;
+    double partExtent() const;
+    void refitIfRescaled();
     void tellSettledView();
 
     std::unique_ptr<ViewportBackend> backend_;
