@@ -1,6 +1,7 @@
 // Structural edits of the feature tree (document/DocumentEdits.hpp): each
 // applies whole or throws and leaves the document untouched; ids stay unique.
 
+#include "kerf/document/AddFeature.hpp"
 #include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/DocumentError.hpp"
 
@@ -145,6 +146,57 @@ TEST(DocumentEdits, EmptyDocumentBecomesValidWithOneFeature)
     EXPECT_THROW(doc.validate(), DocumentError);
     edit::insertNode(doc, doc.root.id, 0, makeNode(NodeType::Box, "box"));
     EXPECT_NO_THROW(doc.validate());
+}
+
+// ---------------------------------------------------------------------------
+// Where an added feature goes (AddFeature.hpp)
+
+TEST(AddFeature, APrimitiveGoesIntoTheSelectedBooleanOrAfterTheSelectedFeature)
+{
+    Document doc = sample();
+    EXPECT_EQ(edit::addFeature(doc, NodeType::Cylinder, {"d"}), "cylinder");
+    EXPECT_EQ(childIds(*doc.root.find("d")), (std::vector<std::string>{"board", "hole", "cylinder"}));
+    EXPECT_EQ(edit::addFeature(doc, NodeType::Sphere, {"leg-3"}), "sphere");
+    EXPECT_EQ(childIds(doc.root), (std::vector<std::string>{"d", "leg-3", "sphere", "m"}));
+    EXPECT_EQ(edit::addFeature(doc, NodeType::Box, {}), "box");
+    EXPECT_EQ(childIds(doc.root).back(), "box");
+    doc.validate();
+}
+
+TEST(AddFeature, AnOperationOverASelectedFeatureTakesItAsItsChild)
+{
+    // Select a leg, press Array: an array of legs, not an array of a box beside it.
+    Document doc = sample();
+    EXPECT_EQ(edit::addFeature(doc, NodeType::Array, {"leg-3"}), "array");
+    EXPECT_EQ(childIds(doc.root), (std::vector<std::string>{"d", "array", "m"}));
+    EXPECT_EQ(childIds(*doc.root.find("array")), std::vector<std::string>{"leg-3"});
+    EXPECT_EQ(edit::placeholderOf(doc, "array"), "");
+    doc.validate();
+    // The root selected, or nothing: the operation gets a placeholder box.
+    EXPECT_EQ(edit::addFeature(doc, NodeType::Shell, {"root"}), "shell");
+    EXPECT_EQ(edit::placeholderOf(doc, "shell"), "shell-box");
+    EXPECT_EQ(edit::addFeature(doc, NodeType::Offset, {}), "offset");
+    EXPECT_EQ(edit::placeholderOf(doc, "offset"), "offset-box");
+    doc.validate();
+}
+
+TEST(AddFeature, APrimitiveReplacesAnUntouchedPlaceholder)
+{
+    Document doc = sample();
+    edit::addFeature(doc, NodeType::Mirror, {});
+    ASSERT_EQ(edit::placeholderOf(doc, "mirror"), "mirror-box");
+    EXPECT_EQ(edit::addFeature(doc, NodeType::Cylinder, {"mirror"}), "cylinder");
+    EXPECT_EQ(childIds(*doc.root.find("mirror")), std::vector<std::string>{"cylinder"});
+    EXPECT_EQ(doc.root.find("mirror-box"), nullptr);
+    doc.validate();
+    // A placeholder the user has edited is theirs: the new primitive goes after the operation.
+    edit::addFeature(doc, NodeType::Array, {});
+    doc.root.find("array-box")->as<BoxParams>().size.x = 77.0;
+    EXPECT_EQ(edit::placeholderOf(doc, "array"), "");
+    EXPECT_EQ(edit::addFeature(doc, NodeType::Sphere, {"array"}), "sphere");
+    EXPECT_EQ(childIds(*doc.root.find("array")), std::vector<std::string>{"array-box"});
+    EXPECT_EQ(edit::locate(doc, "sphere")->parentId, "root");
+    doc.validate();
 }
 
 } // namespace

@@ -224,6 +224,7 @@ private slots:
     void theSectionKeepsATypedOffsetAndTheSliderFollowsIt();
     void theViewsFeatureSizeIsSetWithNothingSelected();
     void theLayoutIsRememberedAndTheViewFollowsThePartsScale();
+    void anOperationFromTheToolbarActsOnTheSelectedFeature();
     void cutListMeasureAndSection();
     void refusedFilesChangeNothing();
     void dragAndDropRegroupsInTheTree();
@@ -900,6 +901,42 @@ void MainWindowTest::theLayoutIsRememberedAndTheViewFollowsThePartsScale()
                  qPrintable(QString::number(r->viewport()->view().target().x)));
 }
 
+void MainWindowTest::anOperationFromTheToolbarActsOnTheSelectedFeature()
+{
+    auto w = makeWindow(recovery_.path());
+    auto* bar = w->findChild<QToolBar*>("toolbar.features");
+    QVERIFY(bar);
+    const auto click = [&](const char* name) {
+        QWidget* button = bar->widgetForAction(action(w.get(), name));
+        QVERIFY2(button && button->isVisible(), name);
+        QTest::mouseClick(button, Qt::LeftButton);
+    };
+    action(w.get(), "action.new")->trigger();
+    click("action.add.cylinder");
+    typeInto(field(*w, "radius"), "15");
+    clickRow(*w, "cylinder");
+    // Select the leg, press Array: an array of that leg.
+    click("action.add.array");
+    const Node* array = w->session()->document().root.find("array");
+    QVERIFY(array);
+    QCOMPARE(array->children.size(), std::size_t(1));
+    QCOMPARE(array->children.front().id, std::string("cylinder"));
+    QCOMPARE(w->selectedNodeIds(), std::vector<std::string>{"array"});
+    // Nothing selected: a mirror with a placeholder box, which the next
+    // primitive pressed replaces.
+    w->selectNodes({});
+    click("action.add.mirror");
+    QCOMPARE(w->session()->document().root.find("mirror")->children.front().id, std::string("mirror-box"));
+    click("action.add.sphere");
+    const Node* mirror = w->session()->document().root.find("mirror");
+    QCOMPARE(mirror->children.size(), std::size_t(1));
+    QCOMPARE(mirror->children.front().type, NodeType::Sphere);
+    QVERIFY(!w->session()->document().root.find("mirror-box"));
+    // One undo step each.
+    action(w.get(), "action.undo")->trigger();
+    QVERIFY(w->session()->document().root.find("mirror-box"));
+}
+
 void MainWindowTest::exportDialogWritesAClosedMesh()
 {
     auto w = makeWindow(recovery_.path());
@@ -1060,6 +1097,7 @@ void MainWindowTest::dragAndDropRegroupsInTheTree()
     auto w = makeWindow(recovery_.path());
     action(w.get(), "action.new")->trigger();
     action(w.get(), "action.add.box")->trigger();
+    w->selectNodes({}); // (with the box selected, the union would take it)
     action(w.get(), "action.add.union")->trigger(); // a union with a box of its own
     FeatureTreeModel* m = w->featureModel();
     // Drop the first box onto the union: it moves inside, as a drag does.

@@ -6,6 +6,7 @@
 #include "NodeText.hpp"
 #include "PropertyEditor.hpp"
 #include "QuantityEdit.hpp"
+#include "kerf/document/AddFeature.hpp"
 #include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
@@ -712,39 +713,12 @@ void MainWindow::updateSection()
 
 bool MainWindow::addFeature(NodeType type)
 {
-    const std::vector<std::string> sel = selectedNodeIds();
-    const Document& doc = session_->document();
-    std::string parent = doc.root.id;
-    std::size_t index = std::size_t(-1);
-    if (sel.size() == 1) {
-        const Node* n = doc.root.find(sel.front());
-        if (n && isBoolean(n->type)) {
-            parent = n->id;
-        } else if (n && n->children.size() < edit::maxChildren(n->type)) {
-            parent = n->id; // an empty offset, shell, array or mirror takes it
-        } else if (auto loc = edit::locate(doc, sel.front())) {
-            parent = loc->parentId;
-            index = loc->index + 1;
-        }
-    }
-    const Node* target = doc.root.find(parent);
-    const bool wrapRoot = !target || (target == &doc.root && edit::maxChildren(doc.root.type) <= doc.root.children.size());
-    const std::string id = edit::uniqueId(doc, std::string(nodeTypeName(type)));
+    // Where it goes and what it starts with: edit::addFeature (AddFeature.hpp).
+    const std::vector<std::string> selection = selectedNodeIds();
+    std::string id;
     QString error;
     const bool ok = session_->apply(tr("Add %1").arg(nodeTypeLabel(type)),
-                                    [&](Document& d) {
-                                        std::string into = parent;
-                                        if (wrapRoot) // a root that takes no more children goes under a union
-                                            into = edit::wrapNodes(d, {d.root.id}, makeNode(NodeType::Union, edit::uniqueId(d, "part")));
-                                        Node n = makeNode(type, id);
-                                        if (!isPrimitive(type)) {
-                                            // An operation starts with a primitive to act on, so the part stays valid.
-                                            const std::string child = edit::uniqueId(d, id + "-box");
-                                            n.children.push_back(makeNode(NodeType::Box, child));
-                                        }
-                                        edit::insertNode(d, into, index, std::move(n));
-                                    },
-                                    &error);
+                                    [&](Document& d) { id = edit::addFeature(d, type, selection); }, &error);
     if (!ok) {
         showMessage(tr("Cannot add the %1: %2").arg(nodeTypeLabel(type).toLower(), error));
         return false;

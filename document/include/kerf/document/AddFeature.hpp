@@ -1,0 +1,35 @@
+#pragma once
+// Where a feature added from the toolbar, the Add menu or the tree's context
+// menu goes, and what it starts with: the editing rule the desktop
+// application applies, Qt-free and tested on its own (DocumentEditsTest).
+//
+// - A primitive goes into the selected boolean, into the selected offset,
+//   shell, array or mirror when it has room, and otherwise right after the
+//   selected feature; with nothing selected, at the end of the root (a root
+//   that takes no more children is first wrapped under a union).
+// - A primitive added to an offset, shell, array or mirror whose only child
+//   is still the box it was given as a placeholder replaces that box.
+// - An operation added while one feature (not the root) is selected puts
+//   that feature under it: select a leg, press Array, get an array of legs.
+//   Otherwise it goes where a primitive would, with a box to act on (the
+//   placeholder), so the part stays valid.
+
+#include "kerf/document/Document.hpp"
+
+#include <string>
+#include <vector>
+
+namespace kerf::edit {
+
+/// Adds a feature of `type` by the rules above, `selection` being the ids
+/// selected in the editor; returns the new feature's id. Throws
+/// std::invalid_argument (a sentence) when the tree has no place for it; the
+/// document is then unchanged.
+std::string addFeature(Document& doc, NodeType type, const std::vector<std::string>& selection);
+
+/// The placeholder box of an offset, shell, array or mirror: its only child
+/// when that is still the box addFeature gave it (its id, the operation's id
+/// with "-box", and default parameters); empty when there is none.
+std::string placeholderOf(const Document& doc, const std::string& operationId);
+
+} // namespace kerf::edit
