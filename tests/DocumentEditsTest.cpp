@@ -148,6 +148,24 @@ TEST(DocumentEdits, EmptyDocumentBecomesValidWithOneFeature)
     EXPECT_NO_THROW(doc.validate());
 }
 
+TEST(DocumentEdits, ADifferenceWithANewBaseIsNamed)
+{
+    const Document before = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"root","type":"union",
+        "children":[{"id":"d","type":"difference","children":[{"id":"board","type":"box","size":[100,50,18]},
+            {"id":"a","type":"cylinder","radius":4,"height":30},{"id":"b","type":"sphere","radius":3}]}]}})",
+                                            "d.kerf");
+    Document tools = before; // the tools reordered: the board still the base
+    edit::moveNode(tools, "b", "d", 1);
+    EXPECT_EQ(edit::differenceWithNewBase(before, tools), "");
+    Document swapped = before; // a tool above the board
+    edit::moveNode(swapped, "a", "d", 0);
+    EXPECT_EQ(edit::differenceWithNewBase(before, swapped), "d");
+    Document moved = before; // the board dragged out
+    edit::moveNode(moved, "board", "root", 1);
+    EXPECT_EQ(edit::differenceWithNewBase(before, moved), "d");
+    EXPECT_EQ(edit::differenceWithNewBase(before, before), "");
+}
+
 // ---------------------------------------------------------------------------
 // Where an added feature goes (AddFeature.hpp)
 

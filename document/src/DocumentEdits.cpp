@@ -210,4 +210,25 @@ Document emptyDocument()
     return doc;
 }
 
+namespace {
+void collectDifferences(const Node& n, std::vector<const Node*>& out)
+{
+    if (n.type == NodeType::Difference) out.push_back(&n);
+    for (const Node& c : n.children)
+        collectDifferences(c, out);
+}
+} // namespace
+
+std::string differenceWithNewBase(const Document& before, const Document& after)
+{
+    std::vector<const Node*> differences;
+    collectDifferences(after.root, differences);
+    for (const Node* d : differences) {
+        const Node* old = before.root.find(d->id);
+        if (!old || old->type != NodeType::Difference || old->children.empty()) continue;
+        if (d->children.empty() || d->children.front().id != old->children.front().id) return d->id;
+    }
+    return {};
+}
+
 } // namespace kerf::edit

@@ -77,6 +77,7 @@ std::unique_ptr<MainWindow> makeWindow(const QString& recoveryDir, MainWindowOpt
     if (!options.askSave) options.askSave = [](const QString&) { return QMessageBox::Discard; };
     if (!options.askRestore) options.askRestore = [](const RecoveryCandidate&) { return false; };
     if (!options.reportError) options.reportError = [](const QString&, const QString&) {}; // no modal boxes
+    if (!options.askConfirm) options.askConfirm = [](const QString&) { return true; };
     auto w = std::make_unique<MainWindow>(std::move(options));
     w->resize(1280, 800);
     w->show();
@@ -225,6 +226,7 @@ private slots:
     void theViewsFeatureSizeIsSetWithNothingSelected();
     void theLayoutIsRememberedAndTheViewFollowsThePartsScale();
     void anOperationFromTheToolbarActsOnTheSelectedFeature();
+    void theTreeMarksTheBaseAndAsksBeforeAToolGoesAboveIt();
     void cutListMeasureAndSection();
     void refusedFilesChangeNothing();
     void dragAndDropRegroupsInTheTree();
@@ -935,6 +937,51 @@ void MainWindowTest::anOperationFromTheToolbarActsOnTheSelectedFeature()
     // One undo step each.
     action(w.get(), "action.undo")->trigger();
     QVERIFY(w->session()->document().root.find("mirror-box"));
+}
+
+void MainWindowTest::theTreeMarksTheBaseAndAsksBeforeAToolGoesAboveIt()
+{
+    const QString doc = files_.path() + "/board.kerf";
+    {
+        QFile f(doc);
+        QVERIFY(f.open(QIODevice::WriteOnly));
+        f.write(R"({"format":"kerf","version":1,"root":{"id":"root","type":"union","children":[
+            {"id":"d","type":"difference","children":[
+                {"id":"board","type":"box","size":[100,50,18]},
+                {"id":"hole","type":"cylinder","radius":4,"height":30}]}]}})");
+    }
+    QStringList asked;
+    bool answer = false;
+    MainWindowOptions options;
+    options.askConfirm = [&](const QString& q) {
+        asked << q;
+        return answer;
+    };
+    auto w = makeWindow(recovery_.path(), options);
+    QVERIFY(w->openFile(doc.toStdString()));
+    FeatureTreeModel* m = w->featureModel();
+    const auto typeText = [&](const char* id) {
+        return m->data(m->indexOf(id).siblingAtColumn(FeatureTreeModel::TypeColumn), Qt::DisplayRole).toString();
+    };
+    QCOMPARE(typeText("board"), QString("Box · base"));
+    QCOMPARE(typeText("hole"), QString("Cylinder · cut"));
+    QCOMPARE(typeText("d"), QString("Difference"));
+
+    // Drag the hole above the board: asked first; "no" changes nothing.
+    const Document before = w->session()->document();
+    QMimeData* data = m->mimeData({m->indexOf("hole")});
+    m->dropMimeData(data, Qt::MoveAction, 0, 0, m->indexOf("d"));
+    QCOMPARE(asked.size(), 1);
+    QVERIFY2(asked.front().contains("would cut from the cylinder instead"), qPrintable(asked.front()));
+    QVERIFY(w->session()->document() == before);
+    // "Yes" moves it, one undo step.
+    answer = true;
+    m->dropMimeData(data, Qt::MoveAction, 0, 0, m->indexOf("d"));
+    delete data;
+    QCOMPARE(w->session()->document().root.find("d")->children.front().id, std::string("hole"));
+    QCOMPARE(w->session()->undoStack()->undoText(), QString("Move the cylinder"));
+    action(w.get(), "action.undo")->trigger();
+    QVERIFY(w->session()->document() == before);
 }
 
 void MainWindowTest::exportDialogWritesAClosedMesh()

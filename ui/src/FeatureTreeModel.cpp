@@ -108,8 +108,14 @@ QVariant FeatureTreeModel::data(const QModelIndex& index, int role) const
     if (!n) return {};
     if (role == NodeIdRole) return QString::fromStdString(n->id);
     if (index.column() == TypeColumn) {
-        if (role == Qt::DisplayRole) return nodeTypeLabel(n->type);
-        return {};
+        if (role != Qt::DisplayRole) return {};
+        // In a difference the order matters: the first child is the body,
+        // the others are cut from it.
+        const Node* parent = nodeOf(index.parent());
+        if (parent && parent->type == NodeType::Difference)
+            return index.row() == 0 ? tr("%1 · base").arg(nodeTypeLabel(n->type))
+                                    : tr("%1 · cut").arg(nodeTypeLabel(n->type));
+        return nodeTypeLabel(n->type);
     }
     switch (role) {
     case Qt::DisplayRole: return displayName(*n);
@@ -202,19 +208,38 @@ bool FeatureTreeModel::dropMimeData(const QMimeData* data, Qt::DropAction action
     const QStringList ids = QString::fromUtf8(data->data(kMimeType)).split('\n', Qt::SkipEmptyParts);
     std::size_t at = row < 0 ? std::size_t(-1) : std::size_t(row);
     QString error;
-    const bool ok = session_->apply(ids.size() == 1 ? tr("Move %1").arg(ids.front()) : tr("Move %1 features").arg(ids.size()),
-                                    [&](Document& d) {
-                                        for (const QString& id : ids) {
-                                            const std::string s = id.toStdString();
-                                            const auto from = edit::locate(d, s);
-                                            edit::moveNode(d, s, target, at);
-                                            // Later ones go after the one just moved.
-                                            const auto to = edit::locate(d, s);
-                                            if (to) at = to->index + 1;
-                                            (void)from;
-                                        }
-                                    },
-                                    &error);
+    const auto move = [&](Document& d) {
+        std::size_t index = at;
+        for (const QString& id : ids) {
+            const std::string s = id.toStdString();
+            edit::moveNode(d, s, target, index);
+            // Later ones go after the one just moved.
+            if (const auto to = edit::locate(d, s)) index = to->index + 1;
+        }
+    };
+    // A move that changes what a difference cuts from asks first.
+    if (confirm_) {
+        Document trial = session_->document();
+        try {
+            move(trial);
+        } catch (const std::exception&) {
+            // refused below, with the reason
+        }
+        const std::string changed = edit::differenceWithNewBase(session_->document(), trial);
+        if (const Node* d = changed.empty() ? nullptr : trial.root.find(changed)) {
+            const QString question =
+                d->children.empty()
+                    ? tr("%1 would be left with nothing to cut from. Move anyway?").arg(featureName(*d))
+                    : tr("%1 would cut from %2 instead: what was the body becomes a tool, and the part may "
+                         "empty. Move anyway?")
+                          .arg(featureName(*d), featureName(d->children.front()));
+            if (!confirm_(question)) return false;
+        }
+    }
+    const Node* first = ids.size() == 1 ? session_->document().root.find(ids.front().toStdString()) : nullptr;
+    const bool ok = session_->apply(first ? tr("Move %1").arg(featureName(*first))
+                                          : tr("Move %1 features").arg(ids.size()),
+                                    move, &error);
     if (!ok) emit editRefused(error);
     // The session's change resets the model; returning false keeps the view
     // from removing the dragged rows itself.

@@ -11,6 +11,7 @@
 
 #include <QAbstractItemModel>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -45,11 +46,16 @@ public:
     bool dropMimeData(const QMimeData* data, Qt::DropAction action, int row, int column,
                       const QModelIndex& parent) override;
 
+    /// Asked (a question, true to go on) before a drop that changes which
+    /// child of a difference is its base. None: such drops go ahead.
+    void setConfirm(std::function<bool(const QString& question)> confirm) { confirm_ = std::move(confirm); }
+
 signals:
     /// An edit made through the model was refused (the reason, in a sentence).
     void editRefused(const QString& reason);
 
 private:
+    std::function<bool(const QString&)> confirm_;
     // A flattened copy of the tree: items refer to each other by index.
     struct Item {
         std::string id;

@@ -166,6 +166,11 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
     });
     connect(tree_->selectionModel(), &QItemSelectionModel::selectionChanged, this, &MainWindow::onSelectionChanged);
     connect(model_, &FeatureTreeModel::editRefused, this, [this](const QString& why) { showMessage(why); });
+    model_->setConfirm([this](const QString& question) {
+        if (options_.askConfirm) return options_.askConfirm(question);
+        return QMessageBox::question(this, tr("Reorder"), question, QMessageBox::Yes | QMessageBox::Cancel,
+                                     QMessageBox::Cancel) == QMessageBox::Yes;
+    });
     connect(viewport_, &qt::ViewportWidget::clicked, this, &MainWindow::onViewportClicked);
     connect(viewport_, &qt::ViewportWidget::frameDrawn, this, &MainWindow::updateStatus);
     connect(viewport_, &qt::ViewportWidget::backendChanged, this, [this] {

@@ -52,6 +52,10 @@ struct MainWindowOptions {
     /// Asked before changes would be lost: Save, Discard or Cancel.
     /// Default: a question box.
     std::function<QMessageBox::StandardButton(const QString& documentName)> askSave;
+    /// Asked before an edit that may not be what was meant (a drop that
+    /// changes what a difference cuts from): true goes on. Default: a
+    /// question box.
+    std::function<bool(const QString& question)> askConfirm;
     /// Asked for a file name (Save As, Open): empty cancels. Default: file dialogs.
     std::function<QString(bool save, const QString& suggested)> askFile;
     /// Tells of a refused open or save (the message also goes to the status

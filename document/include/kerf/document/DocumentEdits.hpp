@@ -64,6 +64,13 @@ std::string wrapNodes(Document& doc, const std::vector<std::string>& ids, Node o
 /// id. Refuses a change of type.
 void updateNode(Document& doc, std::string_view id, const Node& updated);
 
+/// The first difference of `after` whose base (its first child: the body
+/// the others are cut from) is not what it was in `before`, or whose only
+/// child left is a tool; empty when every difference keeps its base. An
+/// editor asks before such a reorder: a tool moved above the base cuts from
+/// nothing, and the part empties.
+std::string differenceWithNewBase(const Document& before, const Document& after);
+
 /// A new empty document: a root union with no children, settings default.
 /// Not valid on its own (a union needs a child): editors add one first.
 Document emptyDocument();
