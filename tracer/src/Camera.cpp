@@ -99,6 +99,30 @@ Ray Camera::ray(double x, double y) const
     return r;
 }
 
+std::optional<glm::dvec2> Camera::project(const glm::dvec3& world) const
+{
+    const glm::dvec3 rel = world - eye_;
+    double u = glm::dot(rel, right_), v = glm::dot(rel, up_);
+    if (projection_ == Projection::Perspective) {
+        const double z = glm::dot(rel, forward_);
+        if (!(z > 0.0)) return std::nullopt;
+        u /= z;
+        v /= z;
+    }
+    u /= halfHeight_;
+    v /= halfHeight_;
+    const double aspect = double(width_) / double(height_);
+    return glm::dvec2((u / aspect + 1.0) * 0.5 * width_, (1.0 - v) * 0.5 * height_);
+}
+
+double Camera::millimetresPerPixel(const glm::dvec3& world) const
+{
+    // The image's height spans 2 * halfHeight at unit depth (perspective) or in mm.
+    const double perUnit = 2.0 * halfHeight_ / height_;
+    if (projection_ == Projection::Orthographic) return perUnit;
+    return perUnit * std::max(glm::dot(world - eye_, forward_), 0.0);
+}
+
 Camera Camera::standardView(const Aabb& partBounds, std::string_view name, int width, int height, Projection projection)
 {
     const auto it = std::find_if(kViews.begin(), kViews.end(), [&](const ViewDirection& v) { return v.name == name; });

@@ -13,7 +13,10 @@
 
 #include "kerf/document/Aabb.hpp"
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+
+#include <optional>
 
 #include <string_view>
 
@@ -64,6 +67,13 @@ public:
     Ray ray(int px, int py) const { return ray(px + 0.5, py + 0.5); }
     /// The ray through image position (x, y) in pixels (0, 0 = top-left corner).
     Ray ray(double x, double y) const;
+
+    /// Where a world point appears in the image, in pixels (the inverse of
+    /// ray()); none for a point on or behind the eye of a perspective camera.
+    std::optional<glm::dvec2> project(const glm::dvec3& world) const;
+    /// The width in mm of one pixel at `world` (on the plane through it
+    /// facing the camera): how far a pixel tolerance reaches there.
+    double millimetresPerPixel(const glm::dvec3& world) const;
 
     Projection projection() const { return projection_; }
     int width() const { return width_; }
