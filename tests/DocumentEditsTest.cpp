@@ -219,3 +219,113 @@ TEST(AddFeature, APrimitiveReplacesAnUntouchedPlaceholder)
 
 } // namespace
 } // namespace kerf
+
+// ---- Placement for direct manipulation (NodePlacement.hpp, MoveSnap.hpp) ----
+
+#include "kerf/document/MoveSnap.hpp"
+#include "kerf/document/NodePlacement.hpp"
+#include "kerf/document/NodeBounds.hpp"
+
+namespace kerf {
+namespace {
+
+// A panel with a hole, inside a group turned 90 degrees about Z and shifted.
+Document turnedPanel()
+{
+    return Document::parse(R"({"format":"kerf","version":1,"root":{"id":"root","type":"union","children":[
+        {"id":"group","type":"difference","transform":{"translate":[100,0,0],"rotate":[0,0,90]},"children":[
+          {"id":"panel","type":"box","size":[40,20,10]},
+          {"id":"holes","type":"array","count":[3,1,1],"step":[10,0,0],"children":[
+            {"id":"hole","type":"cylinder","radius":2,"height":20,"transform":{"translate":[-10,0,0]}}]},
+          {"id":"plug","type":"difference","children":[{"id":"p1","type":"sphere","radius":1},
+                                                      {"id":"p2","type":"sphere","radius":0.5}]}]}]}})",
+                           "t.kerf");
+}
+
+TEST(NodePlacement, TheParentFrameComposesTheAncestors)
+{
+    const Document d = turnedPanel();
+    const Affine f = edit::parentFrame(d, "hole");
+    // The hole's translate (-10, 0, 0) turned 90 degrees about Z is (0, -10, 0), shifted by 100 in X.
+    const glm::dvec3 c = f.apply(glm::dvec3(-10, 0, 0));
+    EXPECT_NEAR(c.x, 100.0, 1e-12);
+    EXPECT_NEAR(c.y, -10.0, 1e-12);
+    EXPECT_THROW(edit::parentFrame(d, "nope"), std::invalid_argument);
+    const Aabb b = edit::firstInstanceBounds(d, "hole");
+    EXPECT_NEAR(b.center().x, 100.0, 1e-12);
+    EXPECT_NEAR(b.center().y, -10.0, 1e-12);
+}
+
+TEST(NodePlacement, AMoveInTheWorldMovesTheFeatureByExactlyThat)
+{
+    Document d = turnedPanel();
+    const Aabb before = edit::firstInstanceBounds(d, "hole");
+    edit::moveNodeInWorld(d, "hole", glm::dvec3(0, 32, 0));
+    const Aabb after = edit::firstInstanceBounds(d, "hole");
+    EXPECT_NEAR(after.center().x - before.center().x, 0.0, 1e-12);
+    EXPECT_NEAR(after.center().y - before.center().y, 32.0, 1e-12);
+    // In its own parent's frame (turned 90 degrees) that is +32 along X.
+    EXPECT_NEAR(d.root.find("hole")->transform.translate.x, 22.0, 1e-12);
+    EXPECT_NEAR(d.root.find("hole")->transform.translate.y, 0.0, 1e-12);
+}
+
+TEST(NodePlacement, ToolsOfADifferenceAreSubtractedAndAToolsToolIsMaterialAgain)
+{
+    const Document d = turnedPanel();
+    EXPECT_FALSE(edit::isSubtracted(d, "panel"));
+    EXPECT_TRUE(edit::isSubtracted(d, "hole"));
+    EXPECT_TRUE(edit::isSubtracted(d, "holes"));
+    EXPECT_TRUE(edit::isSubtracted(d, "p1"));
+    EXPECT_FALSE(edit::isSubtracted(d, "p2"));
+    EXPECT_FALSE(edit::isSubtracted(d, "root"));
+    Document hiddenBase = d;
+    hiddenBase.root.find("panel")->visible = false; // the array is the base now
+    EXPECT_FALSE(edit::isSubtracted(hiddenBase, "hole"));
+}
+
+TEST(NodePlacement, TheNodeAloneKeepsItsPlacementAndItsCopies)
+{
+    const Document d = turnedPanel();
+    const Document alone = edit::documentOfNodeAlone(d, "hole");
+    EXPECT_NO_THROW(alone.validate());
+    EXPECT_EQ(alone.root.find("panel"), nullptr);
+    EXPECT_EQ(alone.root.find("plug"), nullptr);
+    ASSERT_NE(alone.root.find("holes"), nullptr);
+    EXPECT_EQ(alone.root.find("holes")->type, NodeType::Array); // three holes still
+    EXPECT_EQ(alone.root.find("group")->type, NodeType::Union);
+    // The same place in the world as in the part.
+    const auto inPart = worldBoundsOfNodes(d), inAlone = worldBoundsOfNodes(alone);
+    EXPECT_EQ(inPart.at("hole").min, inAlone.at("hole").min);
+    EXPECT_EQ(inPart.at("hole").max, inAlone.at("hole").max);
+}
+
+TEST(MoveSnap, GridStepsAreRoundAndAFewPixelsWide)
+{
+    EXPECT_EQ(gridStepFor(0.1), 1.0);   // 10 px per mm
+    EXPECT_EQ(gridStepFor(0.2), 5.0);   // 1 mm would be 5 px
+    EXPECT_EQ(gridStepFor(0.01), 0.1);
+    EXPECT_EQ(gridStepFor(3.0), 50.0);
+    EXPECT_EQ(gridStepFor(0.0), 1.0);
+}
+
+TEST(MoveSnap, AlignsWithANeighbourWithinReachElseRoundsToTheGrid)
+{
+    const Aabb hole{glm::dvec3(-2.5, -2.5, 157.5), glm::dvec3(2.5, 2.5, 162.5)};
+    const std::vector<SnapTarget> holes{{"hole 2", Aabb{glm::dvec3(-2.5, -2.5, 189.5), glm::dvec3(2.5, 2.5, 194.5)}}};
+    // Dragged 31.7 mm: the centre lands on the next hole's centre.
+    AxisSnap s = snapAxisMove(hole, 2, 31.7, holes, 0.8, 1.0);
+    EXPECT_EQ(s.delta, 32.0);
+    EXPECT_EQ(s.reason, "centre on the centre of hole 2");
+    // Out of reach of any alignment: the nearest millimetre.
+    s = snapAxisMove(hole, 2, 12.4, holes, 0.8, 1.0);
+    EXPECT_EQ(s.delta, 12.0);
+    EXPECT_EQ(s.reason, "on the 1 mm grid");
+    s = snapAxisMove(hole, 2, -0.2, {}, 0.8, 1.0);
+    EXPECT_EQ(s.delta, 0.0);
+    EXPECT_FALSE(std::signbit(s.delta));
+    // No grid and nothing near: the move as dragged.
+    EXPECT_EQ(snapAxisMove(hole, 0, 3.3, holes, 0.1, 0.0).delta, 3.3);
+}
+
+} // namespace
+} // namespace kerf

@@ -1,0 +1,50 @@
+#pragma once
+// Where a node sits in the world and what it does to the part: the frames
+// and facts the viewport's direct manipulation needs (a move gizmo placed on
+// the feature, a drag turned into the feature's own translate, the ghost of
+// a tool body that a difference takes away).
+//
+// "First instance": a node under an array or a mirror stands for several
+// copies; these functions use the first (the array's copy at offset zero,
+// the mirror's original). Moving it moves every copy alike.
+
+#include "kerf/document/Aabb.hpp"
+#include "kerf/document/Affine.hpp"
+#include "kerf/document/Document.hpp"
+
+#include <glm/vec3.hpp>
+
+#include <string_view>
+#include <vector>
+
+namespace kerf::edit {
+
+/// The nodes from the root down to `id` (the root first, the node last);
+/// empty when there is no such node.
+std::vector<const Node*> pathTo(const Document& doc, std::string_view id);
+
+/// World from the node's parent frame (the product of its ancestors'
+/// transforms). Throws std::invalid_argument for an unknown id.
+Affine parentFrame(const Document& doc, std::string_view id);
+
+/// World bounds of the node's first instance (empty for a hidden node).
+Aabb firstInstanceBounds(const Document& doc, std::string_view id);
+
+/// Moves the node by `worldDelta` (mm, world axes): its translate changes by
+/// the same displacement expressed in its parent's frame, so the feature
+/// moves exactly as dragged whatever its ancestors' rotations. Throws
+/// std::invalid_argument for an unknown id.
+void moveNodeInWorld(Document& doc, std::string_view id, const glm::dvec3& worldDelta);
+
+/// Whether the node's material is taken away from the part: it lies under a
+/// difference's tools (children after the first visible one) an odd number
+/// of times on the way up (a hole; a plug inside a hole is material again).
+bool isSubtracted(const Document& doc, std::string_view id);
+
+/// The document with only this node's own shape: every ancestor becomes a
+/// union of the one child on the path (its transform kept; arrays and
+/// mirrors stay, so every copy is there), the node and its path visible.
+/// For drawing a tool body that the part itself does not show.
+Document documentOfNodeAlone(const Document& doc, std::string_view id);
+
+} // namespace kerf::edit

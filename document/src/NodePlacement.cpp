@@ -1,0 +1,105 @@
+#include "kerf/document/NodePlacement.hpp"
+
+#include "kerf/document/NodeBounds.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace kerf::edit {
+
+namespace {
+
+bool findPath(const Node& n, std::string_view id, std::vector<const Node*>& path)
+{
+    path.push_back(&n);
+    if (n.id == id) return true;
+    for (const Node& c : n.children)
+        if (findPath(c, id, path)) return true;
+    path.pop_back();
+    return false;
+}
+
+std::vector<const Node*> existingPath(const Document& doc, std::string_view id)
+{
+    std::vector<const Node*> path = pathTo(doc, id);
+    if (path.empty()) throw std::invalid_argument("no node '" + std::string(id) + "'");
+    return path;
+}
+
+} // namespace
+
+std::vector<const Node*> pathTo(const Document& doc, std::string_view id)
+{
+    std::vector<const Node*> path;
+    if (!findPath(doc.root, id, path)) path.clear();
+    return path;
+}
+
+Affine parentFrame(const Document& doc, std::string_view id)
+{
+    const std::vector<const Node*> path = existingPath(doc, id);
+    Affine frame;
+    for (std::size_t i = 0; i + 1 < path.size(); ++i) frame = frame * Affine::fromTransform(path[i]->transform);
+    return frame;
+}
+
+Aabb firstInstanceBounds(const Document& doc, std::string_view id)
+{
+    const std::vector<const Node*> path = existingPath(doc, id);
+    for (const Node* n : path)
+        if (!n->visible) return Aabb::empty();
+    return parentFrame(doc, id).apply(nodeBounds(*path.back()));
+}
+
+void moveNodeInWorld(Document& doc, std::string_view id, const glm::dvec3& worldDelta)
+{
+    const Affine frame = parentFrame(doc, id);
+    Node* n = doc.root.find(id);
+    // Ancestors are rotations and reflections: the inverse is the transpose.
+    n->transform.translate += frame.inverseOrthogonal().applyLinear(worldDelta);
+}
+
+bool isSubtracted(const Document& doc, std::string_view id)
+{
+    const std::vector<const Node*> path = pathTo(doc, id);
+    bool subtracted = false;
+    for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+        const Node& parent = *path[i];
+        if (parent.type != NodeType::Difference) continue;
+        // The base is the first visible child; every later one is a tool.
+        for (const Node& c : parent.children) {
+            if (!c.visible) continue;
+            if (&c != path[i + 1]) subtracted = !subtracted;
+            break;
+        }
+    }
+    return subtracted;
+}
+
+Document documentOfNodeAlone(const Document& doc, std::string_view id)
+{
+    const std::vector<const Node*> path = existingPath(doc, id);
+    Document alone = doc;
+    // Rebuilt from the node upwards: each ancestor keeps only the path's child.
+    Node current = *path.back();
+    current.visible = true;
+    for (std::size_t i = path.size() - 1; i-- > 0;) {
+        const Node& ancestor = *path[i];
+        Node wrapper;
+        if (ancestor.type == NodeType::Array || ancestor.type == NodeType::Mirror) {
+            wrapper = ancestor;
+            wrapper.children.clear();
+        } else {
+            wrapper.id = ancestor.id;
+            wrapper.type = NodeType::Union;
+            wrapper.transform = ancestor.transform;
+        }
+        wrapper.visible = true;
+        wrapper.children.push_back(std::move(current));
+        current = std::move(wrapper);
+    }
+    alone.root = std::move(current);
+    return alone;
+}
+
+} // namespace kerf::edit
