@@ -64,7 +64,7 @@ struct ShadeParams {
 /// Push constants of the mesh pass.
 struct MeshPush {
     KERF_MAT4 clipFromWorld; // world relative to the render origin
-    KERF_VEC4 color;         // rgb linear; w: unused
+    KERF_VEC4 color;         // rgb linear; w: opacity (ghosts blend, the rest are opaque)
     KERF_U64 shade;          // address of the ShadeParams (lights)
     KERF_U64 pad;
 };

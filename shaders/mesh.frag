@@ -20,5 +20,7 @@ void main()
     // The headlight direction stands in for the direction to the eye.
     const vec3 toViewer = -s.forward.xyz;
     if (dot(n, toViewer) < 0.0) n = -n;
-    outColor = vec4(toSrgb(lightSurface(s, pc.m.color.rgb, n, toViewer)), 1.0);
+    // Alpha is the mesh's opacity: 1 for meshes and markers (drawn unblended),
+    // less for ghosts (blended).
+    outColor = vec4(toSrgb(lightSurface(s, pc.m.color.rgb, n, toViewer)), pc.m.color.a);
 }

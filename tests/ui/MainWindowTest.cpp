@@ -180,6 +180,71 @@ void drop(MainWindow& w, const QMimeData& data)
     QApplication::sendEvent(&w, &dropped);
 }
 
+// The viewport's drawing surface, as a person's mouse and keyboard reach
+// it: the Vulkan window, or the CPU tracer's widget.
+struct Surface {
+    qt::ViewportWidget* view = nullptr;
+    QWindow* window = nullptr;
+
+    explicit Surface(qt::ViewportWidget* v) : view(v)
+    {
+        for (QWindow* win : QGuiApplication::allWindows())
+            if (win->surfaceType() == QSurface::VulkanSurface && win->isVisible()) window = win;
+    }
+    QWidget* widget(QPoint at) const { return view->childAt(at); }
+    void click(QPoint at) const
+    {
+        if (window) QTest::mouseClick(window, Qt::LeftButton, Qt::NoModifier, at);
+        else QTest::mouseClick(widget(at), Qt::LeftButton, Qt::NoModifier, at);
+    }
+    void press(QPoint at) const
+    {
+        if (window) QTest::mousePress(window, Qt::LeftButton, Qt::NoModifier, at);
+        else QTest::mousePress(widget(at), Qt::LeftButton, Qt::NoModifier, at);
+    }
+    void move(QPoint at) const
+    {
+        if (window) QTest::mouseMove(window, at);
+        else QTest::mouseMove(widget(at), at);
+    }
+    void release(QPoint at) const
+    {
+        if (window) QTest::mouseRelease(window, Qt::LeftButton, Qt::NoModifier, at);
+        else QTest::mouseRelease(widget(at), Qt::LeftButton, Qt::NoModifier, at);
+    }
+    void keys(const QString& text) const
+    {
+        if (!window) {
+            QTest::keyClicks(view->childAt(view->rect().center()), text);
+            return;
+        }
+        for (const QChar c : text) QTest::keyClick(window, c.toLatin1());
+    }
+    void key(Qt::Key k) const
+    {
+        if (window) QTest::keyClick(window, k);
+        else QTest::keyClick(view->childAt(view->rect().center()), k);
+    }
+    // Where a world point is in the view (logical pixels).
+    QPoint at(const glm::dvec3& p) const
+    {
+        const auto px = view->camera().project(p);
+        const glm::dvec2 one = view->devicePixel(QPointF(1, 0)) - view->devicePixel(QPointF(0, 0));
+        return px ? QPoint(int(std::lround(px->x / one.x)), int(std::lround(px->y / one.x))) : QPoint(-1, -1);
+    }
+};
+
+// The bookshelf side seen square on its drilled face (+X), close up on the
+// first two shelf-pin holes (centres at y 37, z 160 and 192).
+void lookAtTheFirstHoles(qt::ViewportWidget& v)
+{
+    v.setStandardView("right");
+    ViewController close = v.view();
+    // About 60 mm tall: a millimetre is ten pixels or so.
+    close.fit(Aabb{glm::dvec3(8, 22, 152), glm::dvec3(10, 52, 200)}, double(v.width()) / v.height());
+    v.setView(close);
+}
+
 void saveScreenshot(MainWindow& w, const QString& name)
 {
     const QString dir = qEnvironmentVariable("KERF_SCREENSHOT_DIR");
@@ -235,6 +300,10 @@ private slots:
     void promptsBeforeChangesAreLost();
     void dropsDocumentsAndMeshesOntoTheWindow();
     void aClickOnThePartSelectsItsFeature();
+    void measuringSnapsToHoleCentresAndDrawsTheDimension();
+    void theGizmoMovesAHoleBySnappedOrTypedDistancesInOneUndoStep();
+    void aSelectedHoleShowsItsToolBodyAsAGhost();
+    void theBoundingBoxOfTheSelectionIsMeasuredAndDrawn();
 
 private:
     QTemporaryDir recovery_, files_;
@@ -1376,6 +1445,162 @@ void MainWindowTest::aClickOnThePartSelectsItsFeature()
     if (surface) QTest::mouseClick(surface, Qt::LeftButton, Qt::NoModifier, corner);
     else QTest::mouseClick(v->childAt(corner), Qt::LeftButton, Qt::NoModifier, corner);
     QTRY_VERIFY(w->selectedNodeIds().empty());
+}
+
+void MainWindowTest::measuringSnapsToHoleCentresAndDrawsTheDimension()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side.kerf"));
+    QVERIFY(waitForViewport(*w));
+    qt::ViewportWidget* v = w->viewport();
+    lookAtTheFirstHoles(*v);
+    const Surface surface(v);
+    // Turning measuring on says what to do, in the status bar and the Measure panel (shown).
+    surface.click(QPoint(3, 3)); // the viewport has the keyboard, as after any click in it
+    // (M on the keyboard is a window-wide shortcut: QTest's keys reach the
+    // Vulkan window without passing the shortcut map, so the action here.)
+    action(w.get(), "action.measure")->trigger();
+    QVERIFY(action(w.get(), "action.measure")->isChecked());
+    QVERIFY2(w->lastMessage().contains("click two points"), qPrintable(w->lastMessage()));
+    QVERIFY(w->measureText().contains("hole centres"));
+    QVERIFY(!w->findChild<QDockWidget*>("dock.measure")->visibleRegion().isEmpty());
+    // A click a few pixels outside each hole's rim, on the face: the hole's centre.
+    const QPoint offset(4, 2);
+    surface.click(surface.at(glm::dvec3(9, 37 + 2.5, 160)) + offset);
+    QVERIFY2(w->measureText().contains("centre (9.00, 37.00, 160.00)"), qPrintable(w->measureText()));
+    surface.click(surface.at(glm::dvec3(9, 37 + 2.5, 192)) + offset);
+    QVERIFY2(w->measureText().contains("Distance: 32.00 mm"), qPrintable(w->measureText()));
+    QVERIFY(w->measureText().contains("to centre (9.00, 37.00, 192.00)"));
+    QCOMPARE(v->dimensionText(), QString("32.00 mm"));
+    auto* label = v->findChild<QLabel*>("viewport.dimension");
+    QVERIFY(label && label->isVisible());
+    // Beside the line, between the two holes.
+    const QPoint mid = surface.at(glm::dvec3(9, 37, 176));
+    QVERIFY2(std::abs(label->geometry().center().y() - mid.y()) < 60, qPrintable(QString::number(label->y())));
+    saveScreenshot(*w, "measure-dimension");
+    // Measuring off: the dimension stays; Esc in the view clears it.
+    action(w.get(), "action.measure")->trigger();
+    QVERIFY(!action(w.get(), "action.measure")->isChecked());
+    QCOMPARE(v->dimensionText(), QString("32.00 mm"));
+    surface.key(Qt::Key_Escape);
+    QTRY_VERIFY(v->dimensionText().isEmpty());
+    QVERIFY(!label->isVisible());
+}
+
+void MainWindowTest::theGizmoMovesAHoleBySnappedOrTypedDistancesInOneUndoStep()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side.kerf"));
+    QVERIFY(waitForViewport(*w));
+    qt::ViewportWidget* v = w->viewport();
+    lookAtTheFirstHoles(*v);
+    clickRow(*w, "shelf-pin-hole");
+    QTRY_VERIFY(v->moveGizmo().has_value());
+    // On the hole's first copy: x from -3 to 10, centred on y 37, z 160.
+    QCOMPARE(v->moveGizmoOrigin()->z, 160.0);
+    const auto z = [&] { return w->session()->document().root.find("shelf-pin-hole")->transform.translate.z; };
+    const Surface surface(v);
+    QUndoStack* undo = w->session()->undoStack();
+    const int steps = undo->count();
+
+    // Drag the Z arrow (seen from +X it points up the screen) by about 31.6 mm.
+    const MoveGizmo g = *v->moveGizmo();
+    const glm::dvec3 grip = g.origin + 0.7 * g.armLength * glm::dvec3(0, 0, 1);
+    surface.press(surface.at(grip));
+    for (double dz : {5.0, 12.0, 20.0, 27.0, 31.6}) surface.move(surface.at(grip + glm::dvec3(0, 0, dz)));
+    QVERIFY2(w->lastMessage().contains("along Z"), qPrintable(w->lastMessage()));
+    surface.release(surface.at(grip + glm::dvec3(0, 0, 31.6)));
+    QCOMPARE(z(), 192.0); // snapped: 32 mm exactly
+    QCOMPARE(undo->count(), steps + 1); // one step for the whole drag
+    QVERIFY2(undo->undoText().contains("32 mm along Z"), qPrintable(undo->undoText()));
+    QTRY_COMPARE(v->moveGizmoOrigin()->z, 192.0); // the gizmo follows
+    undo->undo();
+    QCOMPARE(z(), 160.0);
+    undo->redo();
+    QCOMPARE(z(), 192.0);
+
+    // A distance typed during the drag is taken exactly, whatever the mouse did.
+    const MoveGizmo g2 = *v->moveGizmo();
+    const glm::dvec3 grip2 = g2.origin + 0.7 * g2.armLength * glm::dvec3(0, 0, 1);
+    surface.press(surface.at(grip2));
+    surface.move(surface.at(grip2 + glm::dvec3(0, 0, 7.0)));
+    surface.keys("-48.5");
+    surface.key(Qt::Key_Return);
+    QCOMPARE(z(), 143.5);
+    surface.release(surface.at(grip2 + glm::dvec3(0, 0, 7.0)));
+    QCOMPARE(z(), 143.5);
+    QCOMPARE(undo->count(), steps + 2);
+
+    // Esc during a drag puts the hole back and leaves no step.
+    const MoveGizmo g3 = *v->moveGizmo();
+    const glm::dvec3 grip3 = g3.origin + 0.7 * g3.armLength * glm::dvec3(0, 0, 1);
+    surface.press(surface.at(grip3));
+    surface.move(surface.at(grip3 + glm::dvec3(0, 0, 20.0)));
+    QVERIFY(z() != 143.5);
+    surface.key(Qt::Key_Escape);
+    surface.release(surface.at(grip3 + glm::dvec3(0, 0, 20.0)));
+    QCOMPARE(z(), 143.5);
+    QCOMPARE(undo->count(), steps + 2);
+    QVERIFY(undo->canRedo() == false);
+
+    // A drag that starts off the gizmo orbits the camera and moves nothing.
+    const glm::dvec3 eye = v->view().camera(100, 100, Aabb{glm::dvec3(-1), glm::dvec3(1)}).eye();
+    surface.press(surface.at(grip3) + QPoint(150, 0));
+    surface.move(surface.at(grip3) + QPoint(190, 20));
+    surface.release(surface.at(grip3) + QPoint(190, 20));
+    QCOMPARE(z(), 143.5);
+    QVERIFY(v->view().camera(100, 100, Aabb{glm::dvec3(-1), glm::dvec3(1)}).eye() != eye);
+    saveScreenshot(*w, "move-gizmo");
+}
+
+void MainWindowTest::aSelectedHoleShowsItsToolBodyAsAGhost()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side.kerf"));
+    QVERIFY(waitForViewport(*w));
+    qt::ViewportWidget* v = w->viewport();
+    lookAtTheFirstHoles(*v);
+    const QImage plain = v->grabFrame();
+    clickRow(*w, "shelf-pin-hole");
+    QTRY_VERIFY_WITH_TIMEOUT(!w->ghostsBusy(), 60000);
+    QVERIFY(v->hasGhosts());
+    const QImage ghost = v->grabFrame();
+    // Over the hole's opening the picture turns blue: the tool body, seen through.
+    const Surface surface(v);
+    const double dpr = v->devicePixel(QPointF(1, 0)).x - v->devicePixel(QPointF(0, 0)).x;
+    // Inside the opening, away from the gizmo's arrows (they point to +X, +Y and +Z).
+    const QPoint hole = surface.at(glm::dvec3(9, 37 - 1.3, 160 - 1.3)) * dpr;
+    const QColor before = plain.pixelColor(hole), after = ghost.pixelColor(hole);
+    QVERIFY2(after.blue() > before.blue() + 30 && after.blue() > after.red(),
+             qPrintable(QString("%1 -> %2 at %3, %4 of %5 x %6")
+                            .arg(before.name(), after.name())
+                            .arg(hole.x())
+                            .arg(hole.y())
+                            .arg(ghost.width())
+                            .arg(ghost.height())));
+    // The panel is not a tool: no ghost.
+    clickRow(*w, "panel");
+    QTRY_VERIFY_WITH_TIMEOUT(!w->ghostsBusy() && !v->hasGhosts(), 60000);
+    // The array of holes is a tool too: every copy is drawn.
+    clickRow(*w, "shelf-pin-holes");
+    QTRY_VERIFY_WITH_TIMEOUT(!w->ghostsBusy() && v->hasGhosts(), 60000);
+}
+
+void MainWindowTest::theBoundingBoxOfTheSelectionIsMeasuredAndDrawn()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side.kerf"));
+    QVERIFY(waitForViewport(*w));
+    clickRow(*w, "toe-kick");
+    action(w.get(), "action.boundingBox")->trigger();
+    QTRY_VERIFY_WITH_TIMEOUT(w->measureText().startsWith("Bounding box of Toe kick notch 60 x 70: 20.00 x 61.00 x 71.00 mm"),
+                             30000);
+    QCOMPARE(w->viewport()->dimensionText(), QString("20.00 x 61.00 x 71.00 mm"));
+    // Nothing selected: the part's.
+    w->selectNodes({});
+    action(w.get(), "action.boundingBox")->trigger();
+    QTRY_VERIFY_WITH_TIMEOUT(w->measureText().startsWith("Bounding box: 18.00 x 300.00 x 1800.00 mm"), 30000);
+    QCOMPARE(w->viewport()->dimensionText(), QString("18.00 x 300.00 x 1800.00 mm"));
 }
 
 QTEST_MAIN(MainWindowTest)

@@ -19,6 +19,10 @@ bool EditCommand::mergeWith(const QUndoCommand* other)
     const auto* o = dynamic_cast<const EditCommand*>(other);
     if (!o || o->mergeKey_ != mergeKey_) return false;
     after_ = o->after_;
+    setText(o->text()); // the step says where the drag ended
+    // A drag that came back to where it began leaves no step (QUndoStack
+    // deletes an obsolete command after merging).
+    setObsolete(after_ == before_);
     return true;
 }
 

@@ -3,14 +3,16 @@
 #include "CutListDialog.hpp"
 #include "ExportDialog.hpp"
 #include "FeatureTreeModel.hpp"
+#include "MeasureTool.hpp"
+#include "MoveTool.hpp"
 #include "NodeText.hpp"
 #include "PropertyEditor.hpp"
 #include "QuantityEdit.hpp"
+#include "SelectionGhosts.hpp"
 #include "kerf/document/AddFeature.hpp"
 #include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
-#include "kerf/evaluator/TightBounds.hpp"
 #include "kerf/viewport/ReferenceMesh.hpp"
 #include "kerf/viewport/qt/ViewportWidget.hpp"
 
@@ -25,7 +27,6 @@
 #include <QDropEvent>
 #include <QFileDialog>
 #include <QFileInfo>
-#include <QFutureWatcher>
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QInputDialog>
@@ -42,7 +43,6 @@
 #include <QToolBar>
 #include <QTreeView>
 #include <QVBoxLayout>
-#include <QtConcurrent/QtConcurrentRun>
 
 #include <glm/glm.hpp>
 
@@ -91,8 +91,6 @@ void collectFeatureNodes(const Node& n, std::unordered_set<std::string>& out)
     for (const auto& c : n.children) collectFeatureNodes(c, out);
 }
 
-QString millimetres(double v) { return QString::number(v, 'f', 2); }
-
 } // namespace
 
 MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
@@ -138,6 +136,15 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
     buildDocks();
     buildStatusBar();
     restoreLayout();
+
+    measure_ = new MeasureTool(session_, viewport_, measureLabel_, this);
+    connect(measure_, &MeasureTool::message, this, [this](const QString& m) { showMessage(m); });
+    move_ = new MoveTool(session_, viewport_, this);
+    connect(move_, &MoveTool::message, this, [this](const QString& m) {
+        if (m.isEmpty()) statusBar()->clearMessage();
+        else showMessage(m, 0);
+    });
+    ghosts_ = new SelectionGhosts(viewport_, this);
 
     connect(session_, &DocumentSession::documentChanged, this, &MainWindow::onDocumentChanged);
     connect(session_, &DocumentSession::stateChanged, this, &MainWindow::updateTitle);
@@ -404,16 +411,33 @@ void MainWindow::buildActions()
     // Tools
     QMenu* tools = menuBar()->addMenu(tr("&Tools"));
     measureAction_ = action(tr("&Measure Distance"), "action.measure", QKeySequence(tr("M")));
-    measureAction_->setShortcutContext(Qt::WidgetWithChildrenShortcut);
+    // Window-wide, so that it works with the viewport focused (a text field
+    // still takes the letter: it overrides shortcuts for what it types).
+    measureAction_->setShortcutContext(Qt::WindowShortcut);
     measureAction_->setCheckable(true);
     connect(measureAction_, &QAction::toggled, this, [this](bool on) {
-        measurePoints_.clear();
-        viewport_->setMarkers({});
-        measureLabel_->setText(on ? tr("Click two points on the part.") : QString());
+        measure_->setActive(on);
+        move_->setEnabled(!on);
+        if (on)
+            if (auto* dock = findChild<QDockWidget*>("dock.measure")) dock->raise();
     });
-    QAction* bboxAct = action(tr("Part &Bounding Box"), "action.boundingBox");
-    connect(bboxAct, &QAction::triggered, this, &MainWindow::showBoundingBox);
-    tools->addActions({measureAction_, bboxAct});
+    QAction* bboxAct = action(tr("&Bounding Box"), "action.boundingBox", QKeySequence(tr("B")));
+    bboxAct->setToolTip(tr("The bounding box of the selection (of the part when nothing is selected), in the view "
+                           "and the Measure panel"));
+    connect(bboxAct, &QAction::triggered, this, [this] {
+        if (auto* dock = findChild<QDockWidget*>("dock.measure")) dock->raise();
+        measure_->showBoundingBox(selectedNodeIds());
+    });
+    QAction* clearAct = action(tr("&Clear Measurement"), "action.clearMeasurement", QKeySequence(Qt::Key_Escape));
+    // Esc belongs to whatever has the focus (an editor, a dialog); the viewport passes it on (escapePressed).
+    clearAct->setShortcutContext(Qt::WidgetShortcut);
+    connect(viewport_, &qt::ViewportWidget::escapePressed, clearAct, &QAction::trigger);
+    connect(clearAct, &QAction::triggered, this, [this] {
+        // Esc in the viewport: first a gizmo drag, then a measurement, then measuring itself.
+        if (move_->dragging()) viewport_->cancelGizmoDrag();
+        else if (!measure_->clear() && measureAction_->isChecked()) measureAction_->setChecked(false);
+    });
+    tools->addActions({measureAction_, bboxAct, clearAct});
 
     // Toolbars
     QToolBar* fileBar = addToolBar(tr("File"));
@@ -635,28 +659,14 @@ void MainWindow::onSelectionChanged()
     for (const auto& id : ids)
         if (const Node* n = session_->document().root.find(id)) collectFeatureNodes(*n, features);
     viewport_->setSelectedFeatureNodes(std::move(features));
+    move_->setNode(ids.size() == 1 ? ids.front() : std::string());
+    ghosts_->show(session_->document(), ids);
 }
 
 void MainWindow::onViewportClicked(const qt::ViewportPick& pick)
 {
     if (measureAction_->isChecked()) {
-        if (!pick.hit) return;
-        if (measurePoints_.size() == 2) measurePoints_.clear();
-        measurePoints_.push_back(pick.point);
-        viewport_->setMarkers(measurePoints_);
-        const glm::dvec3& a = measurePoints_.front();
-        if (measurePoints_.size() == 1) {
-            measureLabel_->setText(tr("Point 1: (%1, %2, %3) mm\nClick the second point.")
-                                       .arg(millimetres(a.x), millimetres(a.y), millimetres(a.z)));
-            return;
-        }
-        const glm::dvec3& b = measurePoints_.back();
-        const glm::dvec3 d = b - a;
-        measureLabel_->setText(tr("Distance: %1 mm\nΔX %2   ΔY %3   ΔZ %4 mm\nfrom (%5, %6, %7)\nto (%8, %9, %10)")
-                                   .arg(millimetres(glm::length(d)), millimetres(d.x), millimetres(d.y),
-                                        millimetres(d.z), millimetres(a.x), millimetres(a.y), millimetres(a.z),
-                                        millimetres(b.x), millimetres(b.y))
-                                   .arg(millimetres(b.z)));
+        measure_->click(pick);
         return;
     }
     if (!pick.hit || pick.nodeId.empty()) {
@@ -673,36 +683,7 @@ void MainWindow::onViewportClicked(const qt::ViewportPick& pick)
 
 QString MainWindow::measureText() const { return measureLabel_->text(); }
 
-void MainWindow::showBoundingBox()
-{
-    std::shared_ptr<const Tape> tape;
-    try {
-        tape = std::make_shared<const Tape>(compileTape(session_->document()));
-    } catch (const std::exception& e) {
-        measureLabel_->setText(QString::fromUtf8(e.what()));
-        return;
-    }
-    measureLabel_->setText(tr("Measuring the part…"));
-    auto* watcher = new QFutureWatcher<QString>(this);
-    connect(watcher, &QFutureWatcher<QString>::finished, this, [this, watcher] {
-        measureLabel_->setText(watcher->result());
-        watcher->deleteLater();
-    });
-    watcher->setFuture(QtConcurrent::run([tape]() -> QString {
-        try {
-            const auto tb = tightBounds(*tape, 1e-3);
-            if (!tb) return tr("The part is empty.");
-            const Aabb& b = tb->outer;
-            const glm::dvec3 s = b.size();
-            return tr("Bounding box: %1 x %2 x %3 mm\nX %4 … %5\nY %6 … %7\nZ %8 … %9")
-                .arg(millimetres(s.x), millimetres(s.y), millimetres(s.z), millimetres(b.min.x), millimetres(b.max.x),
-                     millimetres(b.min.y), millimetres(b.max.y), millimetres(b.min.z))
-                .arg(millimetres(b.max.z));
-        } catch (const std::exception& e) {
-            return tr("No bounding box: %1").arg(QString::fromUtf8(e.what()));
-        }
-    }));
-}
+bool MainWindow::ghostsBusy() const { return ghosts_->busy(); }
 
 void MainWindow::updateSection()
 {

@@ -40,6 +40,9 @@ struct ViewportPick;
 namespace kerf::ui {
 
 class FeatureTreeModel;
+class MeasureTool;
+class MoveTool;
+class SelectionGhosts;
 class PropertyEditor;
 class QuantityEdit;
 
@@ -112,6 +115,8 @@ public:
     QString lastMessage() const { return lastMessage_; }
     /// The measure panel's text (distance, or the bounding box).
     QString measureText() const;
+    /// Whether the ghost of a selected tool is still being meshed.
+    bool ghostsBusy() const;
 
 protected:
     void closeEvent(QCloseEvent* e) override;
@@ -136,7 +141,6 @@ private:
     void rebuildRecentMenu();
     void addMeshFiles(const QStringList& files);
     void updateSection();
-    void showBoundingBox();
     QString askFile(bool save, const QString& suggested);
     void reportError(const QString& title, const QString& message);
 
@@ -162,8 +166,10 @@ private:
     // Measure.
     QAction* measureAction_ = nullptr;
     QAction* refineForView_ = nullptr;
-    std::vector<glm::dvec3> measurePoints_;
     QLabel* measureLabel_ = nullptr;
+    MeasureTool* measure_ = nullptr;
+    MoveTool* move_ = nullptr;
+    SelectionGhosts* ghosts_ = nullptr;
 
     // Section.
     QCheckBox* sectionOn_ = nullptr;

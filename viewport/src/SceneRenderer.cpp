@@ -97,7 +97,7 @@ struct SceneRenderer::Impl {
     const Context& ctx;
     RenderPass renderPass;
     PipelineLayout partLayout, meshLayout, gizmoLayout;
-    Pipeline partPipeline, meshPipeline, markerPipeline, gridPipeline, gizmoPipeline;
+    Pipeline partPipeline, meshPipeline, markerPipeline, ghostPipeline, gridPipeline, gizmoPipeline;
     GpuBuffer shade;
     int width = 0, height = 0;
     Target color, depth;
@@ -107,8 +107,9 @@ struct SceneRenderer::Impl {
         GpuBuffer vertices; // float x, y, z, nx, ny, nz per vertex, relative to meshOrigin
         std::uint32_t count = 0;
         glm::vec3 color;
+        float opacity = 1.0f;
     };
-    std::vector<MeshBuffer> meshes, markers;
+    std::vector<MeshBuffer> meshes, markers, ghosts;
     glm::dvec3 meshOrigin{0.0};
     GpuBuffer frameColors; // this frame's feature colours and flags (one frame in flight)
 
@@ -316,6 +317,8 @@ SceneRenderer::SceneRenderer(const Context& ctx) : impl_(std::make_unique<Impl>(
         impl_->makePipeline(impl_->meshLayout, meshVert, meshFrag, {true, VK_COMPARE_OP_LESS_OR_EQUAL, true, false});
     impl_->markerPipeline =
         impl_->makePipeline(impl_->meshLayout, meshVert, meshFrag, {true, VK_COMPARE_OP_ALWAYS, false, false});
+    impl_->ghostPipeline =
+        impl_->makePipeline(impl_->meshLayout, meshVert, meshFrag, {true, VK_COMPARE_OP_ALWAYS, false, true});
     impl_->gridPipeline =
         impl_->makePipeline(impl_->partLayout, fullscreen, grid, {false, VK_COMPARE_OP_LESS_OR_EQUAL, false, true});
     impl_->gizmoPipeline =
@@ -346,6 +349,7 @@ std::vector<SceneRenderer::Impl::MeshBuffer> SceneRenderer::Impl::upload(const s
                                   "mesh vertices");
         b.count = std::uint32_t(m.mesh.positions.size());
         b.color = m.color;
+        b.opacity = m.opacity;
         out.push_back(std::move(b));
     }
     return out;
@@ -359,7 +363,7 @@ void SceneRenderer::Impl::drawMeshes(VkCommandBuffer cb, const std::vector<MeshB
     for (const auto& m : list) {
         gpu::MeshPush push{};
         std::memcpy(push.clipFromWorld.m, &clip[0][0], sizeof push.clipFromWorld.m);
-        push.color = vec4(m.color, 1.0f);
+        push.color = vec4(m.color, m.opacity);
         push.shade = shadeAddress;
         vkCmdPushConstants(cb, meshLayout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push,
                            &push);
@@ -382,6 +386,8 @@ void SceneRenderer::setMeshes(const std::vector<PlacedMesh>& meshes)
 }
 
 void SceneRenderer::setMarkers(const std::vector<PlacedMesh>& markers) { impl_->markers = impl_->upload(markers); }
+
+void SceneRenderer::setGhosts(const std::vector<PlacedMesh>& ghosts) { impl_->ghosts = impl_->upload(ghosts); }
 
 VkImage SceneRenderer::colorImage() const { return impl_->color.image; }
 
@@ -569,6 +575,7 @@ void SceneRenderer::record(VkCommandBuffer cb, ComputeTracer& tracer, const Voxe
                                &shadeAddress);
             vkCmdDraw(cb, 3, 1, 0, 0);
         }
+        impl_->drawMeshes(cb, impl_->ghosts, impl_->ghostPipeline, clip, shadeAddress);
         impl_->drawMeshes(cb, impl_->markers, impl_->markerPipeline, clip, shadeAddress);
     } else if (options.grid) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->gridPipeline);

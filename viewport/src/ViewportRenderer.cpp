@@ -47,7 +47,7 @@ struct ViewportRenderer::Impl {
     Semaphore acquired;
     std::vector<Semaphore> rendered; // one per swapchain image: presentation may still wait on the last one
     std::shared_ptr<const VoxelSnapshot> target;
-    std::shared_ptr<const std::vector<PlacedMesh>> meshes, markers;
+    std::shared_ptr<const std::vector<PlacedMesh>> meshes, markers, ghosts;
     GpuBuffer depthReadback; // the trace's depth, for the occlusion picture
 
     Impl(const Context& c, VkSurfaceKHR surface, StreamingOptions streaming)
@@ -99,13 +99,20 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
         m.target = scene.snapshot;
         m.streamer.setTarget(m.target);
     }
-    if (scene.meshes != m.meshes) {
+    // Markers and ghosts are uploaded relative to the meshes' origin: new
+    // meshes move it, so they go up again too.
+    const bool newOrigin = scene.meshes != m.meshes;
+    if (newOrigin) {
         m.meshes = scene.meshes;
         m.scene.setMeshes(m.meshes ? *m.meshes : std::vector<PlacedMesh>{});
     }
-    if (scene.markers != m.markers) {
+    if (newOrigin || scene.markers != m.markers) {
         m.markers = scene.markers;
         m.scene.setMarkers(m.markers ? *m.markers : std::vector<PlacedMesh>{});
+    }
+    if (newOrigin || scene.ghosts != m.ghosts) {
+        m.ghosts = scene.ghosts;
+        m.scene.setGhosts(m.ghosts ? *m.ghosts : std::vector<PlacedMesh>{});
     }
     if (!m.swapchain.ensure(width, height)) return st;
     std::optional<std::uint32_t> index = m.swapchain.acquire(m.acquired);

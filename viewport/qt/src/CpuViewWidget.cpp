@@ -15,7 +15,7 @@ namespace kerf::qt {
 CpuViewWidget::CpuViewWidget(ViewportWidget* owner, QString reason) : QWidget(owner), owner_(owner), reason_(std::move(reason))
 {
     setFocusPolicy(Qt::StrongFocus);
-    setMouseTracking(false);
+    setMouseTracking(true); // hovering shows snaps and the gizmo handle under the cursor
     setAttribute(Qt::WA_OpaquePaintEvent);
     worker_ = std::thread([this] { work(); });
 }

@@ -2,9 +2,11 @@
 
 #include "ViewportBackend.hpp"
 #include "kerf/tracer/ExactTracer.hpp"
+#include "kerf/viewport/OverlayMeshes.hpp"
 
 #include <algorithm>
 #include <QKeyEvent>
+#include <QLabel>
 #include <QMouseEvent>
 #include <QTimer>
 #include <QVBoxLayout>
@@ -23,28 +25,23 @@ constexpr double kDragThresholdPixels = 3.0;
 // resolution until the motion stops (lavapipe, very large windows).
 constexpr double kInteractiveTraceBudgetMs = 25.0;
 
-// A small octahedron around `p` (flat triangles, outward normals).
-PlacedMesh markerMesh(const glm::dvec3& p, double radius)
-{
-    PlacedMesh m;
-    m.id = "marker";
-    m.color = {1.0f, 0.78f, 0.05f};
-    const glm::dvec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    for (int sx : {0, 1})
-        for (int sy : {2, 3})
-            for (int sz : {4, 5}) {
-                glm::dvec3 a = axes[sx], b = axes[sy], c = axes[sz];
-                // Counter-clockwise seen from outside.
-                if (glm::dot(glm::cross(b - a, c - a), a + b + c) < 0.0) std::swap(b, c);
-                const glm::vec3 n = glm::normalize(glm::vec3(a + b + c));
-                for (const glm::dvec3& v : {a, b, c}) {
-                    m.mesh.positions.push_back(p + radius * v);
-                    m.mesh.normals.push_back(n);
-                }
-            }
-    m.mesh.bounds = Aabb{p - glm::dvec3(radius), p + glm::dvec3(radius)};
-    return m;
-}
+// Overlay colours (linear RGB).
+constexpr glm::vec3 kMarkerColor{1.0f, 0.78f, 0.05f};
+constexpr glm::vec3 kDimensionColor{1.0f, 0.45f, 0.02f};
+constexpr glm::vec3 kBoxColor{0.10f, 0.42f, 1.0f};
+constexpr glm::vec3 kSnapColor{1.0f, 0.20f, 0.60f};
+constexpr glm::vec3 kFaceSnapColor{0.85f, 0.85f, 0.85f};
+constexpr glm::vec3 kHotColor{1.0f, 0.85f, 0.10f};
+constexpr glm::vec3 kAxisColor[3] = {{0.85f, 0.10f, 0.08f}, {0.10f, 0.62f, 0.12f}, {0.10f, 0.28f, 0.95f}};
+// Sizes on screen, in pixels.
+constexpr double kMarkerPixels = 5.0;
+constexpr double kSnapPixels = 6.0;
+constexpr double kBarPixels = 1.3;
+constexpr double kArrowPixels = 2.2;
+constexpr double kSnapRadiusPixels = 10.0;
+constexpr double kGizmoGrabPixels = 7.0;
+// Markers are resized when the zoom changes their size on screen by more than this.
+constexpr double kRescaleRatio = 1.15;
 
 } // namespace
 
@@ -53,6 +50,7 @@ ViewportWidget::ViewportWidget(QWidget* parent) : QWidget(parent)
     qRegisterMetaType<ViewportStatus>();
     qRegisterMetaType<ViewportPick>();
     qRegisterMetaType<ViewRequirement>();
+    qRegisterMetaType<GizmoDrag>();
     auto* layout = new QVBoxLayout(this);
     layout->setContentsMargins(0, 0, 0, 0);
     setMinimumSize(160, 120);
@@ -67,6 +65,14 @@ ViewportWidget::ViewportWidget(QWidget* parent) : QWidget(parent)
         interactive_ = false;
         sceneChanged();
     });
+    // A native window of its own, so that it stays above the Vulkan window.
+    label_ = new QLabel(this);
+    label_->setObjectName("viewport.dimension");
+    label_->setAttribute(Qt::WA_NativeWindow);
+    label_->setAttribute(Qt::WA_TransparentForMouseEvents);
+    label_->setStyleSheet("QLabel { background: #fffbe6; color: #202020; border: 1px solid #e07000;"
+                          " padding: 1px 4px; font-weight: bold; }");
+    label_->hide();
     try {
         backend_ = makeVulkanBackend(this);
         layout->addWidget(backend_->widget());
@@ -140,7 +146,12 @@ vk::ViewportScene ViewportWidget::scene() const
     scene.grid = grid_;
     scene.axes = axes_;
     scene.meshes = meshes_;
+    const double scale = camera().millimetresPerPixel(overlayReference());
+    if (overlaysDirty_ || !(overlayScale_ > 0.0) || scale > overlayScale_ * kRescaleRatio ||
+        scale * kRescaleRatio < overlayScale_)
+        rebuildOverlays();
     scene.markers = markers_;
+    scene.ghosts = ghosts_;
     scene.quality = exactEdges_ ? TraceQuality::Exact : TraceQuality::Voxels;
     scene.resolutionScale = interactive_ && status_.traceMs > kInteractiveTraceBudgetMs ? 0.5 : 1.0;
     // At rest, each new trace of the settled view tells the voxelizer what
@@ -164,6 +175,7 @@ void ViewportWidget::sceneChanged()
         }
     }
     backend_->show(scene());
+    placeLabel();
     if (settled) {
         untoldView_ = settledView_;
         tellView_->start();
@@ -223,11 +235,152 @@ void ViewportWidget::setMeshes(std::vector<PlacedMesh> meshes)
 
 void ViewportWidget::setMarkers(const std::vector<glm::dvec3>& points)
 {
-    auto list = std::make_shared<std::vector<PlacedMesh>>();
-    const double radius = view_.heightAtTarget() * 0.006;
-    for (const auto& p : points) list->push_back(markerMesh(p, radius));
-    markers_ = std::move(list);
+    markerPoints_ = points;
+    overlaysChanged();
+}
+
+void ViewportWidget::setDimension(std::optional<std::pair<glm::dvec3, glm::dvec3>> ends, const QString& text)
+{
+    dimension_ = std::move(ends);
+    if (dimension_) boxShown_.reset();
+    label_->setText(dimension_ ? text : QString());
+    overlaysChanged();
+}
+
+void ViewportWidget::setBoxShown(std::optional<Aabb> box, const QString& text)
+{
+    boxShown_ = std::move(box);
+    if (boxShown_) dimension_.reset();
+    label_->setText(boxShown_ ? text : QString());
+    overlaysChanged();
+}
+
+QString ViewportWidget::dimensionText() const { return dimension_ || boxShown_ ? label_->text() : QString(); }
+
+void ViewportWidget::setGhosts(std::vector<PlacedMesh> ghosts)
+{
+    ghosts_ = std::make_shared<const std::vector<PlacedMesh>>(std::move(ghosts));
     sceneChanged();
+}
+
+void ViewportWidget::setMoveGizmo(std::optional<glm::dvec3> origin)
+{
+    if (origin == gizmoOrigin_) return;
+    gizmoOrigin_ = origin;
+    if (!gizmoOrigin_ && drag_ != Drag::Gizmo) gizmoHot_ = GizmoHandle::None;
+    overlaysChanged();
+}
+
+void ViewportWidget::cancelGizmoDrag()
+{
+    if (drag_ == Drag::Gizmo) endGizmoDrag(true);
+}
+
+std::optional<MoveGizmo> ViewportWidget::moveGizmo() const
+{
+    if (!gizmoOrigin_ || snapping_) return std::nullopt;
+    return MoveGizmo::at(*gizmoOrigin_, camera());
+}
+
+void ViewportWidget::setSnapping(bool on)
+{
+    snapping_ = on;
+    hoverSnap_.reset();
+    overlaysChanged();
+}
+
+std::optional<SnapPoint> ViewportWidget::snapAt(QPointF position) const
+{
+    if (!pickTape_ || pickTape_->empty()) return std::nullopt;
+    const double dpr = devicePixel(QPointF(1, 0)).x - devicePixel(QPointF(0, 0)).x;
+    SnapOptions options;
+    options.radiusPixels = kSnapRadiusPixels * dpr;
+    return kerf::snapAt(*pickTape_, camera(), devicePixel(position), options);
+}
+
+Camera ViewportWidget::camera() const
+{
+    const QSize px = pixelSize();
+    return view_.camera(px.width(), px.height(), partBounds());
+}
+
+glm::dvec2 ViewportWidget::devicePixel(QPointF position) const
+{
+    const double dpr = double(pixelSize().width()) / std::max(1, width());
+    return {position.x() * dpr, position.y() * dpr};
+}
+
+glm::dvec3 ViewportWidget::overlayReference() const
+{
+    if (gizmoOrigin_) return *gizmoOrigin_;
+    if (dimension_) return 0.5 * (dimension_->first + dimension_->second);
+    if (boxShown_) return boxShown_->center();
+    if (!markerPoints_.empty()) return markerPoints_.front();
+    return view_.target();
+}
+
+void ViewportWidget::overlaysChanged()
+{
+    overlaysDirty_ = true;
+    sceneChanged();
+}
+
+void ViewportWidget::rebuildOverlays() const
+{
+    const Camera cam = camera();
+    overlayScale_ = cam.millimetresPerPixel(overlayReference());
+    overlaysDirty_ = false;
+    const auto pixels = [&](const glm::dvec3& at, double n) { return n * std::max(cam.millimetresPerPixel(at), 1e-9); };
+    auto list = std::make_shared<std::vector<PlacedMesh>>();
+    for (const auto& p : markerPoints_) list->push_back(markerMesh(p, pixels(p, kMarkerPixels), kMarkerColor));
+    if (dimension_) {
+        const auto& [a, b] = *dimension_;
+        list->push_back(barMesh(a, b, pixels(0.5 * (a + b), kBarPixels), kDimensionColor));
+    }
+    if (boxShown_) list->push_back(boxEdgesMesh(*boxShown_, pixels(boxShown_->center(), kBarPixels), kBoxColor));
+    if (hoverSnap_)
+        list->push_back(markerMesh(hoverSnap_->point, pixels(hoverSnap_->point, kSnapPixels),
+                                   hoverSnap_->kind == SnapKind::Face ? kFaceSnapColor : kSnapColor));
+    const bool dragging = drag_ == Drag::Gizmo && gizmoOrigin_;
+    if (const auto g = dragging ? std::optional<MoveGizmo>(MoveGizmo::at(*gizmoOrigin_, cam)) : moveGizmo()) {
+        const double r = pixels(g->origin, kArrowPixels);
+        for (GizmoHandle h : {GizmoHandle::X, GizmoHandle::Y, GizmoHandle::Z}) {
+            if (!g->usable(cam, h)) continue;
+            const int i = gizmoAxisIndex(h);
+            list->push_back(arrowMesh(g->origin, gizmoAxis(h), g->armLength, r, h == gizmoHot_ ? kHotColor : kAxisColor[i]));
+        }
+        for (GizmoHandle h : {GizmoHandle::PlaneYZ, GizmoHandle::PlaneZX, GizmoHandle::PlaneXY}) {
+            if (!g->usable(cam, h)) continue;
+            const int n = gizmoAxisIndex(h);
+            const glm::dvec3 u = gizmoAxis(GizmoHandle(int(GizmoHandle::X) + (n + 1) % 3)),
+                             v = gizmoAxis(GizmoHandle(int(GizmoHandle::X) + (n + 2) % 3));
+            const double a = MoveGizmo::kPlaneFrom * g->armLength, b = MoveGizmo::kPlaneTo * g->armLength;
+            list->push_back(quadMesh({g->origin + a * u + a * v, g->origin + b * u + a * v, g->origin + b * u + b * v,
+                                      g->origin + a * u + b * v},
+                                     h == gizmoHot_ ? kHotColor : 0.8f * kAxisColor[n]));
+        }
+    }
+    markers_ = std::move(list);
+}
+
+void ViewportWidget::placeLabel()
+{
+    std::optional<glm::dvec3> anchor;
+    if (dimension_) anchor = 0.5 * (dimension_->first + dimension_->second);
+    else if (boxShown_) anchor = boxShown_->max;
+    const auto at = anchor ? camera().project(*anchor) : std::nullopt;
+    if (!at || label_->text().isEmpty()) {
+        label_->hide();
+        return;
+    }
+    const double dpr = double(pixelSize().width()) / std::max(1, width());
+    label_->adjustSize();
+    QPoint p(int(at->x / dpr) + 10, int(at->y / dpr) - label_->height() - 6);
+    p.setX(std::clamp(p.x(), 0, std::max(0, width() - label_->width())));
+    p.setY(std::clamp(p.y(), 0, std::max(0, height() - label_->height())));
+    label_->move(p);
+    label_->show();
+    label_->raise();
 }
 
 void ViewportWidget::setSelectedFeatureNodes(std::unordered_set<std::string> nodeIds)
@@ -347,13 +500,51 @@ void ViewportWidget::onPress(QMouseEvent* e)
     pressButton_ = e->button();
     drag_ = Drag::Pending;
     pivot_.reset();
+    if (pressButton_ == Qt::LeftButton) {
+        if (const auto g = moveGizmo()) {
+            const double dpr = devicePixel(QPointF(1, 0)).x - devicePixel(QPointF(0, 0)).x;
+            const GizmoHandle h = g->handleAt(camera(), devicePixel(pressAt_), kGizmoGrabPixels * dpr);
+            if (h != GizmoHandle::None) {
+                drag_ = Drag::Gizmo;
+                gizmoHot_ = h;
+                gizmoDrag_ = GizmoDrag{};
+                gizmoDrag_.handle = h;
+                gizmoDrag_.millimetresPerPixel = camera().millimetresPerPixel(g->origin);
+                pressOrigin_ = g->origin;
+                emit gizmoDragStarted();
+                overlaysChanged();
+                return;
+            }
+        }
+    }
     if (pressButton_ == Qt::LeftButton && !(e->modifiers() & Qt::ShiftModifier)) pivot_ = surfacePointAt(pressAt_);
 }
 
 void ViewportWidget::onMove(QMouseEvent* e)
 {
-    if (drag_ == Drag::None) return;
     const QPointF at = e->position();
+    if (drag_ == Drag::None) {
+        // Hovering: what a click would take.
+        if (snapping_) {
+            const auto snap = snapAt(at);
+            const bool same = snap.has_value() == hoverSnap_.has_value() &&
+                              (!snap || (snap->point == hoverSnap_->point && snap->kind == hoverSnap_->kind));
+            hoverSnap_ = snap;
+            if (!same) overlaysChanged();
+        } else if (const auto g = moveGizmo()) {
+            const double dpr = devicePixel(QPointF(1, 0)).x - devicePixel(QPointF(0, 0)).x;
+            const GizmoHandle h = g->handleAt(camera(), devicePixel(at), kGizmoGrabPixels * dpr);
+            if (h != gizmoHot_) {
+                gizmoHot_ = h;
+                overlaysChanged();
+            }
+        }
+        return;
+    }
+    if (drag_ == Drag::Gizmo) {
+        if (gizmoDrag_.typed.isEmpty()) emitGizmoDrag(at, e->modifiers());
+        return;
+    }
     if (drag_ == Drag::Pending) {
         const QPointF d = at - pressAt_;
         if (std::hypot(d.x(), d.y()) < kDragThresholdPixels) return;
@@ -375,12 +566,46 @@ void ViewportWidget::onMove(QMouseEvent* e)
     sceneChanged();
 }
 
+void ViewportWidget::emitGizmoDrag(QPointF at, Qt::KeyboardModifiers modifiers)
+{
+    // The gizmo as it stood when the drag began: the feature follows the
+    // drag, the measure of the drag does not.
+    const MoveGizmo g{pressGizmoOrigin(), 1.0};
+    const auto d = g.displacement(camera(), gizmoDrag_.handle, devicePixel(pressAt_), devicePixel(at));
+    if (!d) return;
+    gizmoDrag_.displacement = *d;
+    gizmoDrag_.free = modifiers & Qt::ControlModifier;
+    emit gizmoDragged(gizmoDrag_);
+}
+
+void ViewportWidget::endGizmoDrag(bool cancelled)
+{
+    drag_ = Drag::None;
+    gizmoHot_ = GizmoHandle::None;
+    gizmoDrag_ = GizmoDrag{};
+    pressOrigin_.reset();
+    emit gizmoDragFinished(cancelled);
+    overlaysChanged();
+}
+
 void ViewportWidget::onRelease(QMouseEvent* e)
 {
+    if (drag_ == Drag::Gizmo) {
+        if (e->button() == Qt::LeftButton) endGizmoDrag(false);
+        return;
+    }
     const bool click = drag_ == Drag::Pending && e->button() == Qt::LeftButton;
     drag_ = Drag::None;
     if (!click) return;
     ViewportPick pick = pickAt(e->position());
+    if (snapping_) {
+        if (const auto snap = snapAt(e->position())) {
+            pick.hit = true;
+            pick.point = snap->point;
+            pick.snap = snap->kind;
+            if (snap->feature < pickTape_->features().size()) pick.nodeId = pickTape_->features()[snap->feature].nodeId;
+        }
+    }
     pick.modifiers = e->modifiers();
     emit clicked(pick);
 }
@@ -407,6 +632,26 @@ void ViewportWidget::onWheel(QWheelEvent* e)
 
 void ViewportWidget::onKey(QKeyEvent* e)
 {
+    if (drag_ == Drag::Gizmo) {
+        // A distance typed during the drag: digits, a point, a sign.
+        const QString t = e->text();
+        if (e->key() == Qt::Key_Escape) {
+            endGizmoDrag(true);
+        } else if (e->key() == Qt::Key_Return || e->key() == Qt::Key_Enter) {
+            endGizmoDrag(false);
+        } else if (e->key() == Qt::Key_Backspace) {
+            gizmoDrag_.typed.chop(1);
+            emit gizmoDragged(gizmoDrag_);
+        } else if (t.size() == 1 && (t[0].isDigit() || t == "." || t == "-" || t == ",")) {
+            gizmoDrag_.typed += t == "," ? QString(".") : t;
+            emit gizmoDragged(gizmoDrag_);
+        } else {
+            e->ignore();
+            return;
+        }
+        e->accept();
+        return;
+    }
     switch (e->key()) {
     case Qt::Key_F: fitAll(); break;
     case Qt::Key_0: setStandardView("iso"); break;
@@ -414,6 +659,7 @@ void ViewportWidget::onKey(QKeyEvent* e)
     case Qt::Key_3: setStandardView("right"); break;
     case Qt::Key_7: setStandardView("top"); break;
     case Qt::Key_5: setOrthographic(!orthographic()); break;
+    case Qt::Key_Escape: emit escapePressed(); break;
     default: e->ignore(); return;
     }
     e->accept();

@@ -34,6 +34,7 @@ struct PlacedMesh {
     TriangleMesh mesh;
     Affine worldFromLocal;
     glm::vec3 color{0.63f, 0.63f, 0.63f}; // linear RGB
+    float opacity = 1.0f; // below 1 only for ghosts (SceneRenderer::setGhosts)
     Aabb worldBounds() const { return worldFromLocal.apply(mesh.bounds); }
 };
 

@@ -8,7 +8,9 @@
 //  2. the mesh pass rasterizes reference meshes with the same projection,
 //     depth-tested against it, so each hides the other where it is in front;
 //  3. optionally the ground grid (the plane z = 0, depth tested, blended),
-//     marker meshes drawn over everything, and the axis gizmo in a corner.
+//     ghosts (translucent meshes over everything: a selected hole's tool
+//     body), marker meshes drawn over everything (measured points, the move
+//     gizmo, dimensions), and the axis gizmo in a corner.
 // Offscreen (headless) render() reads the colour image back as RGBA; a
 // window's frame is record()ed and its colour image copied to the screen.
 //
@@ -52,6 +54,9 @@ public:
     void setMeshes(const std::vector<PlacedMesh>& meshes);
     /// Replaces the markers: meshes drawn over everything (measured points).
     void setMarkers(const std::vector<PlacedMesh>& markers);
+    /// Replaces the ghosts: meshes blended over everything with their
+    /// PlacedMesh::opacity, under the markers.
+    void setGhosts(const std::vector<PlacedMesh>& ghosts);
 
     /// Traces `voxels` with `tracer`, shades, draws the meshes and reads the
     /// picture back. `features` gives the per-feature colours. The trace is

@@ -49,6 +49,7 @@ struct ViewportScene {
     /// Reference meshes and markers: replaced when their version changes.
     std::shared_ptr<const std::vector<PlacedMesh>> meshes;
     std::shared_ptr<const std::vector<PlacedMesh>> markers;
+    std::shared_ptr<const std::vector<PlacedMesh>> ghosts;
 };
 
 struct FrameStats {

@@ -9,6 +9,13 @@
 // cursor; a click picks the feature under the cursor (exact ray against the
 // part's field). Standard views, fit all and the projection are commands.
 //
+// Over the part: the move gizmo of the selected feature (its arrows and
+// squares take a left drag before the camera does; digits typed during the
+// drag give the distance, Esc cancels), measured points and dimensions with
+// their values in a label, a box's edges, and ghosts (a selected hole's tool
+// body, translucent). While snapping is on (measuring), the cursor shows the
+// corner, hole centre, edge or face a click would take.
+//
 // Threading: every function is for the GUI thread. Frames are drawn on a
 // render thread (Vulkan) or a worker (CPU), from a copy of the scene made
 // when something changes; the GUI thread never waits for a frame, except
@@ -17,7 +24,9 @@
 // No Vulkan type appears here: Vulkan stays inside the viewport module.
 
 #include "kerf/evaluator/Tape.hpp"
+#include "kerf/tracer/MoveGizmo.hpp"
 #include "kerf/tracer/Section.hpp"
+#include "kerf/tracer/SnapPoint.hpp"
 #include "kerf/tracer/ViewController.hpp"
 #include "kerf/viewport/ReferenceMesh.hpp"
 #include "kerf/voxelizer/OcclusionMap.hpp"
@@ -35,6 +44,7 @@
 #include <unordered_set>
 #include <vector>
 
+class QLabel;
 class QMouseEvent;
 class QWheelEvent;
 class QKeyEvent;
@@ -75,6 +85,18 @@ struct ViewportPick {
     glm::dvec3 normal{0.0};
     std::string nodeId;       // the feature's node ("" when none)
     Qt::KeyboardModifiers modifiers;
+    /// With snapping on: what the point is (a corner, a hole centre, ...);
+    /// `point` is then the snapped point.
+    kerf::SnapKind snap = kerf::SnapKind::Face;
+};
+
+/// A drag of the move gizmo, as far as it has come.
+struct GizmoDrag {
+    kerf::GizmoHandle handle = kerf::GizmoHandle::None;
+    glm::dvec3 displacement{0.0}; // world mm, as dragged (unsnapped)
+    double millimetresPerPixel = 0.0; // at the gizmo: how far a pixel reaches there
+    bool free = false;            // Ctrl held: no snapping
+    QString typed;                // a distance typed during the drag ("" when none)
 };
 
 class ViewportWidget : public QWidget {
@@ -91,6 +113,31 @@ public:
     void setMeshes(std::vector<PlacedMesh> meshes);
     /// Points drawn as markers (measured points).
     void setMarkers(const std::vector<glm::dvec3>& points);
+    /// A dimension: a line between two points with `text` beside it, until
+    /// cleared (none).
+    void setDimension(std::optional<std::pair<glm::dvec3, glm::dvec3>> ends, const QString& text = {});
+    /// A box drawn by its edges, `text` beside it (none: no box).
+    void setBoxShown(std::optional<Aabb> box, const QString& text = {});
+    /// The dimension's or the box's label as shown ("" when none).
+    QString dimensionText() const;
+    /// Translucent meshes over everything (a selected tool body).
+    void setGhosts(std::vector<PlacedMesh> ghosts);
+    bool hasGhosts() const { return ghosts_ && !ghosts_->empty(); }
+    /// Ends a gizmo drag under way as if Esc had been pressed in the view.
+    void cancelGizmoDrag();
+    /// The move gizmo at this world point (none: no gizmo).
+    void setMoveGizmo(std::optional<glm::dvec3> origin);
+    std::optional<glm::dvec3> moveGizmoOrigin() const { return gizmoOrigin_; }
+    /// The gizmo as drawn in the current view (none when there is none).
+    std::optional<MoveGizmo> moveGizmo() const;
+    /// Clicks and the cursor snap to corners, hole centres and edges (measuring).
+    void setSnapping(bool on);
+    /// The snap under a widget position (logical pixels), on the exact field.
+    std::optional<SnapPoint> snapAt(QPointF position) const;
+    /// The camera of the current view, in device pixels.
+    Camera camera() const;
+    /// Device pixels of a widget position (logical pixels).
+    glm::dvec2 devicePixel(QPointF position) const;
     /// Features of these (primitive) node ids are drawn selected.
     void setSelectedFeatureNodes(std::unordered_set<std::string> nodeIds);
     void setSection(const Section& section);
@@ -124,6 +171,13 @@ protected:
 signals:
     /// A click (press and release without a drag) on the viewport.
     void clicked(const kerf::qt::ViewportPick& pick);
+    /// The move gizmo: a drag began on a handle, went on (or a distance was
+    /// typed), ended (Enter or the button let go) or was cancelled (Esc).
+    void gizmoDragStarted();
+    void gizmoDragged(const kerf::qt::GizmoDrag& drag);
+    void gizmoDragFinished(bool cancelled);
+    /// Esc in the view with no drag under way (clears a measurement).
+    void escapePressed();
     /// A frame was drawn; status() has its figures.
     void frameDrawn();
     /// The viewport fell back to the CPU tracer (the reason in status()).
@@ -162,13 +216,14 @@ private:
     double framedExtent_ = 0.0; // the part's largest extent when the view last framed it (mm)
     std::shared_ptr<const VoxelSnapshot> snapshot_;
     std::shared_ptr<const Tape> pickTape_;
-    std::shared_ptr<const std::vector<PlacedMesh>> meshes_, markers_;
+    std::shared_ptr<const std::vector<PlacedMesh>> meshes_;
+    mutable std::shared_ptr<const std::vector<PlacedMesh>> markers_;
     std::shared_ptr<const std::unordered_set<std::string>> selected_;
     Section section_;
     bool grid_ = true, axes_ = true, exactEdges_ = false;
 
     // Mouse state.
-    enum class Drag { None, Pending, Orbit, Pan };
+    enum class Drag { None, Pending, Orbit, Pan, Gizmo };
     Drag drag_ = Drag::None;
     QPointF pressAt_, lastAt_;
     Qt::MouseButton pressButton_ = Qt::NoButton;
@@ -185,6 +240,28 @@ private:
     void refitIfRescaled();
     void tellSettledView();
 
+    // What is drawn over the part (markers and ghosts in the scene).
+    std::vector<glm::dvec3> markerPoints_;
+    std::optional<std::pair<glm::dvec3, glm::dvec3>> dimension_;
+    std::optional<Aabb> boxShown_;
+    std::optional<SnapPoint> hoverSnap_;
+    bool snapping_ = false;
+    std::optional<glm::dvec3> gizmoOrigin_;
+    GizmoHandle gizmoHot_ = GizmoHandle::None; // under the cursor, or being dragged
+    GizmoDrag gizmoDrag_;
+    std::shared_ptr<const std::vector<PlacedMesh>> ghosts_;
+    mutable double overlayScale_ = 0.0; // mm per pixel the markers were sized for
+    mutable bool overlaysDirty_ = true;
+    QLabel* label_ = nullptr; // the dimension's value, over the view
+    std::optional<glm::dvec3> pressOrigin_; // the gizmo's origin when its drag began
+    glm::dvec3 pressGizmoOrigin() const { return pressOrigin_.value_or(gizmoOrigin_.value_or(glm::dvec3(0.0))); }
+    glm::dvec3 overlayReference() const; // where overlay sizes are measured
+    void overlaysChanged();
+    void rebuildOverlays() const;
+    void placeLabel();
+    void endGizmoDrag(bool cancelled);
+    void emitGizmoDrag(QPointF at, Qt::KeyboardModifiers modifiers);
+
     std::unique_ptr<ViewportBackend> backend_;
     ViewportStatus status_;
 };
@@ -193,4 +270,5 @@ private:
 
 Q_DECLARE_METATYPE(kerf::qt::ViewportPick)
 Q_DECLARE_METATYPE(kerf::qt::ViewportStatus)
+Q_DECLARE_METATYPE(kerf::qt::GizmoDrag)
 Q_DECLARE_METATYPE(kerf::ViewRequirement)

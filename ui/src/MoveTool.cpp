@@ -1,0 +1,167 @@
+#include "MoveTool.hpp"
+
+#include "DocumentSession.hpp"
+#include "NodeText.hpp"
+#include "kerf/document/NodePlacement.hpp"
+#include "kerf/evaluator/TapeCompiler.hpp"
+
+#include <QLocale>
+#include <QRegularExpression>
+
+#include <glm/geometric.hpp>
+
+#include <unordered_set>
+
+namespace kerf::ui {
+
+namespace {
+
+// How near (pixels) another feature's face or centre pulls the dragged one.
+constexpr double kAlignPixels = 8.0;
+
+const char* const kAxisName[3] = {"X", "Y", "Z"};
+
+QString distanceText(double mm) { return QString::number(mm, 'f', 2).remove(QRegularExpression("\\.?0+$")); }
+
+void collectIds(const Node& n, std::unordered_set<std::string>& ids)
+{
+    ids.insert(n.id);
+    for (const Node& c : n.children) collectIds(c, ids);
+}
+
+} // namespace
+
+MoveTool::MoveTool(DocumentSession* session, qt::ViewportWidget* viewport, QObject* parent)
+    : QObject(parent), session_(session), viewport_(viewport)
+{
+    connect(viewport_, &qt::ViewportWidget::gizmoDragStarted, this, &MoveTool::started);
+    connect(viewport_, &qt::ViewportWidget::gizmoDragged, this, &MoveTool::dragged);
+    connect(viewport_, &qt::ViewportWidget::gizmoDragFinished, this, &MoveTool::finished);
+}
+
+void MoveTool::setNode(const std::string& id)
+{
+    if (dragging_) return; // the drag's own edits: the gizmo follows in place()
+    id_ = id == session_->document().root.id ? std::string() : id;
+    place();
+}
+
+void MoveTool::setEnabled(bool on)
+{
+    enabled_ = on;
+    place();
+}
+
+void MoveTool::place()
+{
+    std::optional<glm::dvec3> origin;
+    if (enabled_ && !id_.empty() && session_->document().root.find(id_)) {
+        const Aabb b = edit::firstInstanceBounds(session_->document(), id_);
+        if (!b.isEmpty() && b.isBounded()) origin = b.center();
+    }
+    viewport_->setMoveGizmo(origin);
+}
+
+void MoveTool::started()
+{
+    if (id_.empty()) return;
+    dragging_ = true;
+    moved_ = false;
+    ++serial_;
+    start_ = session_->document();
+    startBounds_ = edit::firstInstanceBounds(start_, id_);
+    // Every other primitive copy, by its placed bounds: what the drag lines up with.
+    std::unordered_set<std::string> moving;
+    if (const Node* n = start_.root.find(id_)) collectIds(*n, moving);
+    targets_.clear();
+    try {
+        const Tape tape = compileTape(start_);
+        for (const ShapeInstance& s : tape.shapes()) {
+            const std::string& owner = tape.features()[s.feature].nodeId;
+            if (moving.count(owner)) continue;
+            const Node* n = start_.root.find(owner);
+            targets_.push_back({n ? featureName(*n).toStdString() : owner, s.worldBounds});
+        }
+    } catch (const std::exception&) {
+        // Nothing to line up with: the grid still snaps.
+    }
+}
+
+void MoveTool::dragged(const qt::GizmoDrag& drag)
+{
+    if (!dragging_) return;
+    const int axis = gizmoAxisIndex(drag.handle);
+    if (axis < 0) return;
+    const double reach = kAlignPixels * drag.millimetresPerPixel;
+    const double step = drag.free ? 0.0 : gridStepFor(drag.millimetresPerPixel);
+    glm::dvec3 delta(0.0);
+    QString how;
+    if (!isPlaneHandle(drag.handle)) {
+        const double raw = drag.displacement[axis];
+        if (!drag.typed.isEmpty()) {
+            bool ok = false;
+            const double typed = drag.typed == "-" ? 0.0 : QLocale::c().toDouble(drag.typed, &ok);
+            delta[axis] = ok ? typed : 0.0;
+            how = tr("typed: %1 mm, Enter to finish").arg(drag.typed);
+        } else if (drag.free) {
+            delta[axis] = raw;
+            how = tr("no snapping");
+        } else {
+            const AxisSnap s = snapAxisMove(startBounds_, axis, raw, targets_, reach, step);
+            delta[axis] = s.delta;
+            how = QString::fromStdString(s.reason);
+        }
+    } else {
+        QStringList reasons;
+        for (int a = 0; a < 3; ++a) {
+            if (a == axis) continue;
+            const AxisSnap s = drag.free ? AxisSnap{drag.displacement[a], {}}
+                                         : snapAxisMove(startBounds_, a, drag.displacement[a], targets_, reach, step);
+            delta[a] = s.delta;
+            if (!s.reason.empty()) reasons << QString("%1 %2").arg(kAxisName[a], QString::fromStdString(s.reason));
+        }
+        how = drag.free ? tr("no snapping") : reasons.join("; ");
+    }
+    const Node* node = start_.root.find(id_);
+    if (!node) return;
+    QString where;
+    if (!isPlaneHandle(drag.handle)) {
+        where = tr("%1 mm along %2").arg(distanceText(delta[axis]), kAxisName[axis]);
+    } else {
+        QStringList parts;
+        for (int a = 0; a < 3; ++a)
+            if (a != axis) parts << QString("%1 %2").arg(kAxisName[a], distanceText(delta[a]));
+        where = tr("by %1 mm").arg(parts.join(", "));
+    }
+    const QString text = tr("Move %1 %2").arg(featureName(*node), where);
+    QString error;
+    const std::string id = id_;
+    const Document start = start_;
+    if (!session_->apply(text, [&](Document& d) {
+            d = start;
+            edit::moveNodeInWorld(d, id, delta);
+        }, &error, QString("gizmo-%1").arg(serial_))) {
+        emit message(error);
+        return;
+    }
+    moved_ = moved_ || delta != glm::dvec3(0.0);
+    place();
+    emit message(tr("%1 (%2). Type a distance; Esc cancels.").arg(text, how));
+}
+
+void MoveTool::finished(bool cancelled)
+{
+    if (!dragging_) return;
+    dragging_ = false;
+    if (cancelled && moved_) {
+        // Back to where it was: the merged step becomes a no-op and leaves the stack.
+        const Document start = start_;
+        session_->apply(tr("Move"), [&](Document& d) { d = start; }, nullptr, QString("gizmo-%1").arg(serial_));
+        emit message(tr("Move cancelled."));
+    } else {
+        emit message(QString());
+    }
+    place();
+}
+
+} // namespace kerf::ui

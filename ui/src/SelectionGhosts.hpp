@@ -1,0 +1,41 @@
+#pragma once
+// Ghosts of selected tools: a selected hole (any feature a difference takes
+// away) has no surface of its own to tint, so its tool body is drawn
+// translucent over the part. The body is meshed from the exact field of the
+// feature alone (edit::documentOfNodeAlone, every array copy included) in
+// the background; a newer selection cancels an older mesh.
+
+#include "kerf/document/Document.hpp"
+#include "kerf/viewport/qt/ViewportWidget.hpp"
+
+#include <QObject>
+
+#include <atomic>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace kerf::ui {
+
+class SelectionGhosts : public QObject {
+    Q_OBJECT
+public:
+    explicit SelectionGhosts(qt::ViewportWidget* viewport, QObject* parent = nullptr);
+    ~SelectionGhosts() override;
+
+    /// Shows the ghosts of those of `ids` that the part subtracts (none: clears).
+    void show(const Document& doc, const std::vector<std::string>& ids);
+    /// Whether a ghost is still being meshed.
+    bool busy() const { return pending_ > 0; }
+
+signals:
+    /// The ghosts asked for last are in the viewport.
+    void ready();
+
+private:
+    qt::ViewportWidget* viewport_;
+    std::shared_ptr<std::atomic<std::uint64_t>> generation_;
+    int pending_ = 0;
+};
+
+} // namespace kerf::ui
