@@ -55,8 +55,9 @@ void MeasureTool::setActive(bool on)
     active_ = on;
     viewport_->setSnapping(on);
     if (!on) {
-        // An unfinished measurement goes; a finished one stays until cleared.
+        // An unfinished measurement goes; a finished one (or a box) stays until cleared.
         if (points_.size() == 1) clear();
+        if (viewport_->dimensionText().isEmpty()) panel_->clear();
         return;
     }
     clear();
