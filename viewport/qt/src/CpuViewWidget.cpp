@@ -7,10 +7,62 @@
 #include <QPainter>
 #include <QWheelEvent>
 
+#include <glm/geometric.hpp>
+
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <optional>
 #include <cstring>
 
 namespace kerf::qt {
+
+namespace {
+
+// Ghosts (translucent) and markers drawn over the traced picture, as the GPU
+// pass draws them over everything: flat-lit triangles, farthest first.
+void paintOverlays(QImage& picture, const Camera& camera, const vk::ViewportScene& scene)
+{
+    struct Flat {
+        QPolygonF corners;
+        double depth;
+        QColor color;
+    };
+    const auto lit = [&](const PlacedMesh& m, const glm::vec3& normal) {
+        const double facing = std::abs(glm::dot(glm::dvec3(normal), camera.forward()));
+        const auto channel = [&](float linear) {
+            return int(std::clamp(std::pow(linear * (0.35 + 0.65 * facing), 1.0 / 2.2), 0.0, 1.0) * 255.0);
+        };
+        return QColor(channel(m.color.r), channel(m.color.g), channel(m.color.b), int(m.opacity * 255.0f));
+    };
+    QPainter p(&picture);
+    p.setRenderHint(QPainter::Antialiasing);
+    for (const auto* list : {scene.ghosts.get(), scene.markers.get()}) {
+        if (!list) continue;
+        std::vector<Flat> flats;
+        for (const PlacedMesh& m : *list)
+            for (std::size_t i = 0; i + 2 < m.mesh.positions.size(); i += 3) {
+                Flat f{{}, 0.0, lit(m, m.mesh.normals[i])};
+                bool seen = true;
+                for (std::size_t k = i; k < i + 3 && seen; ++k) {
+                    const glm::dvec3 w = m.worldFromLocal.apply(m.mesh.positions[k]);
+                    const auto at = camera.project(w);
+                    seen = at.has_value();
+                    if (seen) f.corners << QPointF(at->x, at->y);
+                    f.depth += glm::dot(w - camera.eye(), camera.forward());
+                }
+                if (seen) flats.push_back(std::move(f));
+            }
+        std::sort(flats.begin(), flats.end(), [](const Flat& a, const Flat& b) { return a.depth > b.depth; });
+        for (const Flat& f : flats) {
+            p.setPen(f.color.alpha() == 255 ? QPen(f.color, 0.5) : QPen(Qt::NoPen));
+            p.setBrush(f.color);
+            p.drawPolygon(f.corners);
+        }
+    }
+}
+
+} // namespace
 
 CpuViewWidget::CpuViewWidget(ViewportWidget* owner, QString reason) : QWidget(owner), owner_(owner), reason_(std::move(reason))
 {
@@ -62,6 +114,21 @@ void CpuViewWidget::work()
 {
     std::shared_ptr<const VoxelSnapshot> flattenedFrom;
     FlatVoxelBuffers buffers;
+    // What the last trace showed: a scene that changes only what is drawn
+    // over the part (a hover snap, the gizmo) is shaded again, not traced.
+    struct TraceKey {
+        const VoxelSnapshot* snapshot = nullptr;
+        glm::dvec3 eye{0.0}, forward{0.0}, up{0.0};
+        double halfHeight = 0.0;
+        int width = 0, height = 0;
+        Projection projection = Projection::Perspective;
+        Section section;
+        TraceQuality quality = TraceQuality::Voxels;
+        bool operator==(const TraceKey&) const = default;
+    };
+    std::optional<TraceKey> tracedKey;
+    TraceImage traced(1, 1);
+    double tracedMs = 0.0; // how long that trace took (reported again while it is reused)
     for (;;) {
         vk::ViewportScene scene;
         QSize size;
@@ -85,9 +152,15 @@ void CpuViewWidget::work()
         const Aabb bounds = scene.snapshot ? scene.snapshot->layout.bounds() : Aabb::empty();
         const Camera camera = scene.view.camera(w, h, bounds);
         const auto traceStart = std::chrono::steady_clock::now();
-        TraceImage image = scene.snapshot ? traceVoxels(buffers, camera, 0, scene.section, scene.quality) : TraceImage(w, h);
-        const double traceMs =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - traceStart).count();
+        const TraceKey key{scene.snapshot.get(), camera.eye(),   camera.forward(), camera.up(),   camera.halfHeight(),
+                           w,                    h,              camera.projection(), scene.section, scene.quality};
+        if (!tracedKey || !(*tracedKey == key)) {
+            traced = scene.snapshot ? traceVoxels(buffers, camera, 0, scene.section, scene.quality) : TraceImage(w, h);
+            tracedKey = key;
+            tracedMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - traceStart).count();
+        }
+        const double traceMs = tracedMs;
+        TraceImage image = traced;
         // Selected features in the highlight colour; caps in the section colour.
         std::vector<Feature> features = scene.snapshot && scene.snapshot->features ? *scene.snapshot->features
                                                                                    : std::vector<Feature>{};
@@ -108,6 +181,7 @@ void CpuViewWidget::work()
         for (int y = 0; y < rgba.height; ++y)
             std::memcpy(picture.scanLine(y), rgba.pixels.data() + std::size_t(y) * std::size_t(rgba.width) * 4,
                         std::size_t(rgba.width) * 4);
+        paintOverlays(picture, camera, scene);
         ViewportStatus s;
         s.vulkan = false;
         s.device = tr("CPU reference tracer");
