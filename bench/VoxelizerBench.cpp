@@ -1,6 +1,8 @@
 // Voxelizer benchmarks (issue 3): cold voxelization of the default chair at
 // several feature sizes and thread counts, re-voxelization after moving one
-// dowel hole, tiles against depth, and a seed-comparable case.
+// dowel hole, tiles against depth, and a seed-comparable case; and the
+// tiles' exact tapes evaluated as the hybrid refinement does (values, and
+// values with gradients) at points spread over each tile.
 //
 //   build/bench/kerf_bench_voxelizer [--benchmark_filter=...]
 
@@ -8,6 +10,7 @@
 #include "kerf/voxelizer/Voxelize.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
 #include "kerf/tracer/ViewController.hpp"
+#include "kerf/voxelizer/TileTape.hpp"
 #include "kerf/voxelizer/Voxelizer.hpp"
 
 #include <benchmark/benchmark.h>
@@ -192,6 +195,40 @@ BENCHMARK(BM_SeedBumpySphere)
     ->ArgNames({"tiles_per_axis", "threads"})
     ->Args({1, 1})->Args({16, 1})->Args({16, 2})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The chair's surface tiles' exact tapes (2 mm), each at 64 points of its
+// tile: the CPU reference tracer's hybrid refinement runs exactly this.
+// Arg 0: values (evaluateTileTape), 1: with gradients (evaluateTileTapeGradient).
+void BM_TileTapeEvaluation(benchmark::State& state)
+{
+    static const VoxelSnapshot chair = [] {
+        const Tape tape = compileTape(chairDocument());
+        return voxelize(tape, GridLayout::choose(tape.bounds(), 2.0));
+    }();
+    std::vector<const std::vector<std::uint32_t>*> tapes;
+    for (const auto& t : chair.tiles)
+        if (t && !t->tape.empty()) tapes.push_back(&t->tape);
+    const float edge = float(chair.layout.tileSize);
+    std::size_t evaluations = 0;
+    for (auto _ : state) {
+        float sum = 0.0f;
+        for (const auto* tape : tapes)
+            for (int i = 0; i < 64; ++i) {
+                const glm::vec3 p = edge * glm::vec3((i & 3) + 0.5f, ((i >> 2) & 3) + 0.5f, (i >> 4) + 0.5f) / 4.0f;
+                if (state.range(0) == 0) {
+                    sum += voxel::evaluateTileTape(tape->data(), p);
+                } else {
+                    std::uint32_t feature = 0;
+                    sum += voxel::evaluateTileTapeGradient(tape->data(), p, feature).y;
+                }
+            }
+        benchmark::DoNotOptimize(sum);
+        evaluations += tapes.size() * 64;
+    }
+    state.counters["tapes"] = double(tapes.size());
+    state.counters["evaluations_per_s"] = benchmark::Counter(double(evaluations), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_TileTapeEvaluation)->ArgNames({"gradient"})->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 } // namespace
 } // namespace kerf
