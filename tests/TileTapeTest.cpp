@@ -6,6 +6,7 @@
 #include "kerf/voxelizer/TileTape.hpp"
 #include "kerf/evaluator/IntervalEvaluator.hpp"
 #include "kerf/evaluator/PointEvaluator.hpp"
+#include "kerf/evaluator/Primitives.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
 #include "support/RandomShapes.hpp"
@@ -157,6 +158,36 @@ TEST(TileTape, RefusesWhatTheGpuEvaluatorCannotHold)
     EXPECT_FALSE(voxel::encodeTileTape(tapeOf(longest, false)).empty());
     EXPECT_TRUE(voxel::encodeTileTape(tapeOf(longest + 1, false)).empty()) << "too many instructions";
     EXPECT_TRUE(voxel::encodeTileTape(Tape{}).empty());
+}
+
+} // namespace
+} // namespace kerf
+
+namespace kerf {
+namespace {
+
+// A shape kind this build does not know (a newer file's, or one forgotten in
+// an evaluator) is NaN everywhere, never a plane or a silent zero; under a
+// min the whole value is NaN, not the other operand's.
+TEST(TileTape, AnUnknownShapeKindIsNaNNotAPlane)
+{
+    test::RandomShapes r(5);
+    const Tape tape = compileTape(test::RandomShapes::document(r.operation(NodeType::Union)));
+    std::vector<std::uint32_t> words = voxel::encodeTileTape(tape);
+    ASSERT_GE(words.size(), 2u);
+    const std::uint32_t shapesAt = KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * words[0];
+    for (std::uint32_t kind : {KERF_SHAPE_KINDS, 200u, 0x100u}) { // 0x100 would wrap to a box in a uint8 cast
+        std::vector<std::uint32_t> w = words;
+        w[shapesAt] = kind;
+        std::uint32_t feature = 0;
+        EXPECT_TRUE(std::isnan(voxel::evaluateTileTape(w.data(), glm::vec3(1, 2, 3)))) << kind;
+        EXPECT_TRUE(std::isnan(voxel::evaluateTileTapeGradient(w.data(), glm::vec3(1, 2, 3), feature).x)) << kind;
+    }
+    // The document's evaluators alike.
+    ShapeInstance unknown = tape.shapes().front();
+    unknown.kind = ShapeKind(99);
+    EXPECT_TRUE(std::isnan(shapeDistanceLocal<double>(unknown, 1.0, 2.0, 3.0)));
+    EXPECT_TRUE(std::isnan(shapeDistanceLocal<Dual<float>>(unknown, 1.0f, 2.0f, 3.0f).v));
 }
 
 } // namespace

@@ -42,7 +42,28 @@ std::optional<NodeType> nodeTypeFromName(std::string_view name)
     return std::nullopt;
 }
 
-bool isPrimitive(NodeType type) { return type <= NodeType::Halfspace; }
+bool isPrimitive(NodeType type)
+{
+    // Named one by one (no default): a type added to NodeType must be placed
+    // here or the build fails (-Wswitch), whatever its place in the enum.
+    switch (type) {
+    case NodeType::Box:
+    case NodeType::Sphere:
+    case NodeType::Cylinder:
+    case NodeType::Cone:
+    case NodeType::Torus:
+    case NodeType::Extrude:
+    case NodeType::Halfspace: return true;
+    case NodeType::Union:
+    case NodeType::Intersection:
+    case NodeType::Difference:
+    case NodeType::Offset:
+    case NodeType::Shell:
+    case NodeType::Array:
+    case NodeType::Mirror: return false;
+    }
+    return false;
+}
 
 bool isBoolean(NodeType type)
 {

@@ -98,41 +98,43 @@ void evaluateShape(const ShapeInstance& s, const S* x, const S* y, const S* z, s
     case ShapeKind::Box: {
         const V bx = p(0), by = p(1), bz = p(2), r = p(3);
         forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return sdf::box(a, b, c, bx, by, bz, r); });
-        break;
+        return;
     }
     case ShapeKind::Sphere: {
         const V r = p(0);
         forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return sdf::sphere(a, b, c, r); });
-        break;
+        return;
     }
     case ShapeKind::Cylinder: {
         const V r = p(0), h = p(1);
         forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return sdf::cylinder(a, b, c, r, h); });
-        break;
+        return;
     }
     case ShapeKind::Cone: {
         const V r1 = p(0), r2 = p(1), h = p(2), kx = p(3), ky = p(4), inv = p(5);
         forEachPoint(f, x, y, z, n, dst,
                      [&](V a, V b, V c) { return sdf::cone(a, b, c, r1, r2, h, kx, ky, inv); });
-        break;
+        return;
     }
     case ShapeKind::Torus: {
         const V R = p(0), r = p(1);
         forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return sdf::torus(a, b, c, R, r); });
-        break;
+        return;
     }
     case ShapeKind::Halfspace: {
         const V nx = p(0), ny = p(1), nz = p(2), o = p(3);
         forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return sdf::halfspace(a, b, c, nx, ny, nz, o); });
-        break;
+        return;
     }
     case ShapeKind::Extrude:
         if constexpr (std::is_same_v<V, S>)
             extrudeBlock(s, x, y, z, n, dst);
         else
             forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return shapeDistanceLocal<V>(s, a, b, c); });
-        break;
+        return;
     }
+    // A kind the switch does not name (out of ShapeKind's range): NaN, never a plane.
+    for (std::size_t i = 0; i < n; ++i) dst[i] = V(std::numeric_limits<S>::quiet_NaN());
 }
 
 template <class V> inline bool lessThan(const V& a, const V& b)

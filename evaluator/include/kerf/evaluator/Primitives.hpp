@@ -19,6 +19,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 #include <type_traits>
 
 namespace kerf {
@@ -94,7 +96,8 @@ template <class T> T extrusion(T d2, T z, T halfHeight)
 }
 
 /// Signed distance to a simple polygon in XY (negative inside), exact.
-template <class T, class V> T polygon2d(T x, T y, const std::vector<V>& v)
+/// `v`: the points in order, anything with size() and [i].x, [i].y.
+template <class T, class Points> T polygon2d(T x, T y, const Points& v)
 {
     using B = BaseScalarT<T>;
     const std::size_t n = v.size();
@@ -115,34 +118,44 @@ template <class T, class V> T polygon2d(T x, T y, const std::vector<V>& v)
 
 } // namespace sdf
 
-/// Distance to a shape at a point of its local frame, for scalar-like T
-/// (float, double, Dual<float>, Dual<double>).
-template <class T> T shapeDistanceLocal(const ShapeInstance& s, T x, T y, T z)
+/// The field of a primitive of `kind` at (x, y, z) of its local frame, for
+/// scalar-like T (float, double, Dual<float>, Dual<double>): `p(i)` gives
+/// its i-th parameter as T (ShapeInstance::param's layout, above), `profile`
+/// an extrusion's points (polygon2d's `v`). Every evaluator of points goes
+/// through here (the document's tape and the tiles' encoded tapes alike).
+/// A kind this switch does not name is NaN, never a plane; a kind added to
+/// ShapeKind and left out here does not compile (-Wswitch, -Werror in CI).
+template <class T, class Param, class Profile>
+T primitiveDistance(ShapeKind kind, T x, T y, T z, const Param& p, const Profile& profile)
 {
-    using B = BaseScalarT<T>;
-    auto p = [&](int i) -> T {
-        if constexpr (std::is_same_v<B, float>)
-            return T(s.paramF[static_cast<std::size_t>(i)]);
-        else
-            return T(s.param[static_cast<std::size_t>(i)]);
-    };
-    switch (s.kind) {
+    switch (kind) {
     case ShapeKind::Box: return sdf::box(x, y, z, p(0), p(1), p(2), p(3));
     case ShapeKind::Sphere: return sdf::sphere(x, y, z, p(0));
     case ShapeKind::Cylinder: return sdf::cylinder(x, y, z, p(0), p(1));
     case ShapeKind::Cone: return sdf::cone(x, y, z, p(0), p(1), p(2), p(3), p(4), p(5));
     case ShapeKind::Torus: return sdf::torus(x, y, z, p(0), p(1));
     case ShapeKind::Halfspace: return sdf::halfspace(x, y, z, p(0), p(1), p(2), p(3));
-    case ShapeKind::Extrude: {
-        T d2;
-        if constexpr (std::is_same_v<B, float>)
-            d2 = sdf::polygon2d(x, y, s.polygon->pointsF);
-        else
-            d2 = sdf::polygon2d(x, y, s.polygon->points);
-        return sdf::extrusion(d2, z, p(0));
+    case ShapeKind::Extrude: return sdf::extrusion(sdf::polygon2d(x, y, profile), z, p(0));
     }
+    return T(std::numeric_limits<BaseScalarT<T>>::quiet_NaN());
+}
+
+/// Distance to a placed primitive at a point of its local frame (float
+/// evaluation takes the float copies of parameters and profile).
+template <class T> T shapeDistanceLocal(const ShapeInstance& s, T x, T y, T z)
+{
+    using B = BaseScalarT<T>;
+    if constexpr (std::is_same_v<B, float>) {
+        static const std::vector<glm::vec2> none;
+        const auto& profile = s.polygon ? s.polygon->pointsF : none;
+        return primitiveDistance(s.kind, x, y, z, [&](int i) { return T(s.paramF[static_cast<std::size_t>(i)]); },
+                                 profile);
+    } else {
+        static const std::vector<glm::dvec2> none;
+        const auto& profile = s.polygon ? s.polygon->points : none;
+        return primitiveDistance(s.kind, x, y, z, [&](int i) { return T(s.param[static_cast<std::size_t>(i)]); },
+                                 profile);
     }
-    return T(0);
 }
 
 } // namespace kerf

@@ -36,6 +36,7 @@
 #define KERF_SHAPE_TORUS 4u
 #define KERF_SHAPE_EXTRUDE 5u
 #define KERF_SHAPE_HALFSPACE 6u
+#define KERF_SHAPE_KINDS 7u // kinds from 0 to this, exclusive; any other word is an error (NaN)
 
 #define KERF_TAPE_HEADER_WORDS 2u
 #define KERF_TAPE_INSTRUCTION_WORDS 2u

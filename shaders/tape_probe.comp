@@ -1,0 +1,36 @@
+#version 460
+// Evaluates one encoded tile tape at many points through the GLSL tape
+// library (tape.glsl): TapeProbe's kernel, for the test that holds the GLSL
+// and C++ tape evaluators to the same values.
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_GOOGLE_include_directive : require
+
+layout(local_size_x = 64) in;
+
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Words { uint w[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Points { vec4 p[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) writeonly buffer Results { vec4 r[]; };
+
+layout(push_constant) uniform Push
+{
+    uint64_t tape;      // the encoded tape's words
+    uint64_t points;    // vec4 per point (xyz: tile-relative mm)
+    uint64_t results;   // two vec4 per point: (value, feature bits, 0, 0), then the dual (value, gradient)
+    uint count;
+} pc;
+
+uint tapeWord(uint t, uint i) { return Words(pc.tape).w[t + i]; }
+
+#include "tape.glsl"
+
+void main()
+{
+    const uint i = gl_GlobalInvocationID.x;
+    if (i >= pc.count) return;
+    const vec3 p = Points(pc.points).p[i].xyz;
+    uint feature;
+    const vec4 dual = evaluateTileTapeGradient(0u, p, feature);
+    Results(pc.results).r[2u * i] = vec4(evaluateTileTape(0u, p), uintBitsToFloat(feature), 0.0, 0.0);
+    Results(pc.results).r[2u * i + 1u] = dual;
+}

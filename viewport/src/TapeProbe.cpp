@@ -1,0 +1,87 @@
+#include "kerf/viewport/TapeProbe.hpp"
+
+#include "kerf/viewport/GpuBuffer.hpp"
+#include "kerf/viewport/VulkanError.hpp"
+
+#include "tape_probe.comp.h"
+
+#include <bit>
+#include <cstring>
+
+namespace kerf::vk {
+
+namespace {
+
+struct ProbePush {
+    std::uint64_t tape, points, results;
+    std::uint32_t count;
+    std::uint32_t pad;
+};
+
+constexpr std::uint32_t kGroup = 64; // tape_probe.comp's local size
+
+} // namespace
+
+TapeProbe::TapeProbe(const Context& ctx) : ctx_(ctx)
+{
+    VkDevice dev = ctx.device();
+    VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    smci.codeSize = sizeof(kTapeProbeComp);
+    smci.pCode = kTapeProbeComp;
+    VkShaderModule sm;
+    check(vkCreateShaderModule(dev, &smci, nullptr, &sm), "vkCreateShaderModule (tape_probe.comp)");
+    module_ = ShaderModule(dev, sm);
+    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(ProbePush)};
+    VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    plci.pushConstantRangeCount = 1;
+    plci.pPushConstantRanges = &range;
+    VkPipelineLayout pl;
+    check(vkCreatePipelineLayout(dev, &plci, nullptr, &pl), "vkCreatePipelineLayout (tape probe)");
+    layout_ = PipelineLayout(dev, pl);
+    VkComputePipelineCreateInfo cpci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    cpci.stage.module = module_;
+    cpci.stage.pName = "main";
+    cpci.layout = layout_;
+    VkPipeline p;
+    check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cpci, nullptr, &p), "vkCreateComputePipelines (tape probe)");
+    pipeline_ = Pipeline(dev, p);
+}
+
+std::vector<TapeProbe::Result> TapeProbe::evaluate(const std::vector<std::uint32_t>& tape,
+                                                   const std::vector<glm::vec3>& points) const
+{
+    if (tape.empty() || points.empty()) return {};
+    const GpuBuffer words = uploadBuffer(ctx_, tape.data(), tape.size() * sizeof(std::uint32_t),
+                                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "probe tape");
+    std::vector<glm::vec4> at;
+    at.reserve(points.size());
+    for (const glm::vec3& p : points) at.emplace_back(p, 0.0f);
+    const GpuBuffer where = uploadBuffer(ctx_, at.data(), at.size() * sizeof(glm::vec4),
+                                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "probe points");
+    const GpuBuffer results(ctx_, 2 * points.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                            GpuBuffer::Kind::Readback, "probe results");
+    const ProbePush push{words.address(), where.address(), results.address(), std::uint32_t(points.size()), 0};
+    ctx_.submitAndWait([&](VkCommandBuffer cb) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+        vkCmdPushConstants(cb, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+        vkCmdDispatch(cb, (std::uint32_t(points.size()) + kGroup - 1) / kGroup, 1, 1);
+        VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+        barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0,
+                             nullptr, 0, nullptr);
+    });
+    std::vector<glm::vec4> raw(2 * points.size());
+    std::memcpy(raw.data(), results.mapped(), raw.size() * sizeof(glm::vec4));
+    std::vector<Result> out(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        out[i].value = raw[2 * i].x;
+        out[i].feature = std::bit_cast<std::uint32_t>(raw[2 * i].y);
+        out[i].dual = raw[2 * i + 1];
+    }
+    return out;
+}
+
+} // namespace kerf::vk
