@@ -2,6 +2,7 @@
 // subcommand kerf opens the desktop application.
 
 #include "kerf/app/Commands.hpp"
+#include "kerf/app/InstalledResources.hpp"
 #include "kerf/app/TradePlot.hpp"
 #include "kerf/document/PrintableText.hpp"
 #include "kerf/ui/Desktop.hpp"
@@ -75,7 +76,7 @@ int main(int argc, char** argv)
         std::optional<std::filesystem::path> file;
         for (const auto& a : args)
             if (a.size() > 5 && a.ends_with(".kerf")) file = a;
-        return kerf::ui::runDesktop(argc, argv, file);
+        return kerf::ui::runDesktop(argc, argv, file, kerf::defaultExample());
     }
     const std::string command = args.front();
     const std::vector<std::string> rest(args.begin() + 1, args.end());
