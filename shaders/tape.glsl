@@ -21,6 +21,10 @@
 
 float tapeFloat(uint t, uint i) { return uintBitsToFloat(tapeWord(t, i)); }
 #define kTapeNaN uintBitsToFloat(0x7fc00000u)
+// Set by a shape of a kind this library does not know; the evaluators make
+// their whole result NaN then (a min or max could pass over one NaN). Only
+// that path writes it: the loop pays nothing per primitive.
+bool tapeUnknownKind = false;
 
 // The arithmetic that differs between values and duals; +, - and scaling
 // by a float are the same for both (vec4 arithmetic is the dual's there).
@@ -39,9 +43,10 @@ vec4 sqrtT(vec4 a)
 }
 float absT(float a) { return abs(a); }
 vec4 absT(vec4 a) { return a.x < 0.0 ? -a : a; }
-float minT(float a, float b) { return b < a ? b : a; }
+// GLSL's min(x, y) is "y if y < x, else x": Dual.hpp's rule, in one instruction.
+float minT(float a, float b) { return min(a, b); }
 vec4 minT(vec4 a, vec4 b) { return b.x < a.x ? b : a; }
-float maxT(float a, float b) { return a < b ? b : a; }
+float maxT(float a, float b) { return max(a, b); }
 vec4 maxT(vec4 a, vec4 b) { return a.x < b.x ? b : a; }
 
 // Local coordinates of tile-relative p by the frame at word f; as duals,

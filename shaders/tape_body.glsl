@@ -90,6 +90,7 @@ T shapeT(uint t, uint s, T x, T y, T z)
         return extrusionT(polygonT(t, tapeWord(t, a + 1u), tapeWord(t, a + 2u), x, y), z, tapeFloat(t, a));
     if (kind == KERF_SHAPE_HALFSPACE)
         return halfspaceT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
+    tapeUnknownKind = true;
     return cT(kTapeNaN);
 }
 
@@ -109,7 +110,7 @@ T KERF_TAPE_EVALUATE(uint t, vec3 p, out uint feature)
 #ifdef KERF_TAPE_FEATURES
     uint f0 = 0u, f1 = 0u, f2 = 0u, f3 = 0u, f4 = 0u, f5 = 0u, f6 = 0u, f7 = 0u;
 #endif
-    bool unknown = false;
+    tapeUnknownKind = false;
     for (uint i = 0u; i < count; ++i) {
         const uint code = tapeWord(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i);
         const float k = tapeFloat(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);
@@ -120,8 +121,6 @@ T KERF_TAPE_EVALUATE(uint t, vec3 p, out uint feature)
             localT(t, s + KERF_TAPE_SHAPE_FRAME, p, x, y, z);
             s7 = s6; s6 = s5; s5 = s4; s4 = s3; s3 = s2; s2 = s1; s1 = s0;
             s0 = shapeT(t, s, x, y, z);
-            // A min or max could pass over the NaN of an unknown kind: the whole result is NaN instead.
-            unknown = unknown || tapeWord(t, s) >= KERF_SHAPE_KINDS;
 #ifdef KERF_TAPE_FEATURES
             f7 = f6; f6 = f5; f5 = f4; f4 = f3; f3 = f2; f2 = f1; f1 = f0;
             f0 = tapeWord(t, s + 1u);
@@ -159,5 +158,6 @@ T KERF_TAPE_EVALUATE(uint t, vec3 p, out uint feature)
 #else
     feature = 0u;
 #endif
-    return unknown ? cT(kTapeNaN) : s0;
+    // A min or max could pass over the NaN of an unknown kind: the whole result is NaN instead.
+    return tapeUnknownKind ? cT(kTapeNaN) : s0;
 }

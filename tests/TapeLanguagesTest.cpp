@@ -42,7 +42,9 @@ protected:
     }
     void TearDown() override
     {
-        if (context) EXPECT_EQ(context->validationErrors(), 0);
+        if (context) {
+            EXPECT_EQ(context->validationErrors(), 0);
+        }
     }
     static inline std::unique_ptr<vk::Context> context;
     static inline std::unique_ptr<vk::TapeProbe> probe;
@@ -98,7 +100,7 @@ TEST_F(TapeLanguages, GlslAndCppGiveTheSameValuesGradientsAndFeaturesOnEveryKind
     int points = 0, featureMismatches = 0;
     double worstValue = 0.0, worstGradient = 0.0;
     for (const Tape& tape : tapes)
-        for (const TileCase& c : tileCases(tape, r, 8)) {
+        for (const TileCase& c : tileCases(tape, r, 30)) {
             kindsOf(c.words, kinds);
             const std::vector<vk::TapeProbe::Result> gpu = probe->evaluate(c.words, c.points);
             ASSERT_EQ(gpu.size(), c.points.size());

@@ -36,6 +36,11 @@ template <class T> Dual<T> operator/(const Dual<T>& a, const Dual<T>& b)
     const T q = a.v * inv;
     return {q, (a.d[0] - q * b.d[0]) * inv, (a.d[1] - q * b.d[1]) * inv, (a.d[2] - q * b.d[2]) * inv};
 }
+// Scaling by a plain number (a constant: no derivative to carry): a third of
+// the work of the product and quotient rules, and no rounding from them.
+template <class T> Dual<T> operator*(const Dual<T>& a, T s) { return {a.v * s, a.d[0] * s, a.d[1] * s, a.d[2] * s}; }
+template <class T> Dual<T> operator*(T s, const Dual<T>& a) { return a * s; }
+template <class T> Dual<T> operator/(const Dual<T>& a, T s) { return {a.v / s, a.d[0] / s, a.d[1] / s, a.d[2] / s}; }
 template <class T> Dual<T>& operator+=(Dual<T>& a, const Dual<T>& b) { return a = a + b; }
 template <class T> Dual<T>& operator*=(Dual<T>& a, const Dual<T>& b) { return a = a * b; }
 

@@ -104,12 +104,13 @@ template <class T, class Points> T polygon2d(T x, T y, const Points& v)
     T d = sq(x - T(B(v[0].x))) + sq(y - T(B(v[0].y)));
     bool inside = false;
     for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+        // The edge is a constant: scale by it (plain numbers, no product rule).
         const B ex = B(v[j].x - v[i].x), ey = B(v[j].y - v[i].y);
         const T wx = x - T(B(v[i].x)), wy = y - T(B(v[i].y));
-        const T t = clamp01((wx * T(ex) + wy * T(ey)) / T(ex * ex + ey * ey));
-        d = min(d, sq(wx - T(ex) * t) + sq(wy - T(ey) * t));
+        const T t = clamp01((wx * ex + wy * ey) / (ex * ex + ey * ey));
+        d = min(d, sq(wx - t * ex) + sq(wy - t * ey));
         // Crossing test (winding parity) on the edge's vertical span.
-        const bool c1 = y >= T(B(v[i].y)), c2 = y < T(B(v[j].y)), c3 = T(ex) * wy > T(ey) * wx;
+        const bool c1 = y >= T(B(v[i].y)), c2 = y < T(B(v[j].y)), c3 = wy * ex > wx * ey;
         if ((c1 && c2 && c3) || (!c1 && !c2 && !c3)) inside = !inside;
     }
     const T dist = sqrt(d);
