@@ -1,6 +1,7 @@
 #include "kerf/viewport/ComputeTracer.hpp"
 
 #include "kerf/tracer/ReferenceTracer.hpp"
+#include "kerf/viewport/ShaderModules.hpp"
 #include "kerf/viewport/VulkanError.hpp"
 
 #include "TraceShared.h"
@@ -88,12 +89,7 @@ VkPipeline ComputeTracer::Impl::pipelineFor(TraceQuality quality)
 ComputeTracer::ComputeTracer(const Context& ctx) : impl_(std::make_unique<Impl>(ctx))
 {
     VkDevice dev = ctx.device();
-    VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    smci.codeSize = sizeof(kTraceComp);
-    smci.pCode = kTraceComp;
-    VkShaderModule sm;
-    check(vkCreateShaderModule(dev, &smci, nullptr, &sm), "vkCreateShaderModule (trace.comp)");
-    impl_->module = ShaderModule(dev, sm);
+    impl_->module = makeShaderModule(dev, kTraceComp, sizeof(kTraceComp), "vkCreateShaderModule (trace.comp)");
 
     VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(std::uint64_t)};
     VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};

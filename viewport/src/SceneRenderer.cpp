@@ -1,5 +1,6 @@
 #include "kerf/viewport/SceneRenderer.hpp"
 
+#include "kerf/viewport/ShaderModules.hpp"
 #include "kerf/viewport/VulkanError.hpp"
 
 #include "RenderShared.h"
@@ -22,16 +23,6 @@ namespace {
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
-
-ShaderModule makeModule(VkDevice dev, const std::uint32_t* code, std::size_t bytes, const char* what)
-{
-    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    ci.codeSize = bytes;
-    ci.pCode = code;
-    VkShaderModule m;
-    check(vkCreateShaderModule(dev, &ci, nullptr, &m), what);
-    return ShaderModule(dev, m);
-}
 
 struct Target {
     Image image;
@@ -303,12 +294,12 @@ SceneRenderer::SceneRenderer(const Context& ctx) : impl_(std::make_unique<Impl>(
     check(vkCreatePipelineLayout(dev, &plci, nullptr, &pl), "vkCreatePipelineLayout (gizmo)");
     impl_->gizmoLayout = PipelineLayout(dev, pl);
 
-    const ShaderModule fullscreen = makeModule(dev, kFullscreenVert, sizeof kFullscreenVert, "shader fullscreen.vert");
-    const ShaderModule part = makeModule(dev, kPartFrag, sizeof kPartFrag, "shader part.frag");
-    const ShaderModule meshVert = makeModule(dev, kMeshVert, sizeof kMeshVert, "shader mesh.vert");
-    const ShaderModule meshFrag = makeModule(dev, kMeshFrag, sizeof kMeshFrag, "shader mesh.frag");
-    const ShaderModule grid = makeModule(dev, kGridFrag, sizeof kGridFrag, "shader grid.frag");
-    const ShaderModule gizmo = makeModule(dev, kGizmoFrag, sizeof kGizmoFrag, "shader gizmo.frag");
+    const ShaderModule fullscreen = makeShaderModule(dev, kFullscreenVert, sizeof kFullscreenVert, "shader fullscreen.vert");
+    const ShaderModule part = makeShaderModule(dev, kPartFrag, sizeof kPartFrag, "shader part.frag");
+    const ShaderModule meshVert = makeShaderModule(dev, kMeshVert, sizeof kMeshVert, "shader mesh.vert");
+    const ShaderModule meshFrag = makeShaderModule(dev, kMeshFrag, sizeof kMeshFrag, "shader mesh.frag");
+    const ShaderModule grid = makeShaderModule(dev, kGridFrag, sizeof kGridFrag, "shader grid.frag");
+    const ShaderModule gizmo = makeShaderModule(dev, kGizmoFrag, sizeof kGizmoFrag, "shader gizmo.frag");
     // The part pass writes the traced depth everywhere; meshes test against
     // it; the grid tests without writing and blends; markers and the gizmo
     // are drawn over everything.

@@ -1,6 +1,7 @@
 #include "kerf/viewport/TapeProbe.hpp"
 
 #include "kerf/viewport/GpuBuffer.hpp"
+#include "kerf/viewport/ShaderModules.hpp"
 #include "kerf/viewport/VulkanError.hpp"
 
 #include "tape_probe.comp.h"
@@ -25,12 +26,7 @@ constexpr std::uint32_t kGroup = 64; // tape_probe.comp's local size
 TapeProbe::TapeProbe(const Context& ctx) : ctx_(ctx)
 {
     VkDevice dev = ctx.device();
-    VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    smci.codeSize = sizeof(kTapeProbeComp);
-    smci.pCode = kTapeProbeComp;
-    VkShaderModule sm;
-    check(vkCreateShaderModule(dev, &smci, nullptr, &sm), "vkCreateShaderModule (tape_probe.comp)");
-    module_ = ShaderModule(dev, sm);
+    module_ = makeShaderModule(dev, kTapeProbeComp, sizeof(kTapeProbeComp), "vkCreateShaderModule (tape_probe.comp)");
     VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(ProbePush)};
     VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     plci.pushConstantRangeCount = 1;
