@@ -2,6 +2,7 @@
 
 #include "kerf/evaluator/IntervalEvaluator.hpp"
 #include "kerf/evaluator/PointEvaluator.hpp"
+#include "kerf/voxelizer/WorkerArena.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -147,7 +148,7 @@ VolumeEstimate integrateVolume(const Tape& tape, double cellSize, int threads)
     const std::size_t count = std::size_t(blocks.x * blocks.y * blocks.z);
     std::vector<BlockSum> sums(count);
     tbb::enumerable_thread_specific<BlockIntegrator> integrators(tape, box.min, cellSize);
-    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    tbb::task_arena arena = workerArena(threads);
     arena.execute([&] {
         tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
             const std::int64_t b = std::int64_t(i);

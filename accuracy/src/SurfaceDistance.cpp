@@ -2,6 +2,7 @@
 
 #include "kerf/evaluator/IntervalEvaluator.hpp"
 #include "kerf/evaluator/PointEvaluator.hpp"
+#include "kerf/voxelizer/WorkerArena.hpp"
 
 #include <glm/geometric.hpp>
 
@@ -274,7 +275,7 @@ SurfaceDistance measureSurfaceDistance(const Mesh& mesh, const Tape& tape, int t
     const std::size_t triangleChunks = (nt + kTriangleChunk - 1) / kTriangleChunk;
     std::vector<ChunkResult> vertexResults(vertexChunks), triangleResults(triangleChunks);
     tbb::enumerable_thread_specific<Scratch> scratch;
-    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    tbb::task_arena arena = workerArena(threads);
     arena.execute([&] {
         // The vertices first: the triangles' quadrature needs their distances.
         tbb::parallel_for(std::size_t(0), vertexChunks, [&](std::size_t c) {

@@ -14,6 +14,7 @@
 
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/voxelizer/TileBuilder.hpp"
+#include "kerf/voxelizer/WorkerArena.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -260,7 +261,7 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
         if (progress.cancelled && progress.cancelled()) stop = true;
         return stop.load(std::memory_order_relaxed);
     };
-    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    tbb::task_arena arena = workerArena(options.threads);
     std::optional<LatticeMesh> lattice = latticeMesh(tape, layout, options, reporter, cancelled, stop, arena, stats);
     if (!lattice) return std::nullopt;
     if (options.tolerance == 0.0) {

@@ -1,6 +1,7 @@
 #include "kerf/tracer/ExactTracer.hpp"
 
 #include "kerf/evaluator/PointEvaluator.hpp"
+#include "kerf/voxelizer/WorkerArena.hpp"
 
 #include <glm/geometric.hpp>
 
@@ -148,7 +149,7 @@ TraceImage traceExact(const Tape& tape, const Camera& camera, double epsilon, in
     if (!(epsilon > 0.0)) throw std::invalid_argument("traceExact: epsilon must be positive");
     TraceImage image(camera.width(), camera.height());
     if (tape.empty()) return image;
-    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    tbb::task_arena arena = workerArena(threads);
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<int>(0, image.height), [&](const tbb::blocked_range<int>& rows) {
             PacketTracer tracer(tape, camera, epsilon, image); // scratch memory for this task

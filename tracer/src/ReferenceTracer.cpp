@@ -2,6 +2,7 @@
 
 #include "kerf/tracer/ExactRefinement.h"
 #include "kerf/voxelizer/TileTape.hpp"
+#include "kerf/voxelizer/WorkerArena.hpp"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -594,7 +595,7 @@ TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, in
                        TraceQuality quality)
 {
     TraceImage image(camera.width(), camera.height());
-    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    tbb::task_arena arena = workerArena(threads);
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<int>(0, image.height), [&](const tbb::blocked_range<int>& rows) {
             for (int y = rows.begin(); y != rows.end(); ++y)

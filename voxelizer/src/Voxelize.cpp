@@ -2,6 +2,7 @@
 
 #include "kerf/voxelizer/BlockTapes.hpp"
 #include "kerf/voxelizer/TileBuilder.hpp"
+#include "kerf/voxelizer/WorkerArena.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -26,7 +27,7 @@ VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const Voxeliz
     snap.tiles.resize(std::size_t(layout.tileCount()));
     const int levels = options.levels > 0 ? options.levels : layout.levels;
     tbb::enumerable_thread_specific<TileBuildScratch> scratch;
-    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    tbb::task_arena arena = workerArena(options.threads);
     const BlockTapes blocks(tape, layout);
     std::atomic<long> built{0};
     std::atomic<bool> stopped{false};

@@ -4,6 +4,7 @@
 #include "kerf/voxelizer/BlockTapes.hpp"
 #include "kerf/voxelizer/DirtyRegion.hpp"
 #include "kerf/voxelizer/TileBuilder.hpp"
+#include "kerf/voxelizer/WorkerArena.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -271,7 +272,7 @@ void Voxelizer::process(Request request)
     stats.revision = revision;
     stats.tilesInGrid = std::size_t(layout.tileCount());
     stats.dirtyTiles = order.size();
-    tbb::task_arena arena(options_.threads > 0 ? options_.threads : tbb::task_arena::automatic);
+    tbb::task_arena arena = workerArena(options_.threads);
     tbb::enumerable_thread_specific<TileBuildScratch> scratch;
     const BlockTapes blocks(tape, layout);
     const CancelCheck cancelled = [&] { return stale(revision); };
