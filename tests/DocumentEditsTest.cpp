@@ -329,3 +329,17 @@ TEST(MoveSnap, AlignsWithANeighbourWithinReachElseRoundsToTheGrid)
 
 } // namespace
 } // namespace kerf
+
+namespace kerf {
+namespace {
+
+TEST(DocumentEdits, IdsInSubtreeNameTheNodeAndEverythingBelow)
+{
+    const Document d = turnedPanel();
+    EXPECT_EQ(edit::idsInSubtree(*d.root.find("holes")), (std::unordered_set<std::string>{"holes", "hole"}));
+    EXPECT_EQ(edit::idsInSubtree(*d.root.find("p2")), (std::unordered_set<std::string>{"p2"}));
+    EXPECT_EQ(edit::idsInSubtree(d.root).size(), d.root.count());
+}
+
+} // namespace
+} // namespace kerf

@@ -202,6 +202,13 @@ void updateNode(Document& doc, std::string_view id, const Node& updated)
     n.extra = updated.extra;
 }
 
+std::unordered_set<std::string> idsInSubtree(const Node& node)
+{
+    std::unordered_set<std::string> ids;
+    collectIds(node, ids);
+    return ids;
+}
+
 Document emptyDocument()
 {
     Document doc;

@@ -2,6 +2,7 @@
 
 #include "DocumentSession.hpp"
 #include "NodeText.hpp"
+#include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/NodePlacement.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 
@@ -22,12 +23,6 @@ constexpr double kAlignPixels = 8.0;
 const char* const kAxisName[3] = {"X", "Y", "Z"};
 
 QString distanceText(double mm) { return QString::number(mm, 'f', 2).remove(QRegularExpression("\\.?0+$")); }
-
-void collectIds(const Node& n, std::unordered_set<std::string>& ids)
-{
-    ids.insert(n.id);
-    for (const Node& c : n.children) collectIds(c, ids);
-}
 
 } // namespace
 
@@ -71,8 +66,8 @@ void MoveTool::started()
     start_ = session_->document();
     startBounds_ = edit::firstInstanceBounds(start_, id_);
     // Every other primitive copy, by its placed bounds: what the drag lines up with.
-    std::unordered_set<std::string> moving;
-    if (const Node* n = start_.root.find(id_)) collectIds(*n, moving);
+    const Node* node = start_.root.find(id_);
+    const std::unordered_set<std::string> moving = node ? edit::idsInSubtree(*node) : std::unordered_set<std::string>{};
     targets_.clear();
     try {
         const Tape tape = compileTape(start_);

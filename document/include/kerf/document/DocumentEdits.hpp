@@ -16,6 +16,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_set>
 #include <vector>
 
 namespace kerf::edit {
@@ -70,6 +71,9 @@ void updateNode(Document& doc, std::string_view id, const Node& updated);
 /// editor asks before such a reorder: a tool moved above the base cuts from
 /// nothing, and the part empties.
 std::string differenceWithNewBase(const Document& before, const Document& after);
+
+/// The ids of a node and of everything below it.
+std::unordered_set<std::string> idsInSubtree(const Node& node);
 
 /// A new empty document: a root union with no children, settings default.
 /// Not valid on its own (a union needs a child): editors add one first.
