@@ -1578,6 +1578,15 @@ void MainWindowTest::aSelectedHoleShowsItsToolBodyAsAGhost()
                             .arg(hole.y())
                             .arg(ghost.width())
                             .arg(ghost.height())));
+    // An edit elsewhere in the part leaves the hole's body as it is: not meshed again.
+    QVERIFY(w->session()->apply("Move the notch", [](Document& d) { d.root.find("toe-kick")->transform.translate.z += 5; }));
+    QVERIFY(!w->ghostsBusy());
+    QVERIFY(v->hasGhosts());
+    // Moving the hole itself does remesh it.
+    QVERIFY(w->session()->apply("Move the hole",
+                                [](Document& d) { d.root.find("shelf-pin-hole")->transform.translate.z += 5; }));
+    QVERIFY(w->ghostsBusy());
+    QTRY_VERIFY_WITH_TIMEOUT(!w->ghostsBusy() && v->hasGhosts(), 60000);
     // The panel is not a tool: no ghost.
     clickRow(*w, "panel");
     QTRY_VERIFY_WITH_TIMEOUT(!w->ghostsBusy() && !v->hasGhosts(), 60000);

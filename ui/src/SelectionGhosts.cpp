@@ -76,6 +76,8 @@ void SelectionGhosts::show(const Document& doc, const std::vector<std::string>& 
     std::vector<Document> tools;
     for (const auto& id : ids)
         if (doc.root.find(id) && edit::isSubtracted(doc, id)) tools.push_back(edit::documentOfNodeAlone(doc, id));
+    if (tools == shownTools_) return; // shown, or being meshed
+    shownTools_ = tools;
     const std::uint64_t generation = ++*generation_;
     if (tools.empty()) {
         if (viewport_->hasGhosts()) viewport_->setGhosts({});

@@ -23,7 +23,8 @@ public:
     explicit SelectionGhosts(qt::ViewportWidget* viewport, QObject* parent = nullptr);
     ~SelectionGhosts() override;
 
-    /// Shows the ghosts of those of `ids` that the part subtracts (none: clears).
+    /// Shows the ghosts of those of `ids` that the part subtracts (none:
+    /// clears). Nothing is meshed again when those bodies did not change.
     void show(const Document& doc, const std::vector<std::string>& ids);
     /// Whether a ghost is still being meshed.
     bool busy() const { return pending_ > 0; }
@@ -36,6 +37,9 @@ private:
     qt::ViewportWidget* viewport_;
     std::shared_ptr<std::atomic<std::uint64_t>> generation_;
     int pending_ = 0;
+    // The tool bodies last asked for: an edit elsewhere in the part leaves
+    // them as they are, and is not meshed again.
+    std::vector<Document> shownTools_;
 };
 
 } // namespace kerf::ui
