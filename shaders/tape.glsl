@@ -21,6 +21,7 @@
 
 float tapeFloat(uint t, uint i) { return uintBitsToFloat(tapeWord(t, i)); }
 #define kTapeNaN uintBitsToFloat(0x7fc00000u)
+#define kTapeFloatMax uintBitsToFloat(0x7f7fffffu) // std::numeric_limits<float>::max()
 // Set by a shape of a kind this library does not know; the evaluators make
 // their whole result NaN then (a min or max could pass over one NaN). Only
 // that path writes it: the loop pays nothing per primitive.

@@ -48,14 +48,16 @@ T coneT(T x, T y, T z, float r1, float r2, float h, float k2x, float k2y, float 
     return sqrtT(minT(sqT(cax) + sqT(cay), sqT(cbx) + sqT(cby))) * s;
 }
 
-// sdf::polygon2d over the `count` points (x, y floats) from word `first`.
-T polygonT(uint t, uint first, uint count, T x, T y)
+// sdf::polygon2d over the `count` points (x, y floats) from word `first`;
+// without a revolve's edges on the axis when axisEdges is false.
+T polygonT(uint t, uint first, uint count, T x, T y, bool axisEdges)
 {
-    T d = sqT(x - cT(tapeFloat(t, first))) + sqT(y - cT(tapeFloat(t, first + 1u)));
+    T d = axisEdges ? sqT(x - cT(tapeFloat(t, first))) + sqT(y - cT(tapeFloat(t, first + 1u))) : cT(kTapeFloatMax);
     bool inside = false;
     for (uint i = 0u, j = count - 1u; i < count; j = i++) {
         const float vix = tapeFloat(t, first + 2u * i), viy = tapeFloat(t, first + 2u * i + 1u);
         const float vjx = tapeFloat(t, first + 2u * j), vjy = tapeFloat(t, first + 2u * j + 1u);
+        if (!axisEdges && vix == 0.0 && vjx == 0.0) continue;
         const float ex = vjx - vix, ey = vjy - viy;
         const T wx = x - cT(vix), wy = y - cT(viy);
         const T s = clamp01T((wx * ex + wy * ey) / (ex * ex + ey * ey));
@@ -73,6 +75,12 @@ T extrusionT(T d2, T z, float halfHeight)
     return minT(maxT(d2, wz), cT(0.0)) + sqrtT(sqT(maxT(d2, cT(0.0))) + sqT(maxT(wz, cT(0.0))));
 }
 
+// sdf::revolution: the profile's [r, z] points at (length(x, y), z).
+T revolutionT(uint t, uint first, uint count, T x, T y, T z)
+{
+    return polygonT(t, first, count, sqrtT(sqT(x) + sqT(y)), z, false);
+}
+
 // The shape at word s, at local point (x, y, z). NaN for a kind not named here.
 T shapeT(uint t, uint s, T x, T y, T z)
 {
@@ -87,9 +95,10 @@ T shapeT(uint t, uint s, T x, T y, T z)
                      tapeFloat(t, a + 4u), tapeFloat(t, a + 5u));
     if (kind == KERF_SHAPE_TORUS) return torusT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u));
     if (kind == KERF_SHAPE_EXTRUDE)
-        return extrusionT(polygonT(t, tapeWord(t, a + 1u), tapeWord(t, a + 2u), x, y), z, tapeFloat(t, a));
+        return extrusionT(polygonT(t, tapeWord(t, a + 1u), tapeWord(t, a + 2u), x, y, true), z, tapeFloat(t, a));
     if (kind == KERF_SHAPE_HALFSPACE)
         return halfspaceT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
+    if (kind == KERF_SHAPE_REVOLVE) return revolutionT(t, tapeWord(t, a + 1u), tapeWord(t, a + 2u), x, y, z);
     tapeUnknownKind = true;
     return cT(kTapeNaN);
 }

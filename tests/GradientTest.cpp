@@ -54,8 +54,7 @@ TEST_P(PrimitiveGradient, MatchesFiniteDifferences)
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryPrimitive, PrimitiveGradient,
-                         ::testing::Values(NodeType::Box, NodeType::Sphere, NodeType::Cylinder, NodeType::Cone,
-                                           NodeType::Torus, NodeType::Extrude, NodeType::Halfspace),
+                         ::testing::ValuesIn(test::RandomShapes::primitiveTypes()),
                          [](const auto& p) { return std::string(nodeTypeName(p.param)); });
 
 TEST(TreeGradient, RandomTreesMatchFiniteDifferences)
@@ -74,7 +73,8 @@ TEST(Gradient, ExactDistanceFieldsHaveUnitGradientOutside)
     // Exact distances have |grad| = 1 wherever they are differentiable.
     test::RandomShapes r(8);
     GradientEvaluator<double> grads;
-    for (NodeType t : {NodeType::Box, NodeType::Sphere, NodeType::Cylinder, NodeType::Cone, NodeType::Torus}) {
+    for (NodeType t : {NodeType::Box, NodeType::Sphere, NodeType::Cylinder, NodeType::Cone, NodeType::Torus,
+                       NodeType::Revolve}) {
         const Tape tape = compileTape(r.primitive(t));
         for (int i = 0; i < 200; ++i) {
             const glm::dvec3 p = r.vec(-60.0, 60.0);

@@ -70,8 +70,7 @@ TEST_P(PrimitiveSoundness, PointsInsideBoxesLieInsideTheInterval)
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryPrimitive, PrimitiveSoundness,
-                         ::testing::Values(NodeType::Box, NodeType::Sphere, NodeType::Cylinder, NodeType::Cone,
-                                           NodeType::Torus, NodeType::Extrude, NodeType::Halfspace),
+                         ::testing::ValuesIn(test::RandomShapes::primitiveTypes()),
                          [](const auto& p) { return std::string(nodeTypeName(p.param)); });
 
 class OperationSoundness : public ::testing::TestWithParam<NodeType> {};
@@ -90,8 +89,7 @@ TEST_P(OperationSoundness, PointsInsideBoxesLieInsideTheInterval)
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryOperation, OperationSoundness,
-                         ::testing::Values(NodeType::Union, NodeType::Intersection, NodeType::Difference,
-                                           NodeType::Offset, NodeType::Shell, NodeType::Array, NodeType::Mirror),
+                         ::testing::ValuesIn(test::RandomShapes::operationTypes()),
                          [](const auto& p) { return std::string(nodeTypeName(p.param)); });
 
 TEST(TreeSoundness, RandomDeepTreesAreSound)

@@ -10,6 +10,8 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
+
 namespace kerf {
 namespace {
 
@@ -153,6 +155,65 @@ TEST(PrimitiveDistance, ExtrudedSquareEqualsABox)
     for (int i = 0; i < 1000; ++i) {
         const glm::dvec3 p = r.vec(-30.0, 30.0);
         EXPECT_NEAR(at(e, p), at(b, p), 1e-12);
+    }
+}
+
+TEST(PrimitiveDistance, RevolveMatchesItsProfileInTheMeridianPlane)
+{
+    // Random profiles, half of them pressed onto the axis; points anywhere,
+    // a quarter of them on the axis itself (where edges on the axis must
+    // decide neither the distance nor the side).
+    test::RandomShapes r(7);
+    int onAxis = 0;
+    for (int shape = 0; shape < 60; ++shape) {
+        const Node n = [&] {
+            Node m = r.primitive(NodeType::Revolve);
+            m.transform = {};
+            return m;
+        }();
+        const auto& profile = n.as<RevolveParams>().profile;
+        std::vector<int> surfaceEdges;
+        for (int e = 0; e < int(profile.size()); ++e)
+            if (!(profile[e].x == 0 && profile[(e + 1) % profile.size()].x == 0)) surfaceEdges.push_back(e);
+        onAxis += surfaceEdges.size() < profile.size();
+        const Tape tape = compileTape(n);
+        PointEvaluator<double> eval;
+        for (int i = 0; i < 200; ++i) {
+            glm::dvec3 p = r.vec(-45.0, 45.0);
+            if (i % 4 == 0) p.x = p.y = 0.0;
+            const glm::dvec2 q(std::hypot(p.x, p.y), p.z);
+            EXPECT_NEAR(eval.evaluate(tape, p.x, p.y, p.z), profileDistance(profile, surfaceEdges, q), 1e-9)
+                << "shape " << shape << " at (" << p.x << ", " << p.y << ", " << p.z << ")";
+        }
+    }
+    EXPECT_GT(onAxis, 10) << "profiles with an edge on the axis were tested";
+}
+
+TEST(PrimitiveDistance, RevolvedRectanglesAndTrianglesEqualCylindersAndCones)
+{
+    test::RandomShapes r(8);
+    Node cylinder = makeNode(NodeType::Cylinder, "c");
+    cylinder.params = CylinderParams{5.0, 20.0};
+    Node cone = makeNode(NodeType::Cone, "k");
+    cone.params = ConeParams{8.0, 0.0, 30.0};
+    for (const bool reversed : {false, true}) {
+        std::vector<glm::dvec2> rectangle = {{0, -10}, {5, -10}, {5, 10}, {0, 10}};
+        std::vector<glm::dvec2> triangle = {{0, -15}, {8, -15}, {0, 15}};
+        if (reversed) {
+            std::reverse(rectangle.begin(), rectangle.end());
+            std::reverse(triangle.begin(), triangle.end());
+        }
+        Node turnedCylinder = makeNode(NodeType::Revolve, "rc");
+        turnedCylinder.params = RevolveParams{rectangle};
+        Node turnedCone = makeNode(NodeType::Revolve, "rk");
+        turnedCone.params = RevolveParams{triangle};
+        for (int i = 0; i < 1000; ++i) {
+            glm::dvec3 p = r.vec(-30.0, 30.0);
+            if (i % 3 == 0) p.x = p.y = 0.0; // on the axis: inside, as deep as the nearest face
+            EXPECT_NEAR(at(turnedCylinder, p), at(cylinder, p), 1e-12) << reversed;
+            EXPECT_NEAR(at(turnedCone, p), at(cone, p), 1e-9) << reversed;
+        }
+        EXPECT_DOUBLE_EQ(at(turnedCylinder, {0, 0, 0}), -5.0);
     }
 }
 

@@ -90,8 +90,7 @@ TEST_F(TapeLanguages, GlslAndCppGiveTheSameValuesGradientsAndFeaturesOnEveryKind
     test::RandomShapes r(29);
     std::vector<Tape> tapes;
     // Each primitive alone (the halfspace too, which random trees leave out)...
-    for (NodeType type : {NodeType::Box, NodeType::Sphere, NodeType::Cylinder, NodeType::Cone, NodeType::Torus,
-                          NodeType::Extrude, NodeType::Halfspace})
+    for (NodeType type : test::RandomShapes::primitiveTypes())
         for (int i = 0; i < 3; ++i) tapes.push_back(compileTape(test::RandomShapes::document(r.primitive(type))));
     // ... and random trees of every operation.
     for (int i = 0; i < 60; ++i) tapes.push_back(compileTape(r.tree(3)));

@@ -9,7 +9,7 @@
 #include "kerf/document/GroupedNumber.hpp"
 #include "kerf/document/Limits.hpp"
 #include "kerf/document/NodeBounds.hpp"
-#include "kerf/document/ProfileCheck.hpp"
+#include "kerf/document/NodeTypes.hpp"
 
 #include "BoundedJsonParser.hpp"
 #include "DocumentFile.hpp"
@@ -43,13 +43,7 @@ std::string describeKind(const Json& v)
     }
 }
 
-std::string formatNumber(double v)
-{
-    std::ostringstream s;
-    s.precision(12);
-    s << v;
-    return s.str();
-}
+std::string formatNumber(double v) { return formatFieldNumber(v); }
 
 class Reader {
 public:
@@ -233,25 +227,6 @@ private:
         return n / scale;
     }
 
-    double positive(const Json& obj, const char* key, const std::string& nodeId) const
-    {
-        const double v = length(required(obj, key, nodeId), nodeId, key);
-        if (!(v > 0.0)) fail(nodeId, key, "must be > 0, not " + formatNumber(v));
-        return v;
-    }
-
-    double nonNegative(const Json& obj, const char* key, const std::string& nodeId, std::optional<double> dflt) const
-    {
-        const Json* j = member(obj, key);
-        if (!j) {
-            if (dflt) return *dflt;
-            fail(nodeId, key, "missing (required)");
-        }
-        const double v = length(*j, nodeId, key);
-        if (v < 0.0) fail(nodeId, key, "must be >= 0, not " + formatNumber(v));
-        return v;
-    }
-
     Transform transform(const Json& v, const std::string& nodeId, const std::string& field) const
     {
         if (!v.is_object()) fail(nodeId, field, "must be an object with \"translate\" and/or \"rotate\"");
@@ -382,122 +357,89 @@ private:
         return n;
     }
 
+    // The node's fields as its type's table row describes them
+    // (NodeTypes.hpp): each field's own rules, then the rules across fields.
     void readParams(const Json& j, Node& n, std::unordered_set<std::string>& used) const
     {
         const std::string& id = n.id;
-        auto use = [&](std::initializer_list<const char*> keys) {
-            for (const char* k : keys) used.insert(k);
-        };
-        switch (n.type) {
-        case NodeType::Box: {
-            use({"size", "round"});
-            BoxParams p;
-            p.size = vec3(required(j, "size", id), id, "size");
-            for (int i = 0; i < 3; ++i)
-                if (!(p.size[i] > 0.0))
-                    fail(id, "size[" + std::to_string(i) + "]", "must be > 0, not " + formatNumber(p.size[i]));
-            p.round = nonNegative(j, "round", id, 0.0);
-            const double limit = 0.5 * std::min({p.size.x, p.size.y, p.size.z});
-            if (p.round > limit)
-                fail(id, "round",
-                     "must be <= half the smallest size (" + formatNumber(limit) + "), not " + formatNumber(p.round));
-            n.params = p;
-            break;
-        }
-        case NodeType::Sphere:
-            use({"radius"});
-            n.params = SphereParams{positive(j, "radius", id)};
-            break;
-        case NodeType::Cylinder:
-            use({"radius", "height"});
-            n.params = CylinderParams{positive(j, "radius", id), positive(j, "height", id)};
-            break;
-        case NodeType::Cone: {
-            use({"radius_bottom", "radius_top", "height"});
-            ConeParams p;
-            p.radiusBottom = nonNegative(j, "radius_bottom", id, std::nullopt);
-            p.radiusTop = nonNegative(j, "radius_top", id, std::nullopt);
-            if (p.radiusBottom == 0.0 && p.radiusTop == 0.0)
-                fail(id, "radius_bottom", "radius_bottom and radius_top cannot both be 0");
-            p.height = positive(j, "height", id);
-            n.params = p;
-            break;
-        }
-        case NodeType::Torus:
-            use({"major_radius", "minor_radius"});
-            n.params = TorusParams{positive(j, "major_radius", id), positive(j, "minor_radius", id)};
-            break;
-        case NodeType::Extrude: {
-            use({"profile", "height"});
-            ExtrudeParams p;
-            const Json& prof = required(j, "profile", id);
-            if (!prof.is_array()) fail(id, "profile", "must be an array of [x, y] points");
-            if (prof.size() > limits::kMaxProfilePoints)
-                fail(id, "profile",
-                     "has " + std::to_string(prof.size()) + " points; a profile may have at most " +
-                         std::to_string(limits::kMaxProfilePoints));
-            p.profile.reserve(prof.size());
-            for (std::size_t i = 0; i < prof.size(); ++i) {
-                const std::string f = "profile[" + std::to_string(i) + "]";
-                if (!prof[i].is_array() || prof[i].size() != 2) fail(id, f, "must be an [x, y] point");
-                p.profile.emplace_back(length(prof[i][0], id, f + "[0]"), length(prof[i][1], id, f + "[1]"));
+        const NodeTypeSpec& spec = nodeTypeSpec(n.type);
+        n.params = spec.defaults;
+        double directionLength = 1.0;
+        for (const FieldSpec& f : spec.fields) {
+            const std::string key(f.key);
+            used.insert(key);
+            const Json* v = member(j, key.c_str());
+            if (!v) {
+                if (f.optional) {
+                    f.numberIn(n) = f.absent;
+                    continue;
+                }
+                fail(id, key, "missing (required)");
             }
-            if (const auto defect = findProfileDefect(p.profile)) fail(id, "profile", *defect);
-            p.height = positive(j, "height", id);
-            n.params = std::move(p);
-            break;
-        }
-        case NodeType::Halfspace: {
-            use({"normal", "offset"});
-            HalfspaceParams p;
-            double len = 1.0;
-            p.normal = unitNormal(required(j, "normal", id), id, "normal", len);
-            // The offset is the plane's distance along the unit normal; a
-            // non-unit normal in the file scales it the same way.
-            p.offset = length(required(j, "offset", id), id, "offset") / len;
-            checkLength(p.offset, id, "offset");
-            n.params = p;
-            break;
-        }
-        case NodeType::Union:
-        case NodeType::Intersection:
-        case NodeType::Difference:
-            use({"blend"});
-            n.params = BooleanParams{nonNegative(j, "blend", id, 0.0)};
-            break;
-        case NodeType::Offset:
-            use({"distance"});
-            n.params = OffsetParams{length(required(j, "distance", id), id, "distance")};
-            break;
-        case NodeType::Shell:
-            use({"thickness"});
-            n.params = ShellParams{positive(j, "thickness", id)};
-            break;
-        case NodeType::Array: {
-            use({"count", "step"});
-            ArrayParams p;
-            const Json& c = required(j, "count", id);
-            if (!c.is_array() || c.size() != 3) fail(id, "count", "must be an array of 3 integers");
-            for (std::size_t i = 0; i < 3; ++i) {
-                const std::string f = "count[" + std::to_string(i) + "]";
-                p.count[i] = integer(c[i], id, f);
-                if (p.count[i] < 1) fail(id, f, "must be >= 1, not " + std::to_string(p.count[i]));
+            switch (f.shape) {
+            case FieldShape::Number: f.numberIn(n) = bounded(f, *v, id, key); break;
+            case FieldShape::Vector: {
+                if (!v->is_array() || v->size() != 3) fail(id, key, "must be an array of 3 numbers");
+                for (int i = 0; i < 3; ++i)
+                    f.vectorIn(n)[i] = bounded(f, (*v)[std::size_t(i)], id, key + "[" + std::to_string(i) + "]");
+                break;
             }
-            p.step = vec3(required(j, "step", id), id, "step");
-            n.params = p;
-            break;
+            case FieldShape::Direction: f.vectorIn(n) = unitNormal(*v, id, key, directionLength); break;
+            case FieldShape::Counts: {
+                if (!v->is_array() || v->size() != 3) fail(id, key, "must be an array of 3 integers");
+                for (std::size_t i = 0; i < 3; ++i) {
+                    const std::string c = key + "[" + std::to_string(i) + "]";
+                    const std::int64_t count = integer((*v)[i], id, c);
+                    if (double(count) < f.min) fail(id, c, "must be >= " + formatNumber(f.min) + ", not " + std::to_string(count));
+                    f.countsIn(n)[i] = count;
+                }
+                break;
+            }
+            case FieldShape::Points: f.pointsIn(n) = profile(f, *v, id, key); break;
+            }
         }
-        case NodeType::Mirror: {
-            use({"normal", "offset"});
-            MirrorParams p;
-            double len = 1.0;
-            p.normal = unitNormal(required(j, "normal", id), id, "normal", len);
-            if (const Json* o = member(j, "offset")) p.offset = length(*o, id, "offset") / len;
-            checkLength(p.offset, id, "offset");
-            n.params = p;
-            break;
+        // A length along a direction written at another length scales with it.
+        for (const FieldSpec& f : spec.fields)
+            if (f.alongDirection) {
+                f.numberIn(n) /= directionLength;
+                checkLength(f.numberIn(n), id, std::string(f.key));
+            }
+        if (spec.check)
+            if (const auto refusal = spec.check(n.params)) fail(id, refusal->field, refusal->reason);
+    }
+
+    // One number of a field: a length (or a plain number), at least the field's minimum.
+    double bounded(const FieldSpec& f, const Json& v, const std::string& id, const std::string& field) const
+    {
+        const double d = f.unit == FieldUnit::Length ? length(v, id, field) : number(v, id, field);
+        if (f.minExclusive ? !(d > f.min) : d < f.min)
+            fail(id, field, std::string(f.minExclusive ? "must be > " : "must be >= ") + formatNumber(f.min) + ", not " +
+                                formatNumber(d));
+        return d;
+    }
+
+    // A profile's points: lengths, the first coordinate at least the field's minimum.
+    std::vector<glm::dvec2> profile(const FieldSpec& f, const Json& prof, const std::string& id, const std::string& key) const
+    {
+        const std::string a(f.pointAxes[0]), b(f.pointAxes[1]);
+        if (!prof.is_array()) fail(id, key, "must be an array of [" + a + ", " + b + "] points");
+        if (prof.size() > limits::kMaxProfilePoints)
+            fail(id, key,
+                 "has " + std::to_string(prof.size()) + " points; a profile may have at most " +
+                     std::to_string(limits::kMaxProfilePoints));
+        std::vector<glm::dvec2> points;
+        points.reserve(prof.size());
+        for (std::size_t i = 0; i < prof.size(); ++i) {
+            const std::string p = key + "[" + std::to_string(i) + "]";
+            if (!prof[i].is_array() || prof[i].size() != 2) fail(id, p, "must be an [" + a + ", " + b + "] point");
+            const double first = length(prof[i][0], id, p + "[0]");
+            if (first < f.min)
+                fail(id, p + "[0]",
+                     a + " must be >= " + formatNumber(f.min) + " (the profile lies on one side of the axis), not " +
+                         formatNumber(first));
+            points.emplace_back(first, length(prof[i][1], id, p + "[1]"));
         }
-        }
+        return points;
     }
 
     // What the tree expands to and where it lies, checked on the whole tree
@@ -543,7 +485,7 @@ private:
                  "expands to " + count(e.primitiveCopies) + " primitive copies (hidden ones included), more than the " +
                      grouped(limits::kMaxPrimitiveCopies) + " a document may have");
         fail(n->id, field,
-             "expands to " + count(e.profilePointCopies) + " extrude profile points over all copies, more than the " +
+             "expands to " + count(e.profilePointCopies) + " profile points (extrude, revolve) over all copies, more than the " +
                  grouped(limits::kMaxProfilePointCopies) + " a document may have");
     }
 

@@ -4,6 +4,7 @@
 #include "kerf/document/AtomicFile.hpp"
 #include "kerf/document/Document.hpp"
 #include "kerf/document/DocumentError.hpp"
+#include "kerf/document/NodeTypes.hpp"
 
 #include "JsonMembers.hpp"
 
@@ -36,60 +37,30 @@ std::optional<Json> writeTransform(const Transform& t)
     return j;
 }
 
+// The node's fields in its type's table order (NodeTypes.hpp); an optional
+// field that holds its absent value is left out, as it was read.
 void writeParams(const Node& n, Json& j)
 {
-    switch (n.type) {
-    case NodeType::Box: {
-        const auto& p = n.as<BoxParams>();
-        j["size"] = vec3(p.size);
-        if (p.round != 0.0) j["round"] = p.round;
-        break;
-    }
-    case NodeType::Sphere: j["radius"] = n.as<SphereParams>().radius; break;
-    case NodeType::Cylinder:
-        j["radius"] = n.as<CylinderParams>().radius;
-        j["height"] = n.as<CylinderParams>().height;
-        break;
-    case NodeType::Cone: {
-        const auto& p = n.as<ConeParams>();
-        j["radius_bottom"] = p.radiusBottom;
-        j["radius_top"] = p.radiusTop;
-        j["height"] = p.height;
-        break;
-    }
-    case NodeType::Torus:
-        j["major_radius"] = n.as<TorusParams>().majorRadius;
-        j["minor_radius"] = n.as<TorusParams>().minorRadius;
-        break;
-    case NodeType::Extrude: {
-        const auto& p = n.as<ExtrudeParams>();
-        Json prof = Json::array();
-        for (const auto& v : p.profile) prof.push_back(Json::array({v.x, v.y}));
-        j["profile"] = std::move(prof);
-        j["height"] = p.height;
-        break;
-    }
-    case NodeType::Halfspace:
-        j["normal"] = vec3(n.as<HalfspaceParams>().normal);
-        j["offset"] = n.as<HalfspaceParams>().offset;
-        break;
-    case NodeType::Union:
-    case NodeType::Intersection:
-    case NodeType::Difference:
-        if (n.as<BooleanParams>().blend != 0.0) j["blend"] = n.as<BooleanParams>().blend;
-        break;
-    case NodeType::Offset: j["distance"] = n.as<OffsetParams>().distance; break;
-    case NodeType::Shell: j["thickness"] = n.as<ShellParams>().thickness; break;
-    case NodeType::Array: {
-        const auto& p = n.as<ArrayParams>();
-        j["count"] = Json::array({p.count[0], p.count[1], p.count[2]});
-        j["step"] = vec3(p.step);
-        break;
-    }
-    case NodeType::Mirror:
-        j["normal"] = vec3(n.as<MirrorParams>().normal);
-        if (n.as<MirrorParams>().offset != 0.0) j["offset"] = n.as<MirrorParams>().offset;
-        break;
+    for (const FieldSpec& f : nodeTypeSpec(n.type).fields) {
+        const std::string key(f.key);
+        switch (f.shape) {
+        case FieldShape::Number:
+            if (!f.optional || f.numberIn(n) != f.absent) j[key] = f.numberIn(n);
+            break;
+        case FieldShape::Vector:
+        case FieldShape::Direction: j[key] = vec3(f.vectorIn(n)); break;
+        case FieldShape::Counts: {
+            const auto& c = f.countsIn(n);
+            j[key] = Json::array({c[0], c[1], c[2]});
+            break;
+        }
+        case FieldShape::Points: {
+            Json points = Json::array();
+            for (const auto& v : f.pointsIn(n)) points.push_back(Json::array({v.x, v.y}));
+            j[key] = std::move(points);
+            break;
+        }
+        }
     }
 }
 

@@ -1,4 +1,5 @@
 #include "kerf/document/Expansion.hpp"
+#include "kerf/document/NodeTypes.hpp"
 
 #include <algorithm>
 #include <limits>
@@ -31,8 +32,9 @@ Expansion expansionOf(const Node& node, bool includeHidden)
 {
     if (!node.visible && !includeHidden) return {};
     if (isPrimitive(node.type)) {
-        const std::uint64_t points =
-            node.type == NodeType::Extrude ? node.as<ExtrudeParams>().profile.size() : 0;
+        std::uint64_t points = 0;
+        for (const FieldSpec& f : nodeTypeSpec(node.type).fields)
+            if (f.shape == FieldShape::Points) points += f.pointsIn(node).size();
         return {1, points};
     }
     Expansion sum;

@@ -1,4 +1,5 @@
 #include "kerf/document/NodeBounds.hpp"
+#include "kerf/document/NodeTypes.hpp"
 
 #include <glm/glm.hpp>
 
@@ -23,57 +24,7 @@ std::vector<const Node*> visibleChildren(const Node& n)
 // the solid's box (and inside it when margin <= 0).
 Aabb primitiveLocalBounds(const Node& n, double margin)
 {
-    const double inf = std::numeric_limits<double>::infinity();
-    Aabb box;
-    switch (n.type) {
-    case NodeType::Box: box = Aabb::centered(0.5 * n.as<BoxParams>().size); break;
-    case NodeType::Sphere: box = Aabb::centered(glm::dvec3(n.as<SphereParams>().radius)); break;
-    case NodeType::Cylinder: {
-        const auto& p = n.as<CylinderParams>();
-        box = Aabb::centered({p.radius, p.radius, 0.5 * p.height});
-        break;
-    }
-    case NodeType::Cone: {
-        const auto& p = n.as<ConeParams>();
-        const double r = std::max(p.radiusBottom, p.radiusTop);
-        box = Aabb::centered({r, r, 0.5 * p.height});
-        break;
-    }
-    case NodeType::Torus: {
-        const auto& p = n.as<TorusParams>();
-        const double r = p.majorRadius + p.minorRadius;
-        box = Aabb::centered({r, r, p.minorRadius});
-        break;
-    }
-    case NodeType::Extrude: {
-        const auto& p = n.as<ExtrudeParams>();
-        for (const auto& v : p.profile) box = box.merged(Aabb{{v.x, v.y, 0.0}, {v.x, v.y, 0.0}});
-        box.min.z = -0.5 * p.height;
-        box.max.z = 0.5 * p.height;
-        break;
-    }
-    case NodeType::Halfspace: {
-        // dot(n, p) <= offset is bounded along one axis only when n is axis-aligned.
-        const auto& p = n.as<HalfspaceParams>();
-        box = Aabb::infinite();
-        int axis = -1, nonZero = 0;
-        for (int i = 0; i < 3; ++i)
-            if (p.normal[i] != 0.0) {
-                axis = i;
-                ++nonZero;
-            }
-        if (nonZero == 1) {
-            if (p.normal[axis] > 0)
-                box.max[axis] = p.offset / p.normal[axis];
-            else
-                box.min[axis] = p.offset / p.normal[axis];
-        }
-        (void)inf;
-        break;
-    }
-    default: break;
-    }
-    return box.grown(std::max(margin, 0.0));
+    return nodeTypeSpec(n.type).localBounds(n.params).grown(std::max(margin, 0.0));
 }
 
 // Bounds of {f < margin} in the node's own frame (its transform not applied).

@@ -4,6 +4,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <limits>
 
 namespace kerf {
@@ -26,12 +27,6 @@ double smax(double a, double b, double k) { return -smin(-a, -b, k); }
 double down(double v, double scale) { return v - (std::fabs(v) + scale) * 1e-14; }
 double up(double v, double scale) { return v + (std::fabs(v) + scale) * 1e-14; }
 
-bool hasNaturalExtension(ShapeKind k)
-{
-    return k == ShapeKind::Box || k == ShapeKind::Sphere || k == ShapeKind::Cylinder || k == ShapeKind::Torus ||
-           k == ShapeKind::Halfspace;
-}
-
 } // namespace
 
 Interval shapeInterval(const ShapeInstance& s, const Aabb& box)
@@ -49,6 +44,9 @@ Interval shapeInterval(const ShapeInstance& s, const Aabb& box)
     const double fc = shapeDistanceLocal<double>(s, cx, cy, cz);
     double scale = std::fabs(cx) + std::fabs(cy) + std::fabs(cz) + std::fabs(c.x) + std::fabs(c.y) + std::fabs(c.z);
     for (double p : s.param) scale += std::fabs(p);
+    if (s.polygon)
+        scale += std::max({std::fabs(s.polygon->min.x), std::fabs(s.polygon->min.y), std::fabs(s.polygon->max.x),
+                           std::fabs(s.polygon->max.y)});
     const double radius = std::nextafter(glm::length(half), kInf);
     const double margin = (scale + 1.0) * 1e-12;
     Interval result{fc - radius - margin, fc + radius + margin};
@@ -58,34 +56,7 @@ Interval shapeInterval(const ShapeInstance& s, const Aabb& box)
     const Interval lx = Interval(f[0]) * X + Interval(f[1]) * Y + Interval(f[2]) * Z + Interval(f[9]);
     const Interval ly = Interval(f[3]) * X + Interval(f[4]) * Y + Interval(f[5]) * Z + Interval(f[10]);
     const Interval lz = Interval(f[6]) * X + Interval(f[7]) * Y + Interval(f[8]) * Z + Interval(f[11]);
-    const auto& p = s.param;
-    if (hasNaturalExtension(s.kind)) {
-        Interval natural;
-        switch (s.kind) {
-        case ShapeKind::Box: natural = sdf::box<Interval>(lx, ly, lz, p[0], p[1], p[2], p[3]); break;
-        case ShapeKind::Sphere: natural = sdf::sphere<Interval>(lx, ly, lz, p[0]); break;
-        case ShapeKind::Cylinder: natural = sdf::cylinder<Interval>(lx, ly, lz, p[0], p[1]); break;
-        case ShapeKind::Torus: natural = sdf::torus<Interval>(lx, ly, lz, p[0], p[1]); break;
-        default: natural = sdf::halfspace<Interval>(lx, ly, lz, p[0], p[1], p[2], p[3]); break;
-        }
-        result = intersect(result, natural);
-    } else if (s.kind == ShapeKind::Cone) {
-        // No natural extension (the formulas branch on the point), but a
-        // containment enclosure: a solid inside another has a field at least
-        // as large everywhere (farther from its surface outside, nearer to it
-        // inside), one containing another a field at most as large. A cone
-        // lies between the cylinders of its smaller and larger radius (the
-        // smaller may be 0: a segment).
-        const Interval outer = sdf::cylinder<Interval>(lx, ly, lz, std::max(p[0], p[1]), p[2]);
-        const Interval inner = sdf::cylinder<Interval>(lx, ly, lz, std::min(p[0], p[1]), p[2]);
-        result = intersect(result, Interval{outer.lo, inner.hi});
-    } else if (s.kind == ShapeKind::Extrude) {
-        // Likewise, an extrusion lies inside its profile's bounding box swept over its height.
-        const glm::dvec2 mid = 0.5 * (s.polygon->min + s.polygon->max), half2 = 0.5 * (s.polygon->max - s.polygon->min);
-        const Interval outer = sdf::box<Interval>(lx - Interval(mid.x), ly - Interval(mid.y), lz, half2.x, half2.y, p[0], 0.0);
-        result.lo = std::max(result.lo, outer.lo);
-    }
-    return result;
+    return intersect(result, primitiveEnclosure(s, lx, ly, lz));
 }
 
 void IntervalEvaluator::run(const Tape& tape, const Aabb& box)

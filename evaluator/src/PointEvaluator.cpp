@@ -46,17 +46,22 @@ inline void forEachPoint(const std::array<S, 12>& f, const S* x, const S* y, con
 
 constexpr std::size_t kMaxBlock = 64;
 
-// Extrusions in plain floating point: edges in the outer loop, points in the
-// inner one, so the per-edge work vectorizes across points.
+// Profiles (extrusions, revolves) in plain floating point: edges in the
+// outer loop, points in the inner one, so the per-edge work vectorizes
+// across points. The profile's plane coordinates (u, v) of each point are
+// (x, y) for an extrusion and (length(x, y), z) for a revolve.
 template <class S>
-void extrudeBlock(const ShapeInstance& s, const S* x, const S* y, const S* z, std::size_t n, S* dst)
+void profileBlock(const ShapeInstance& s, const S* x, const S* y, const S* z, std::size_t n, S* dst)
 {
     const auto& f = frameOf<S>(s);
-    S lx[kMaxBlock], ly[kMaxBlock], lz[kMaxBlock], d[kMaxBlock], sign[kMaxBlock];
+    const bool revolve = s.kind == ShapeKind::Revolve;
+    S pu[kMaxBlock], pv[kMaxBlock], lz[kMaxBlock], d[kMaxBlock], sign[kMaxBlock];
     for (std::size_t i = 0; i < n; ++i) {
-        lx[i] = localCoordinate<S>(f, 0, x[i], y[i], z[i]);
-        ly[i] = localCoordinate<S>(f, 1, x[i], y[i], z[i]);
+        const S lx = localCoordinate<S>(f, 0, x[i], y[i], z[i]);
+        const S ly = localCoordinate<S>(f, 1, x[i], y[i], z[i]);
         lz[i] = localCoordinate<S>(f, 2, x[i], y[i], z[i]);
+        pu[i] = revolve ? std::sqrt(lx * lx + ly * ly) : lx;
+        pv[i] = revolve ? lz[i] : ly;
         d[i] = std::numeric_limits<S>::max();
         sign[i] = S(1);
     }
@@ -66,75 +71,57 @@ void extrudeBlock(const ShapeInstance& s, const S* x, const S* y, const S* z, st
     }();
     const std::size_t m = v.size();
     for (std::size_t e = 0, j = m - 1; e < m; j = e++) {
+        if (revolve && v[e].x == 0 && v[j].x == 0) continue; // on the axis: inside the solid (sdf::polygon2d)
         const S vx = S(v[e].x), vy = S(v[e].y);
         const S ex = S(v[j].x) - vx, ey = S(v[j].y) - vy;
         const S invLen2 = S(1) / (ex * ex + ey * ey);
         const S vjy = S(v[j].y);
         for (std::size_t i = 0; i < n; ++i) {
-            const S wx = lx[i] - vx, wy = ly[i] - vy;
+            const S wx = pu[i] - vx, wy = pv[i] - vy;
             const S t = std::min(std::max((wx * ex + wy * ey) * invLen2, S(0)), S(1));
             const S bx = wx - ex * t, by = wy - ey * t;
             d[i] = std::min(d[i], bx * bx + by * by);
-            const bool c1 = ly[i] >= vy, c2 = ly[i] < vjy, c3 = ex * wy > ey * wx;
+            const bool c1 = pv[i] >= vy, c2 = pv[i] < vjy, c3 = ex * wy > ey * wx;
             const bool flip = (c1 && c2 && c3) || (!c1 && !c2 && !c3);
             sign[i] = flip ? -sign[i] : sign[i];
         }
     }
-    const S h = S(s.param[0]);
-    for (std::size_t i = 0; i < n; ++i) dst[i] = sdf::extrusion(sign[i] * std::sqrt(d[i]), lz[i], h);
+    if (revolve) {
+        for (std::size_t i = 0; i < n; ++i) dst[i] = sign[i] * std::sqrt(d[i]);
+    } else {
+        const S h = S(s.param[0]);
+        for (std::size_t i = 0; i < n; ++i) dst[i] = sdf::extrusion(sign[i] * std::sqrt(d[i]), lz[i], h);
+    }
 }
 
 template <class V, class S>
 void evaluateShape(const ShapeInstance& s, const S* x, const S* y, const S* z, std::size_t n, V* dst)
 {
+    if constexpr (std::is_same_v<V, S>)
+        if (s.kind == ShapeKind::Extrude || s.kind == ShapeKind::Revolve) return profileBlock(s, x, y, z, n, dst);
     const auto& f = frameOf<S>(s);
-    auto p = [&](int i) -> V {
+    // The parameters in locals: loads from the shape could alias dst, and
+    // would be repeated for every point.
+    V param[6];
+    for (std::size_t i = 0; i < 6; ++i) {
         if constexpr (std::is_same_v<S, float>)
-            return V(s.paramF[static_cast<std::size_t>(i)]);
+            param[i] = V(s.paramF[i]);
         else
-            return V(s.param[static_cast<std::size_t>(i)]);
-    };
-    switch (s.kind) {
-    case ShapeKind::Box: {
-        const V bx = p(0), by = p(1), bz = p(2), r = p(3);
-        forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return sdf::box(a, b, c, bx, by, bz, r); });
-        return;
+            param[i] = V(s.param[i]);
     }
-    case ShapeKind::Sphere: {
-        const V r = p(0);
-        forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return sdf::sphere(a, b, c, r); });
-        return;
-    }
-    case ShapeKind::Cylinder: {
-        const V r = p(0), h = p(1);
-        forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return sdf::cylinder(a, b, c, r, h); });
-        return;
-    }
-    case ShapeKind::Cone: {
-        const V r1 = p(0), r2 = p(1), h = p(2), kx = p(3), ky = p(4), inv = p(5);
-        forEachPoint(f, x, y, z, n, dst,
-                     [&](V a, V b, V c) { return sdf::cone(a, b, c, r1, r2, h, kx, ky, inv); });
-        return;
-    }
-    case ShapeKind::Torus: {
-        const V R = p(0), r = p(1);
-        forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return sdf::torus(a, b, c, R, r); });
-        return;
-    }
-    case ShapeKind::Halfspace: {
-        const V nx = p(0), ny = p(1), nz = p(2), o = p(3);
-        forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return sdf::halfspace(a, b, c, nx, ny, nz, o); });
-        return;
-    }
-    case ShapeKind::Extrude:
-        if constexpr (std::is_same_v<V, S>)
-            extrudeBlock(s, x, y, z, n, dst);
-        else
-            forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return shapeDistanceLocal<V>(s, a, b, c); });
-        return;
-    }
-    // A kind the switch does not name (out of ShapeKind's range): NaN, never a plane.
-    for (std::size_t i = 0; i < n; ++i) dst[i] = V(std::numeric_limits<S>::quiet_NaN());
+    const auto p = [&](int i) { return param[i]; };
+    static const std::vector<glm::tvec2<S>> none;
+    const auto& profile = !s.polygon ? none : [&]() -> const auto& {
+        if constexpr (std::is_same_v<S, float>) return s.polygon->pointsF;
+        else return s.polygon->points;
+    }();
+    // The kind is decided once per block: the loop body has no dispatch.
+    const bool known = primitive::with(s.kind, [&](auto unit) {
+        forEachPoint(f, x, y, z, n, dst, [&](V a, V b, V c) { return decltype(unit)::distance(a, b, c, p, profile); });
+    });
+    // A kind no unit has (out of ShapeKind's range): NaN, never a plane.
+    if (!known)
+        for (std::size_t i = 0; i < n; ++i) dst[i] = V(std::numeric_limits<S>::quiet_NaN());
 }
 
 template <class V> inline bool lessThan(const V& a, const V& b)

@@ -1,5 +1,7 @@
 #include "kerf/evaluator/TapeCompiler.hpp"
 
+#include "kerf/evaluator/Primitives.hpp"
+
 #include "kerf/document/NodeBounds.hpp"
 
 #include <glm/glm.hpp>
@@ -84,58 +86,7 @@ private:
         Node self = n;
         self.transform = Transform{};
         s.worldBounds = worldFromLocal.apply(nodeBounds(self));
-        auto& p = s.param;
-        switch (n.type) {
-        case NodeType::Box: {
-            const auto& b = n.as<BoxParams>();
-            s.kind = ShapeKind::Box;
-            p = {0.5 * b.size.x - b.round, 0.5 * b.size.y - b.round, 0.5 * b.size.z - b.round, b.round, 0, 0};
-            break;
-        }
-        case NodeType::Sphere:
-            s.kind = ShapeKind::Sphere;
-            p[0] = n.as<SphereParams>().radius;
-            break;
-        case NodeType::Cylinder:
-            s.kind = ShapeKind::Cylinder;
-            p[0] = n.as<CylinderParams>().radius;
-            p[1] = 0.5 * n.as<CylinderParams>().height;
-            break;
-        case NodeType::Cone: {
-            const auto& c = n.as<ConeParams>();
-            s.kind = ShapeKind::Cone;
-            const double dr = c.radiusTop - c.radiusBottom;
-            p = {c.radiusBottom, c.radiusTop, 0.5 * c.height, dr, c.height, 1.0 / (dr * dr + c.height * c.height)};
-            break;
-        }
-        case NodeType::Torus:
-            s.kind = ShapeKind::Torus;
-            p[0] = n.as<TorusParams>().majorRadius;
-            p[1] = n.as<TorusParams>().minorRadius;
-            break;
-        case NodeType::Extrude: {
-            const auto& e = n.as<ExtrudeParams>();
-            s.kind = ShapeKind::Extrude;
-            p[0] = 0.5 * e.height;
-            auto poly = std::make_shared<Polygon>();
-            poly->points = e.profile;
-            for (const auto& v : e.profile) {
-                poly->pointsF.emplace_back(static_cast<float>(v.x), static_cast<float>(v.y));
-                poly->min = glm::min(poly->min, v);
-                poly->max = glm::max(poly->max, v);
-            }
-            s.polygon = std::move(poly);
-            break;
-        }
-        case NodeType::Halfspace: {
-            const auto& h = n.as<HalfspaceParams>();
-            s.kind = ShapeKind::Halfspace;
-            p = {h.normal.x, h.normal.y, h.normal.z, h.offset, 0, 0};
-            break;
-        }
-        default: break;
-        }
-        for (std::size_t i = 0; i < p.size(); ++i) s.paramF[i] = static_cast<float>(p[i]);
+        packPrimitive(n, s);
         shapes_.push_back(std::move(s));
         Instruction ins;
         ins.op = Op::Primitive;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace kerf::test {
 
@@ -40,50 +41,94 @@ std::vector<glm::dvec2> RandomShapes::simplePolygon(int points, double radius)
     return poly;
 }
 
+std::vector<NodeType> RandomShapes::primitiveTypes()
+{
+    std::vector<NodeType> types;
+    for (const NodeTypeSpec& spec : nodeTypeSpecs())
+        if (spec.category == NodeCategory::Primitive) types.push_back(spec.type);
+    return types;
+}
+
+std::vector<NodeType> RandomShapes::operationTypes()
+{
+    std::vector<NodeType> types;
+    for (const NodeTypeSpec& spec : nodeTypeSpecs())
+        if (spec.category != NodeCategory::Primitive) types.push_back(spec.type);
+    return types;
+}
+
+std::vector<NodeType> RandomShapes::boundedPrimitiveTypes()
+{
+    std::vector<NodeType> types;
+    for (const NodeType t : primitiveTypes())
+        if (nodeTypeSpec(t).localBounds(nodeTypeSpec(t).defaults).isBounded()) types.push_back(t);
+    return types;
+}
+
+// One field drawn from its typical range (NodeTypes.hpp), within its rules.
+void RandomShapes::fill(const FieldSpec& f, Node& n)
+{
+    const double low = std::max(f.typicalLow, f.min), high = f.typicalHigh;
+    switch (f.shape) {
+    case FieldShape::Number:
+        if (f.optional) {
+            // Absent, tiny (numerically delicate) or typical.
+            const int which = integer(0, 3);
+            f.numberIn(n) = which == 0 ? f.absent : which == 1 ? uniform(1e-6, 1e-2) : uniform(low, high);
+        } else {
+            f.numberIn(n) = uniform(low, high);
+        }
+        break;
+    case FieldShape::Vector: f.vectorIn(n) = vec(low, high); break;
+    case FieldShape::Direction: {
+        glm::dvec3 d = vec(-1.0, 1.0);
+        if (glm::length(d) < 0.1) d = {0, 0, 1};
+        f.vectorIn(n) = glm::normalize(d);
+        break;
+    }
+    case FieldShape::Counts:
+        for (auto& c : f.countsIn(n)) c = integer(int(low), int(high));
+        break;
+    case FieldShape::Points: {
+        const double radius = uniform(low, high);
+        auto points = simplePolygon(integer(3, 12), radius);
+        if (std::isfinite(f.min)) {
+            // A first coordinate bounded below (a revolve's r >= 0): the
+            // polygon moved to that side, sometimes pressed onto the axis.
+            const bool onAxis = chance(0.5);
+            for (auto& v : points) {
+                v.x += f.min + (onAxis ? 0.5 : 1.05) * radius;
+                if (onAxis) v.x = std::max(v.x, f.min);
+            }
+        }
+        f.pointsIn(n) = std::move(points);
+        break;
+    }
+    }
+}
+
+void RandomShapes::fillFields(Node& n)
+{
+    const NodeTypeSpec& spec = nodeTypeSpec(n.type);
+    for (int attempt = 0;; ++attempt) {
+        for (const FieldSpec& f : spec.fields) fill(f, n);
+        if (!spec.check || !spec.check(n.params)) return;
+        if (attempt == 1000) throw std::logic_error("no valid random " + std::string(spec.name));
+    }
+}
+
 Node RandomShapes::primitive(NodeType type)
 {
     Node n = makeNode(type, nextId());
-    switch (type) {
-    case NodeType::Box: {
-        BoxParams p;
-        p.size = vec(1.0, 40.0);
-        p.round = chance(0.5) ? 0.0 : uniform(0.0, 0.5 * std::min({p.size.x, p.size.y, p.size.z}));
-        n.params = p;
-        break;
-    }
-    case NodeType::Sphere: n.params = SphereParams{uniform(0.5, 25.0)}; break;
-    case NodeType::Cylinder: n.params = CylinderParams{uniform(0.5, 20.0), uniform(1.0, 40.0)}; break;
-    case NodeType::Cone: {
-        ConeParams p{uniform(0.0, 20.0), uniform(0.0, 20.0), uniform(1.0, 40.0)};
-        if (chance(0.2)) p.radiusTop = 0.0;
-        if (p.radiusBottom == 0.0 && p.radiusTop == 0.0) p.radiusBottom = 5.0;
-        n.params = p;
-        break;
-    }
-    case NodeType::Torus: n.params = TorusParams{uniform(2.0, 20.0), uniform(0.5, 10.0)}; break;
-    case NodeType::Extrude: {
-        const double radius = uniform(3.0, 25.0); // before the count: GCC's order (see transform())
-        const int points = integer(3, 12);
-        n.params = ExtrudeParams{simplePolygon(points, radius), uniform(1.0, 40.0)};
-        break;
-    }
-    case NodeType::Halfspace: {
-        glm::dvec3 normal = vec(-1.0, 1.0);
-        if (glm::length(normal) < 0.1) normal = {0, 0, 1};
-        n.params = HalfspaceParams{glm::normalize(normal), uniform(-10.0, 10.0)};
-        break;
-    }
-    default: break;
-    }
+    fillFields(n);
     n.transform = transform(15.0);
     return n;
 }
 
 NodeType RandomShapes::randomBoundedPrimitiveType()
 {
-    static const NodeType kinds[] = {NodeType::Box, NodeType::Sphere, NodeType::Cylinder,
-                                     NodeType::Cone, NodeType::Torus, NodeType::Extrude};
-    return kinds[integer(0, 5)];
+    static const std::vector<NodeType> kinds = boundedPrimitiveTypes();
+    return kinds[std::size_t(integer(0, int(kinds.size()) - 1))];
 }
 
 Node RandomShapes::operation(NodeType type)
@@ -91,29 +136,7 @@ Node RandomShapes::operation(NodeType type)
     Node n = makeNode(type, nextId());
     const int children = isBoolean(type) ? integer(1, 3) : 1;
     for (int i = 0; i < children; ++i) n.children.push_back(primitive(randomBoundedPrimitiveType()));
-    switch (type) {
-    case NodeType::Union:
-    case NodeType::Intersection:
-    case NodeType::Difference: {
-        // Exact booleans, tiny blends and large ones.
-        const int which = integer(0, 3);
-        const double blend = which == 0 ? 0.0 : which == 1 ? uniform(1e-6, 1e-2) : uniform(0.5, 20.0);
-        n.params = BooleanParams{blend};
-        break;
-    }
-    case NodeType::Offset: n.params = OffsetParams{uniform(-3.0, 8.0)}; break;
-    case NodeType::Shell: n.params = ShellParams{uniform(0.2, 6.0)}; break;
-    case NodeType::Array:
-        n.params = ArrayParams{{integer(1, 4), integer(1, 3), integer(1, 2)}, vec(-30.0, 30.0)};
-        break;
-    case NodeType::Mirror: {
-        glm::dvec3 normal = vec(-1.0, 1.0);
-        if (glm::length(normal) < 0.1) normal = {1, 0, 0};
-        n.params = MirrorParams{glm::normalize(normal), uniform(-10.0, 10.0)};
-        break;
-    }
-    default: break;
-    }
+    fillFields(n);
     n.transform = transform(10.0);
     return n;
 }
@@ -121,9 +144,8 @@ Node RandomShapes::operation(NodeType type)
 Node RandomShapes::tree(int depth)
 {
     if (depth <= 0 || chance(0.25)) return primitive(randomBoundedPrimitiveType());
-    static const NodeType ops[] = {NodeType::Union, NodeType::Intersection, NodeType::Difference, NodeType::Offset,
-                                   NodeType::Shell, NodeType::Array, NodeType::Mirror};
-    const NodeType type = ops[integer(0, 6)];
+    static const std::vector<NodeType> ops = operationTypes();
+    const NodeType type = ops[std::size_t(integer(0, int(ops.size()) - 1))];
     Node n = operation(type);
     for (auto& c : n.children)
         if (chance(0.6)) c = tree(depth - 1);

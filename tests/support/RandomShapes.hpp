@@ -1,8 +1,11 @@
 #pragma once
 // Seeded random feature trees for property tests: every primitive and
-// operation type with random parameters and random placements.
+// operation type with random parameters and random placements. The types
+// and their fields come from the node type table (NodeTypes.hpp): a new
+// type is in every property test without a line here.
 
 #include "kerf/document/Document.hpp"
+#include "kerf/document/NodeTypes.hpp"
 
 #include <ostream>
 #include <random>
@@ -28,8 +31,13 @@ public:
     /// axis-aligned one half of the time (exact 90 degree multiples).
     Transform transform(double reach);
 
-    /// A primitive of the given type with random, valid parameters (sizes
-    /// between about 1 and 40 mm). Halfspaces only when `allowUnbounded`.
+    /// Every primitive type, every operation type, the bounded primitives.
+    static std::vector<NodeType> primitiveTypes();
+    static std::vector<NodeType> operationTypes();
+    static std::vector<NodeType> boundedPrimitiveTypes();
+
+    /// A primitive of the given type with random, valid parameters (each
+    /// field within its typical range, about 1 to 40 mm).
     Node primitive(NodeType type);
     /// A random simple polygon: a star-shaped one (sorted angles).
     std::vector<glm::dvec2> simplePolygon(int points, double radius);
@@ -46,6 +54,8 @@ public:
 private:
     std::string nextId() { return "n" + std::to_string(counter_++); }
     NodeType randomBoundedPrimitiveType();
+    void fill(const FieldSpec& f, Node& n);
+    void fillFields(Node& n);
 
     std::mt19937_64 rng_;
     int counter_ = 0;

@@ -43,6 +43,7 @@
 #include <QStandardPaths>
 #include <QSlider>
 #include <QStatusBar>
+#include <QTableWidget>
 #include <QTemporaryDir>
 #include <QTest>
 #include <QToolBar>
@@ -304,6 +305,7 @@ private slots:
     void theGizmoMovesAHoleBySnappedOrTypedDistancesInOneUndoStep();
     void aSelectedHoleShowsItsToolBodyAsAGhost();
     void theBoundingBoxOfTheSelectionIsMeasuredAndDrawn();
+    void aTurnedProfileIsEditedInItsPointTable();
 
 private:
     QTemporaryDir recovery_, files_;
@@ -1614,3 +1616,52 @@ void MainWindowTest::theBoundingBoxOfTheSelectionIsMeasuredAndDrawn()
 
 QTEST_MAIN(MainWindowTest)
 #include "MainWindowTest.moc"
+
+// A revolve (the turned leg's primitive) from the Add menu: its profile is a
+// table of [r, z] points; an edit goes in as one undo step, an r below the
+// axis is refused under the table, and the view shows the turning.
+void MainWindowTest::aTurnedProfileIsEditedInItsPointTable()
+{
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    action(w.get(), "action.add.revolve")->trigger();
+    QCOMPARE(w->selectedNodeIds(), std::vector<std::string>{"revolve"});
+    auto* table = w->propertyEditor()->findChild<QTableWidget*>("field.profile");
+    QVERIFY(table);
+    QCOMPARE(table->horizontalHeaderItem(0)->text(), QString("R (mm)"));
+    QCOMPARE(table->horizontalHeaderItem(1)->text(), QString("Z (mm)"));
+    const auto profile = [&] { return w->session()->document().root.find("revolve")->as<RevolveParams>().profile; };
+    QCOMPARE(table->rowCount(), int(profile().size()));
+    QCOMPARE(table->item(1, 0)->text(), QString::number(profile()[1].x));
+
+    // The foot wider: one step, the document and the table agree.
+    const int steps = w->session()->undoStack()->count();
+    table->item(1, 0)->setText("15");
+    QCOMPARE(profile()[1].x, 15.0);
+    QCOMPARE(w->session()->undoStack()->count(), steps + 1);
+    QCOMPARE(w->propertyEditor()->errorFor("profile"), QString());
+
+    // A point across the axis: refused with the point named, nothing changes.
+    const Document before = w->session()->document();
+    table->item(2, 0)->setText("-3");
+    QVERIFY(w->session()->document() == before);
+    const QString why = w->propertyEditor()->errorFor("profile");
+    QVERIFY2(why.contains("profile[2][0]") && why.contains(">= 0"), qPrintable(why));
+    QCOMPARE(table->item(2, 0)->text(), QString::number(profile()[2].x)); // the document's value again
+
+    // Undo takes the wider foot back.
+    action(w.get(), "action.undo")->trigger();
+    QCOMPARE(profile()[1].x, 12.0);
+    QCOMPARE(table->item(1, 0)->text(), QString("12"));
+
+    // The view shows the turning, with no validation error.
+    w->selectNodes({});
+    action(w.get(), "action.view.front")->trigger();
+    action(w.get(), "action.fitAll")->trigger();
+    QVERIFY(waitForViewport(*w));
+    const QImage frame = w->viewport()->grabFrame();
+    QVERIFY(!frame.isNull());
+    QVERIFY2(woodFraction(frame) > 0.02, "the turning fills part of the picture");
+    QVERIFY2(w->viewport()->status().validationErrors == 0, qPrintable(w->viewport()->status().lastValidationMessage));
+    saveScreenshot(*w, "app-revolve-profile");
+}

@@ -12,6 +12,7 @@
 #include "kerf/document/AddFeature.hpp"
 #include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/DocumentError.hpp"
+#include "kerf/document/NodeTypes.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/viewport/ReferenceMesh.hpp"
 #include "kerf/viewport/qt/ViewportWidget.hpp"
@@ -68,10 +69,14 @@ QList<QKeySequence> uniqueShortcuts(std::initializer_list<QKeySequence::Standard
 
 constexpr int kMaxRecentFiles = 8;
 
-const NodeType kPrimitives[] = {NodeType::Box,   NodeType::Sphere,  NodeType::Cylinder, NodeType::Cone,
-                                NodeType::Torus, NodeType::Extrude, NodeType::Halfspace};
-const NodeType kOperations[] = {NodeType::Union, NodeType::Intersection, NodeType::Difference, NodeType::Offset,
-                                NodeType::Shell, NodeType::Array,        NodeType::Mirror};
+// The node types of one kind, in the table's order (NodeTypes.hpp).
+std::vector<NodeType> nodeTypesWhere(bool primitive)
+{
+    std::vector<NodeType> types;
+    for (const NodeTypeSpec& spec : nodeTypeSpecs())
+        if ((spec.category == NodeCategory::Primitive) == primitive) types.push_back(spec.type);
+    return types;
+}
 
 QString objectNameFor(const char* prefix, NodeType t)
 {
@@ -321,14 +326,14 @@ void MainWindow::buildActions()
     QMenu* add = menuBar()->addMenu(tr("&Add"));
     QMenu* group = new QMenu(tr("&Group Selection Under"), this);
     std::vector<QAction*> primitiveActions, operationActions;
-    for (NodeType t : kPrimitives) {
+    for (NodeType t : nodeTypesWhere(true)) {
         QAction* a = action(nodeTypeLabel(t), objectNameFor("action.add.", t));
         connect(a, &QAction::triggered, this, [this, t] { addFeature(t); });
         primitiveActions.push_back(a);
         add->addAction(a);
     }
     add->addSeparator();
-    for (NodeType t : kOperations) {
+    for (NodeType t : nodeTypesWhere(false)) {
         QAction* a = action(nodeTypeLabel(t), objectNameFor("action.add.", t));
         connect(a, &QAction::triggered, this, [this, t] { addFeature(t); });
         operationActions.push_back(a);
@@ -443,14 +448,17 @@ void MainWindow::buildActions()
     QToolBar* fileBar = addToolBar(tr("File"));
     fileBar->setObjectName("toolbar.file");
     fileBar->addActions({newAct, openAct, saveAct, undoAct, redoAct, exportAct});
+    QToolBar* viewBar = addToolBar(tr("View"));
+    viewBar->setObjectName("toolbar.view");
+    viewBar->addActions({fitAct, orthoAct, exactAct, measureAction_});
+    // The features on a row of their own: beside the others they ran past
+    // the edge of a 1280-pixel-wide window into the overflow menu.
+    addToolBarBreak();
     QToolBar* featureBar = addToolBar(tr("Features"));
     featureBar->setObjectName("toolbar.features");
     for (QAction* a : primitiveActions) featureBar->addAction(a);
     featureBar->addSeparator();
     for (QAction* a : operationActions) featureBar->addAction(a);
-    QToolBar* viewBar = addToolBar(tr("View"));
-    viewBar->setObjectName("toolbar.view");
-    viewBar->addActions({fitAct, orthoAct, exactAct, measureAction_});
 
     // The tree's context menu.
     connect(tree_, &QTreeView::customContextMenuRequested, this,

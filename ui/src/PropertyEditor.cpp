@@ -4,10 +4,12 @@
 #include "QuantityEdit.hpp"
 #include "UndoKeysToWindow.hpp"
 
+#include "kerf/document/NodeTypes.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/voxelizer/GridLayout.hpp"
 
 #include <QCheckBox>
+#include <QCoreApplication>
 #include <QColorDialog>
 #include <QFormLayout>
 #include <QHBoxLayout>
@@ -205,6 +207,7 @@ void PropertyEditor::rebuild()
     visible_ = nullptr;
     color_ = nullptr;
     profile_ = nullptr;
+    profileField_ = nullptr;
     profileError_ = nullptr;
     generalError_ = nullptr;
     partFeatureSize_ = nullptr;
@@ -271,93 +274,56 @@ void PropertyEditor::rebuild()
     addVector(tr("Rotation"), "rotate", kDeg, [](const Node& m) { return m.transform.rotate; },
               [](Node& m, int a, double v) { m.transform.rotate[a] = v; });
 
-    switch (n->type) {
-    case NodeType::Box:
-        addVector(tr("Size"), "size", kMm, [](const Node& m) { return m.as<BoxParams>().size; },
-                  [](Node& m, int a, double v) { m.as<BoxParams>().size[a] = v; });
-        addQuantity(tr("Round"), "round", kMm, [](const Node& m) { return m.as<BoxParams>().round; },
-                    [](Node& m, double v) { m.as<BoxParams>().round = v; });
-        break;
-    case NodeType::Sphere:
-        addQuantity(tr("Radius"), "radius", kMm, [](const Node& m) { return m.as<SphereParams>().radius; },
-                    [](Node& m, double v) { m.as<SphereParams>().radius = v; });
-        break;
-    case NodeType::Cylinder:
-        addQuantity(tr("Radius"), "radius", kMm, [](const Node& m) { return m.as<CylinderParams>().radius; },
-                    [](Node& m, double v) { m.as<CylinderParams>().radius = v; });
-        addQuantity(tr("Height"), "height", kMm, [](const Node& m) { return m.as<CylinderParams>().height; },
-                    [](Node& m, double v) { m.as<CylinderParams>().height = v; });
-        break;
-    case NodeType::Cone:
-        addQuantity(tr("Bottom radius"), "radius_bottom", kMm,
-                    [](const Node& m) { return m.as<ConeParams>().radiusBottom; },
-                    [](Node& m, double v) { m.as<ConeParams>().radiusBottom = v; });
-        addQuantity(tr("Top radius"), "radius_top", kMm, [](const Node& m) { return m.as<ConeParams>().radiusTop; },
-                    [](Node& m, double v) { m.as<ConeParams>().radiusTop = v; });
-        addQuantity(tr("Height"), "height", kMm, [](const Node& m) { return m.as<ConeParams>().height; },
-                    [](Node& m, double v) { m.as<ConeParams>().height = v; });
-        break;
-    case NodeType::Torus:
-        addQuantity(tr("Major radius"), "major_radius", kMm,
-                    [](const Node& m) { return m.as<TorusParams>().majorRadius; },
-                    [](Node& m, double v) { m.as<TorusParams>().majorRadius = v; });
-        addQuantity(tr("Minor radius"), "minor_radius", kMm,
-                    [](const Node& m) { return m.as<TorusParams>().minorRadius; },
-                    [](Node& m, double v) { m.as<TorusParams>().minorRadius = v; });
-        break;
-    case NodeType::Extrude:
-        addQuantity(tr("Height"), "height", kMm, [](const Node& m) { return m.as<ExtrudeParams>().height; },
-                    [](Node& m, double v) { m.as<ExtrudeParams>().height = v; });
-        addProfileTable();
-        break;
-    case NodeType::Halfspace:
-        addVector(tr("Normal"), "normal", kPlain, [](const Node& m) { return m.as<HalfspaceParams>().normal; },
-                  [](Node& m, int a, double v) { setNormalComponent(m.as<HalfspaceParams>().normal, a, v); });
-        addQuantity(tr("Offset"), "offset", kMm, [](const Node& m) { return m.as<HalfspaceParams>().offset; },
-                    [](Node& m, double v) { m.as<HalfspaceParams>().offset = v; });
-        break;
-    case NodeType::Union:
-    case NodeType::Intersection:
-    case NodeType::Difference:
-        addQuantity(tr("Blend"), "blend", kMm, [](const Node& m) { return m.as<BooleanParams>().blend; },
-                    [](Node& m, double v) { m.as<BooleanParams>().blend = v; });
-        break;
-    case NodeType::Offset:
-        addQuantity(tr("Distance"), "distance", kMm, [](const Node& m) { return m.as<OffsetParams>().distance; },
-                    [](Node& m, double v) { m.as<OffsetParams>().distance = v; });
-        break;
-    case NodeType::Shell:
-        addQuantity(tr("Thickness"), "thickness", kMm, [](const Node& m) { return m.as<ShellParams>().thickness; },
-                    [](Node& m, double v) { m.as<ShellParams>().thickness = v; });
-        break;
-    case NodeType::Array:
-        addVector(tr("Count"), "count", kPlain,
-                  [](const Node& m) {
-                      const auto& c = m.as<ArrayParams>().count;
-                      return glm::dvec3(double(c[0]), double(c[1]), double(c[2]));
-                  },
-                  [](Node& m, int a, double v) { m.as<ArrayParams>().count[std::size_t(a)] = std::llround(v); }, 0);
-        addVector(tr("Step"), "step", kMm, [](const Node& m) { return m.as<ArrayParams>().step; },
-                  [](Node& m, int a, double v) { m.as<ArrayParams>().step[a] = v; });
-        break;
-    case NodeType::Mirror:
-        addVector(tr("Normal"), "normal", kPlain, [](const Node& m) { return m.as<MirrorParams>().normal; },
-                  [](Node& m, int a, double v) { setNormalComponent(m.as<MirrorParams>().normal, a, v); });
-        addQuantity(tr("Offset"), "offset", kMm, [](const Node& m) { return m.as<MirrorParams>().offset; },
-                    [](Node& m, double v) { m.as<MirrorParams>().offset = v; });
-        break;
+    // The type's own fields, as its row of the node type table lists them.
+    for (const FieldSpec& f : nodeTypeSpec(n->type).fields) {
+        const QString label = QCoreApplication::translate("NodeTypes", std::string(f.label).c_str());
+        const QString key = QString::fromUtf8(f.key.data(), qsizetype(f.key.size()));
+        const int unit = f.unit == FieldUnit::Length ? kMm : f.unit == FieldUnit::Angle ? kDeg : kPlain;
+        const FieldSpec* spec = &f; // the table lives as long as the program
+        const int firstRow = form_->rowCount();
+        switch (f.shape) {
+        case FieldShape::Number:
+            addQuantity(label, key, unit, [spec](const Node& m) { return spec->numberIn(m); },
+                        [spec](Node& m, double v) { spec->numberIn(m) = v; });
+            break;
+        case FieldShape::Vector:
+            addVector(label, key, unit, [spec](const Node& m) { return spec->vectorIn(m); },
+                      [spec](Node& m, int a, double v) { spec->vectorIn(m)[a] = v; });
+            break;
+        case FieldShape::Direction:
+            addVector(label, key, unit, [spec](const Node& m) { return spec->vectorIn(m); },
+                      [spec](Node& m, int a, double v) { setNormalComponent(spec->vectorIn(m), a, v); });
+            break;
+        case FieldShape::Counts:
+            addVector(label, key, unit,
+                      [spec](const Node& m) {
+                          const auto& c = spec->countsIn(m);
+                          return glm::dvec3(double(c[0]), double(c[1]), double(c[2]));
+                      },
+                      [spec](Node& m, int a, double v) { spec->countsIn(m)[std::size_t(a)] = std::llround(v); }, 0);
+            break;
+        case FieldShape::Points: addProfileTable(*spec); break;
+        }
+        // The field's meaning on every widget of its rows.
+        const QString help = QCoreApplication::translate("NodeTypes", std::string(f.help).c_str());
+        for (int r = firstRow; r < form_->rowCount(); ++r)
+            if (QLayoutItem* item = form_->itemAt(r, QFormLayout::FieldRole); item && item->widget())
+                item->widget()->setToolTip(help);
     }
     refresh();
 }
 
-void PropertyEditor::addProfileTable()
+void PropertyEditor::addProfileTable(const FieldSpec& field)
 {
+    profileField_ = &field;
     profile_ = new QTableWidget(0, 2, this);
-    profile_->setObjectName("field.profile");
-    profile_->setHorizontalHeaderLabels({tr("X (mm)"), tr("Y (mm)")});
+    profile_->setObjectName("field." + QString::fromUtf8(field.key.data(), qsizetype(field.key.size())));
+    const QString a = QString::fromUtf8(field.pointAxes[0].data(), qsizetype(field.pointAxes[0].size())).toUpper();
+    const QString b = QString::fromUtf8(field.pointAxes[1].data(), qsizetype(field.pointAxes[1].size())).toUpper();
+    profile_->setHorizontalHeaderLabels({tr("%1 (mm)").arg(a), tr("%1 (mm)").arg(b)});
     profile_->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
     profile_->setMinimumHeight(140);
-    form_->addRow(tr("Profile"), profile_);
+    form_->addRow(QCoreApplication::translate("NodeTypes", std::string(field.label).c_str()), profile_);
     auto* buttons = new QWidget(this);
     auto* h = new QHBoxLayout(buttons);
     h->setContentsMargins(0, 0, 0, 0);
@@ -413,7 +379,8 @@ void PropertyEditor::commitProfile()
         }
         points.emplace_back(x, y);
     }
-    if (!applyToNode(tr("Edit profile"), [&](Node& m) { m.as<ExtrudeParams>().profile = points; }, profileError_))
+    const FieldSpec* field = profileField_;
+    if (!applyToNode(tr("Edit profile"), [&](Node& m) { field->pointsIn(m) = points; }, profileError_))
         refresh(); // refused: the table shows the document's profile again
 }
 
@@ -469,8 +436,8 @@ void PropertyEditor::refresh()
     }
     for (Field& f : fields_)
         if (!f.edit->hasFocus()) f.edit->showValue(f.get(*n));
-    if (profile_ && n->type == NodeType::Extrude) {
-        const auto& pts = n->as<ExtrudeParams>().profile;
+    if (profile_ && profileField_ && n->type == shownType_) {
+        const auto& pts = profileField_->pointsIn(*n);
         const QSignalBlocker block(profile_);
         profile_->setRowCount(int(pts.size()));
         for (int r = 0; r < int(pts.size()); ++r) {

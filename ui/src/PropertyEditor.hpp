@@ -13,6 +13,8 @@
 
 #include "DocumentSession.hpp"
 
+#include "kerf/document/NodeTypes.hpp"
+
 #include <QWidget>
 
 #include <functional>
@@ -60,7 +62,7 @@ private:
     bool applyToNode(const QString& text, const std::function<void(Node&)>& change, QLabel* error,
                      const QString& mergeKey = {});
     void showError(QLabel* error, const QString& message);
-    void addProfileTable();
+    void addProfileTable(const FieldSpec& field);
     void addPartSettings();
     void commitProfile();
 
@@ -74,6 +76,7 @@ private:
     QPushButton* color_ = nullptr;
     QLabel* generalError_ = nullptr;
     QTableWidget* profile_ = nullptr;
+    const FieldSpec* profileField_ = nullptr; // the table's field in the node type table
     QLabel* profileError_ = nullptr;
     QuantityEdit* partFeatureSize_ = nullptr; // nothing selected: the document's feature size
     QLabel* partError_ = nullptr;

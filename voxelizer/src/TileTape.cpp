@@ -23,13 +23,6 @@ static_assert(std::uint32_t(Op::Primitive) == KERF_TAPE_PRIMITIVE && std::uint32
               std::uint32_t(Op::Max) == KERF_TAPE_MAX && std::uint32_t(Op::SmoothMin) == KERF_TAPE_SMOOTH_MIN &&
               std::uint32_t(Op::SmoothMax) == KERF_TAPE_SMOOTH_MAX && std::uint32_t(Op::Negate) == KERF_TAPE_NEGATE &&
               std::uint32_t(Op::Offset) == KERF_TAPE_OFFSET && std::uint32_t(Op::Shell) == KERF_TAPE_SHELL);
-static_assert(std::uint32_t(ShapeKind::Box) == KERF_SHAPE_BOX &&
-              std::uint32_t(ShapeKind::Sphere) == KERF_SHAPE_SPHERE &&
-              std::uint32_t(ShapeKind::Cylinder) == KERF_SHAPE_CYLINDER &&
-              std::uint32_t(ShapeKind::Cone) == KERF_SHAPE_CONE &&
-              std::uint32_t(ShapeKind::Torus) == KERF_SHAPE_TORUS &&
-              std::uint32_t(ShapeKind::Extrude) == KERF_SHAPE_EXTRUDE &&
-              std::uint32_t(ShapeKind::Halfspace) == KERF_SHAPE_HALFSPACE);
 
 std::vector<std::uint32_t> encodeTileTape(const Tape& tape)
 {
@@ -47,7 +40,7 @@ std::vector<std::uint32_t> encodeTileTape(const Tape& tape)
         w.push_back(std::uint32_t(ins.op) | (ins.op == Op::Primitive ? ins.shape << 8 : 0u));
         w.push_back(std::bit_cast<std::uint32_t>(float(ins.k)));
     }
-    // Shapes, then the extrusions' polygons, each once however many copies use it.
+    // Shapes, then the profiles (extrude, revolve), each once however many copies use it.
     std::map<const Polygon*, std::uint32_t> polygonAt;
     std::vector<const Polygon*> polygons;
     std::uint32_t polygonWords = std::uint32_t(shapesAt + KERF_TAPE_SHAPE_WORDS * shapes.size());
@@ -59,7 +52,7 @@ std::vector<std::uint32_t> encodeTileTape(const Tape& tape)
         std::array<std::uint32_t, 6> param;
         for (std::size_t i = 0; i < 6; ++i)
             param[i] = std::bit_cast<std::uint32_t>(s.paramF[i]);
-        if (s.kind == ShapeKind::Extrude) {
+        if (s.polygon) {
             const Polygon* poly = s.polygon.get();
             auto [it, added] = polygonAt.emplace(poly, polygonWords);
             if (added) {
@@ -83,7 +76,7 @@ namespace {
 
 float word(const std::uint32_t* t, std::uint32_t i) { return std::bit_cast<float>(t[i]); }
 
-// An extrusion's profile where the encoder put it: `count` points (x, y
+// A profile where the encoder put it: `count` points (x, y
 // pairs of floats) from word `first`, read as sdf::polygon2d's point list.
 struct ProfileWords {
     const std::uint32_t* t;
@@ -115,7 +108,7 @@ template <class T> T shapeAt(const std::uint32_t* t, std::uint32_t s, const glm:
     const std::uint32_t a = s + KERF_TAPE_SHAPE_PARAMS;
     // A kind word beyond ShapeKind's range would wrap in the uint8 cast: NaN first.
     if (t[s] > 0xFFu) return T(std::numeric_limits<float>::quiet_NaN());
-    const ProfileWords profile{t, t[a + 1u], t[a + 2u]}; // read only for an extrusion
+    const ProfileWords profile{t, t[a + 1u], t[a + 2u]}; // read only by profile kinds
     return primitiveDistance(ShapeKind(t[s]), l[0], l[1], l[2], [&](int i) { return T(word(t, a + std::uint32_t(i))); },
                              profile);
 }

@@ -28,6 +28,7 @@ enum class NodeType {
     Torus,
     Extrude,
     Halfspace,
+    Revolve,
     Union,
     Intersection,
     Difference,
@@ -38,6 +39,7 @@ enum class NodeType {
 };
 
 /// The spelling of a node type in a document ("box", "union", ...).
+/// These read the node type table (NodeTypes.hpp).
 std::string_view nodeTypeName(NodeType type);
 /// Parses a type name; empty when unknown.
 std::optional<NodeType> nodeTypeFromName(std::string_view name);
@@ -93,6 +95,11 @@ struct ExtrudeParams {
     double height = 1.0;
     bool operator==(const ExtrudeParams&) const = default;
 };
+/// A profile in the XZ half-plane ([r, z] points, r >= 0) swept about the local Z axis.
+struct RevolveParams {
+    std::vector<glm::dvec2> profile;
+    bool operator==(const RevolveParams&) const = default;
+};
 struct HalfspaceParams {
     glm::dvec3 normal{0.0, 0.0, 1.0}; // unit length after load
     double offset = 0.0;
@@ -122,7 +129,7 @@ struct MirrorParams {
 };
 
 using NodeParams = std::variant<BoxParams, SphereParams, CylinderParams, ConeParams, TorusParams,
-                                ExtrudeParams, HalfspaceParams, BooleanParams, OffsetParams,
+                                ExtrudeParams, RevolveParams, HalfspaceParams, BooleanParams, OffsetParams,
                                 ShellParams, ArrayParams, MirrorParams>;
 
 struct Node {
@@ -149,7 +156,8 @@ struct Node {
     std::size_t count() const;
 };
 
-/// A node with the type's default parameters (used by editors to add features).
+/// A node with the type's default parameters (used by editors to add features;
+/// NodeTypes.hpp's table holds them).
 Node makeNode(NodeType type, std::string id);
 
 } // namespace kerf

@@ -12,16 +12,23 @@
 //   Torus:     major radius, minor radius
 //   Extrude:   half height (profile in ShapeInstance::polygon)
 //   Halfspace: nx, ny, nz, offset
+//   Revolve:   none (profile of [r, z] points in ShapeInstance::polygon)
 
 #include "kerf/evaluator/Dual.hpp"
 #include "kerf/evaluator/Interval.hpp"
 #include "kerf/evaluator/Tape.hpp"
 
+#include <glm/glm.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <vector>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <tuple>
 #include <type_traits>
+#include <vector>
 
 namespace kerf {
 
@@ -97,13 +104,18 @@ template <class T> T extrusion(T d2, T z, T halfHeight)
 
 /// Signed distance to a simple polygon in XY (negative inside), exact.
 /// `v`: the points in order, anything with size() and [i].x, [i].y.
-template <class T, class Points> T polygon2d(T x, T y, const Points& v)
+/// `axisEdges`: false for a revolve's profile, whose edges on the axis
+/// (x = 0 at both ends) are inside the solid, not surface: they count
+/// neither for the distance nor for the crossing parity (which they would
+/// decide either way for a point on the axis itself).
+template <class T, class Points> T polygon2d(T x, T y, const Points& v, bool axisEdges = true)
 {
     using B = BaseScalarT<T>;
     const std::size_t n = v.size();
-    T d = sq(x - T(B(v[0].x))) + sq(y - T(B(v[0].y)));
+    T d = axisEdges ? sq(x - T(B(v[0].x))) + sq(y - T(B(v[0].y))) : T(std::numeric_limits<B>::max());
     bool inside = false;
     for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+        if (!axisEdges && v[i].x == 0 && v[j].x == 0) continue;
         // The edge is a constant: scale by it (plain numbers, no product rule).
         const B ex = B(v[j].x - v[i].x), ey = B(v[j].y - v[i].y);
         const T wx = x - T(B(v[i].x)), wy = y - T(B(v[i].y));
@@ -117,28 +129,263 @@ template <class T, class Points> T polygon2d(T x, T y, const Points& v)
     return inside ? -dist : dist;
 }
 
+/// A profile of [r, z] points turned about Z, at (length(x, y), z).
+/// Exact: the solid is symmetric about the axis, so the nearest point lies
+/// in the point's own half-plane, at the profile's distance there.
+template <class T, class Points> T revolution(T x, T y, T z, const Points& v)
+{
+    return polygon2d(sqrt(sq(x) + sq(y)), z, v, false);
+}
+
 } // namespace sdf
+
+/// Kerf's primitives, one unit each: the node type it comes from, how the
+/// node's parameters are packed into ShapeInstance::param (the layout at the
+/// top of this file, also what the GPU reads), its distance (the sdf::
+/// template above, for every scalar type), and a sound interval enclosure
+/// over a box of its local frame. A new primitive is a unit here, its place
+/// in the two lists below, its number in ShapeKinds.h, its GLSL function in
+/// shaders/tape_body.glsl and its row in the node type table
+/// (document/src/NodeTypes.cpp); docs/architecture.md has the list.
+namespace primitive {
+
+/// The profile of an extrude or a revolve, packed once for every copy.
+inline std::shared_ptr<const Polygon> packPolygon(const std::vector<glm::dvec2>& points)
+{
+    auto poly = std::make_shared<Polygon>();
+    poly->points = points;
+    for (const auto& v : points) {
+        poly->pointsF.emplace_back(static_cast<float>(v.x), static_cast<float>(v.y));
+        poly->min = glm::min(poly->min, v);
+        poly->max = glm::max(poly->max, v);
+    }
+    return poly;
+}
+
+/// No enclosure tighter than the Lipschitz bound the interval evaluator
+/// always has.
+inline Interval unbounded() { return {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()}; }
+
+struct Box {
+    static constexpr ShapeKind kind = ShapeKind::Box;
+    static constexpr NodeType node = NodeType::Box;
+    static void pack(const Node& n, ShapeInstance& s)
+    {
+        const auto& b = n.as<BoxParams>();
+        s.param = {0.5 * b.size.x - b.round, 0.5 * b.size.y - b.round, 0.5 * b.size.z - b.round, b.round, 0, 0};
+    }
+    template <class T, class P, class Profile> static T distance(T x, T y, T z, const P& p, const Profile&)
+    {
+        return sdf::box(x, y, z, p(0), p(1), p(2), p(3));
+    }
+    static Interval enclosure(const ShapeInstance& s, const Interval& x, const Interval& y, const Interval& z)
+    {
+        const auto& p = s.param;
+        return sdf::box<Interval>(x, y, z, p[0], p[1], p[2], p[3]); // natural extension
+    }
+};
+
+struct Sphere {
+    static constexpr ShapeKind kind = ShapeKind::Sphere;
+    static constexpr NodeType node = NodeType::Sphere;
+    static void pack(const Node& n, ShapeInstance& s) { s.param[0] = n.as<SphereParams>().radius; }
+    template <class T, class P, class Profile> static T distance(T x, T y, T z, const P& p, const Profile&)
+    {
+        return sdf::sphere(x, y, z, p(0));
+    }
+    static Interval enclosure(const ShapeInstance& s, const Interval& x, const Interval& y, const Interval& z)
+    {
+        return sdf::sphere<Interval>(x, y, z, s.param[0]);
+    }
+};
+
+struct Cylinder {
+    static constexpr ShapeKind kind = ShapeKind::Cylinder;
+    static constexpr NodeType node = NodeType::Cylinder;
+    static void pack(const Node& n, ShapeInstance& s)
+    {
+        s.param[0] = n.as<CylinderParams>().radius;
+        s.param[1] = 0.5 * n.as<CylinderParams>().height;
+    }
+    template <class T, class P, class Profile> static T distance(T x, T y, T z, const P& p, const Profile&)
+    {
+        return sdf::cylinder(x, y, z, p(0), p(1));
+    }
+    static Interval enclosure(const ShapeInstance& s, const Interval& x, const Interval& y, const Interval& z)
+    {
+        return sdf::cylinder<Interval>(x, y, z, s.param[0], s.param[1]);
+    }
+};
+
+struct Cone {
+    static constexpr ShapeKind kind = ShapeKind::Cone;
+    static constexpr NodeType node = NodeType::Cone;
+    static void pack(const Node& n, ShapeInstance& s)
+    {
+        const auto& c = n.as<ConeParams>();
+        const double dr = c.radiusTop - c.radiusBottom;
+        s.param = {c.radiusBottom, c.radiusTop, 0.5 * c.height, dr, c.height, 1.0 / (dr * dr + c.height * c.height)};
+    }
+    template <class T, class P, class Profile> static T distance(T x, T y, T z, const P& p, const Profile&)
+    {
+        return sdf::cone(x, y, z, p(0), p(1), p(2), p(3), p(4), p(5));
+    }
+    // No natural extension (the formula branches on the point), but a
+    // containment enclosure: a solid inside another has a field at least as
+    // large everywhere (farther from its surface outside, nearer to it
+    // inside), one containing another a field at most as large. A cone lies
+    // between the cylinders of its smaller and larger radius (the smaller
+    // may be 0: a segment).
+    static Interval enclosure(const ShapeInstance& s, const Interval& x, const Interval& y, const Interval& z)
+    {
+        const auto& p = s.param;
+        const Interval outer = sdf::cylinder<Interval>(x, y, z, std::max(p[0], p[1]), p[2]);
+        const Interval inner = sdf::cylinder<Interval>(x, y, z, std::min(p[0], p[1]), p[2]);
+        return {outer.lo, inner.hi};
+    }
+};
+
+struct Torus {
+    static constexpr ShapeKind kind = ShapeKind::Torus;
+    static constexpr NodeType node = NodeType::Torus;
+    static void pack(const Node& n, ShapeInstance& s)
+    {
+        s.param[0] = n.as<TorusParams>().majorRadius;
+        s.param[1] = n.as<TorusParams>().minorRadius;
+    }
+    template <class T, class P, class Profile> static T distance(T x, T y, T z, const P& p, const Profile&)
+    {
+        return sdf::torus(x, y, z, p(0), p(1));
+    }
+    static Interval enclosure(const ShapeInstance& s, const Interval& x, const Interval& y, const Interval& z)
+    {
+        return sdf::torus<Interval>(x, y, z, s.param[0], s.param[1]);
+    }
+};
+
+struct Extrude {
+    static constexpr ShapeKind kind = ShapeKind::Extrude;
+    static constexpr NodeType node = NodeType::Extrude;
+    static void pack(const Node& n, ShapeInstance& s)
+    {
+        s.param[0] = 0.5 * n.as<ExtrudeParams>().height;
+        s.polygon = packPolygon(n.as<ExtrudeParams>().profile);
+    }
+    template <class T, class P, class Profile> static T distance(T x, T y, T z, const P& p, const Profile& profile)
+    {
+        return sdf::extrusion(sdf::polygon2d(x, y, profile), z, p(0));
+    }
+    // Containment: the extrusion lies inside its profile's bounding box swept over its height.
+    static Interval enclosure(const ShapeInstance& s, const Interval& x, const Interval& y, const Interval& z)
+    {
+        const glm::dvec2 mid = 0.5 * (s.polygon->min + s.polygon->max), half = 0.5 * (s.polygon->max - s.polygon->min);
+        const Interval outer = sdf::box<Interval>(x - Interval(mid.x), y - Interval(mid.y), z, half.x, half.y, s.param[0], 0.0);
+        return {outer.lo, unbounded().hi};
+    }
+};
+
+struct Halfspace {
+    static constexpr ShapeKind kind = ShapeKind::Halfspace;
+    static constexpr NodeType node = NodeType::Halfspace;
+    static void pack(const Node& n, ShapeInstance& s)
+    {
+        const auto& h = n.as<HalfspaceParams>();
+        s.param = {h.normal.x, h.normal.y, h.normal.z, h.offset, 0, 0};
+    }
+    template <class T, class P, class Profile> static T distance(T x, T y, T z, const P& p, const Profile&)
+    {
+        return sdf::halfspace(x, y, z, p(0), p(1), p(2), p(3));
+    }
+    static Interval enclosure(const ShapeInstance& s, const Interval& x, const Interval& y, const Interval& z)
+    {
+        const auto& p = s.param;
+        return sdf::halfspace<Interval>(x, y, z, p[0], p[1], p[2], p[3]);
+    }
+};
+
+/// A profile of [r, z] points (r >= 0) turned about Z. The solid is
+/// symmetric about the axis, so the nearest point to p lies in p's own
+/// half-plane: the distance is the profile's 2D distance at
+/// (length(p.xy), p.z), exact.
+struct Revolve {
+    static constexpr ShapeKind kind = ShapeKind::Revolve;
+    static constexpr NodeType node = NodeType::Revolve;
+    static void pack(const Node& n, ShapeInstance& s) { s.polygon = packPolygon(n.as<RevolveParams>().profile); }
+    template <class T, class P, class Profile> static T distance(T x, T y, T z, const P&, const Profile& profile)
+    {
+        return sdf::revolution(x, y, z, profile);
+    }
+    // Containment: the solid lies inside the cylinder of its largest radius over its height.
+    static Interval enclosure(const ShapeInstance& s, const Interval& x, const Interval& y, const Interval& z)
+    {
+        const double zMid = 0.5 * (s.polygon->min.y + s.polygon->max.y);
+        const double halfHeight = 0.5 * (s.polygon->max.y - s.polygon->min.y);
+        const Interval outer = sdf::cylinder<Interval>(x, y, z - Interval(zMid), std::max(s.polygon->max.x, 0.0), halfHeight);
+        return {outer.lo, unbounded().hi};
+    }
+};
+
+/// Every unit, in ShapeKind's order.
+using All = std::tuple<Box, Sphere, Cylinder, Cone, Torus, Extrude, Halfspace, Revolve>;
+static_assert(std::tuple_size_v<All> == KERF_SHAPE_KINDS, "a shape kind without its unit in primitive::All");
+
+/// Calls f(Unit{}) with the unit of `kind`; false for a kind no unit has
+/// (out of ShapeKind's range). A switch, so that it compiles to a jump table
+/// on the evaluators' hot paths; a kind added to ShapeKind and left out here
+/// does not compile (-Wswitch, -Werror in CI).
+template <class F> inline bool with(ShapeKind kind, F&& f)
+{
+    switch (kind) {
+    case ShapeKind::Box: f(Box{}); return true;
+    case ShapeKind::Sphere: f(Sphere{}); return true;
+    case ShapeKind::Cylinder: f(Cylinder{}); return true;
+    case ShapeKind::Cone: f(Cone{}); return true;
+    case ShapeKind::Torus: f(Torus{}); return true;
+    case ShapeKind::Extrude: f(Extrude{}); return true;
+    case ShapeKind::Halfspace: f(Halfspace{}); return true;
+    case ShapeKind::Revolve: f(Revolve{}); return true;
+    }
+    return false;
+}
+
+} // namespace primitive
+
+/// Packs a primitive node's kind and parameters (and profile) into `s`.
+/// Throws std::logic_error for a node type no unit comes from.
+inline void packPrimitive(const Node& n, ShapeInstance& s)
+{
+    const bool packed = std::apply(
+        [&](auto... unit) {
+            return ((n.type == decltype(unit)::node ? (s.kind = decltype(unit)::kind, decltype(unit)::pack(n, s), true)
+                                                    : false) ||
+                    ...);
+        },
+        primitive::All{});
+    if (!packed) throw std::logic_error("no primitive unit for node type " + std::string(nodeTypeName(n.type)));
+    for (std::size_t i = 0; i < s.param.size(); ++i) s.paramF[i] = static_cast<float>(s.param[i]);
+}
 
 /// The field of a primitive of `kind` at (x, y, z) of its local frame, for
 /// scalar-like T (float, double, Dual<float>, Dual<double>): `p(i)` gives
 /// its i-th parameter as T (ShapeInstance::param's layout, above), `profile`
-/// an extrusion's points (polygon2d's `v`). Every evaluator of points goes
-/// through here (the document's tape and the tiles' encoded tapes alike).
-/// A kind this switch does not name is NaN, never a plane; a kind added to
-/// ShapeKind and left out here does not compile (-Wswitch, -Werror in CI).
+/// an extrusion's or revolve's points (polygon2d's `v`). Every evaluator of
+/// points goes through here (the document's tape and the tiles' encoded
+/// tapes alike). A kind no unit has is NaN, never a plane.
 template <class T, class Param, class Profile>
 T primitiveDistance(ShapeKind kind, T x, T y, T z, const Param& p, const Profile& profile)
 {
-    switch (kind) {
-    case ShapeKind::Box: return sdf::box(x, y, z, p(0), p(1), p(2), p(3));
-    case ShapeKind::Sphere: return sdf::sphere(x, y, z, p(0));
-    case ShapeKind::Cylinder: return sdf::cylinder(x, y, z, p(0), p(1));
-    case ShapeKind::Cone: return sdf::cone(x, y, z, p(0), p(1), p(2), p(3), p(4), p(5));
-    case ShapeKind::Torus: return sdf::torus(x, y, z, p(0), p(1));
-    case ShapeKind::Halfspace: return sdf::halfspace(x, y, z, p(0), p(1), p(2), p(3));
-    case ShapeKind::Extrude: return sdf::extrusion(sdf::polygon2d(x, y, profile), z, p(0));
-    }
-    return T(std::numeric_limits<BaseScalarT<T>>::quiet_NaN());
+    T r = T(std::numeric_limits<BaseScalarT<T>>::quiet_NaN());
+    primitive::with(kind, [&](auto unit) { r = decltype(unit)::distance(x, y, z, p, profile); });
+    return r;
+}
+
+/// A sound enclosure of the primitive's field over the local-frame box
+/// (x, y, z): its natural interval extension or a containment bound.
+inline Interval primitiveEnclosure(const ShapeInstance& s, const Interval& x, const Interval& y, const Interval& z)
+{
+    Interval r = primitive::unbounded();
+    primitive::with(s.kind, [&](auto unit) { r = decltype(unit)::enclosure(s, x, y, z); });
+    return r;
 }
 
 /// Distance to a placed primitive at a point of its local frame (float

@@ -13,6 +13,7 @@
 #include "kerf/document/Aabb.hpp"
 #include "kerf/document/Affine.hpp"
 #include "kerf/document/Node.hpp"
+#include "kerf/evaluator/ShapeKinds.h"
 
 #include <glm/vec2.hpp>
 
@@ -38,9 +39,7 @@ enum class Op : std::uint8_t {
 
 bool isBinary(Op op);
 
-enum class ShapeKind : std::uint8_t { Box, Sphere, Cylinder, Cone, Torus, Extrude, Halfspace };
-
-/// Profile of an extrude, shared by every copy of it.
+/// Profile of an extrude or a revolve, shared by every copy of it.
 struct Polygon {
     std::vector<glm::dvec2> points;
     std::vector<glm::vec2> pointsF; // the same points in float
@@ -55,7 +54,7 @@ struct ShapeInstance {
     /// Kind-specific parameters (see Primitives.hpp for their meaning).
     std::array<double, 6> param{};
     std::array<float, 6> paramF{};
-    std::shared_ptr<const Polygon> polygon; // extrude only
+    std::shared_ptr<const Polygon> polygon; // extrude and revolve only
     Affine worldToLocal;
     /// Maps tape-relative points into the local frame: local = m * p + t.
     /// Derived from worldToLocal and the tape's origin in double.

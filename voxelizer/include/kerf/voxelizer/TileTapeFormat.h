@@ -8,9 +8,10 @@
 //   2 words per instruction  op | shape << 8, then k (f32 bits)
 //   20 words per shape     kind, feature, frame (12 x f32: row-major 3x3, then
 //                          the translation; tape-relative point -> local
-//                          frame), 6 parameters (f32; an extrude's are its
-//                          half height, then its polygon's first word and
-//                          point count as u32)
+//                          frame), 6 parameters (f32; an extrude's and a
+//                          revolve's are its half height (unused by a
+//                          revolve), then its polygon's first word and point
+//                          count as u32)
 //   2 words per polygon point  x, y (f32)
 //
 // Everything is relative to the tape's first word; positions are
@@ -28,15 +29,8 @@
 #define KERF_TAPE_OFFSET 6u
 #define KERF_TAPE_SHELL 7u
 
-// Shape kinds (the values of kerf::ShapeKind).
-#define KERF_SHAPE_BOX 0u
-#define KERF_SHAPE_SPHERE 1u
-#define KERF_SHAPE_CYLINDER 2u
-#define KERF_SHAPE_CONE 3u
-#define KERF_SHAPE_TORUS 4u
-#define KERF_SHAPE_EXTRUDE 5u
-#define KERF_SHAPE_HALFSPACE 6u
-#define KERF_SHAPE_KINDS 7u // kinds from 0 to this, exclusive; any other word is an error (NaN)
+// Shape kinds: evaluator/include/kerf/evaluator/ShapeKinds.h.
+#include "kerf/evaluator/ShapeKinds.h"
 
 #define KERF_TAPE_HEADER_WORDS 2u
 #define KERF_TAPE_INSTRUCTION_WORDS 2u
