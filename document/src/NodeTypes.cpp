@@ -10,8 +10,6 @@ namespace kerf {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 // Where a field lives in its type's parameter struct.
 template <class P, double P::*M> double* number(NodeParams& p) { return &(std::get<P>(p).*M); }
 template <class P, glm::dvec3 P::*M> glm::dvec3* vector(NodeParams& p) { return &(std::get<P>(p).*M); }
