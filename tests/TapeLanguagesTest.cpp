@@ -1,8 +1,9 @@
-// One tape evaluator per language, held to the same values: the GLSL tape
+// One tape evaluator per language, held to the same results: the GLSL tape
 // library (shaders/tape.glsl, run on the Vulkan device: lavapipe here)
-// against the C++ one (voxelizer/src/TileTape.cpp over the sdf:: templates)
-// on every shape kind and operation, at the same points; and a shape kind
-// neither knows is NaN in both, never a plane.
+// against the C++ ones (voxelizer/src/TileTape.cpp over the sdf:: templates
+// for points and gradients, IntervalEvaluator for intervals) on every shape
+// kind and operation, at the same points and over the same boxes; and a
+// shape kind neither knows is NaN in both, never a plane.
 
 #include "kerf/evaluator/IntervalEvaluator.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
@@ -54,8 +55,10 @@ protected:
 // Tile tapes as the voxelizer makes them: simplified for a box near the
 // surface, rebased to its corner, encoded.
 struct TileCase {
+    Tape tape; // simplified and rebased: what `words` encodes, in double
     std::vector<std::uint32_t> words;
     std::vector<glm::vec3> points;
+    double size = 0.0; // the tile's edge: it spans [0, size]^3
 };
 
 std::vector<TileCase> tileCases(const Tape& tape, test::RandomShapes& r, int boxes)
@@ -70,8 +73,10 @@ std::vector<TileCase> tileCases(const Tape& tape, test::RandomShapes& r, int box
         const Interval iv = intervals.simplify(tape, box, simple);
         if (iv.lo > 0.0 || iv.hi < 0.0) continue;
         TileCase c;
-        c.words = voxel::encodeTileTape(simple.rebased(lo));
+        c.tape = simple.rebased(lo);
+        c.words = voxel::encodeTileTape(c.tape);
         if (c.words.empty()) continue;
+        c.size = size;
         for (int i = 0; i < 32; ++i) c.points.push_back(glm::vec3(glm::dvec3(size) * r.vec(0.0, 1.0)));
         out.push_back(std::move(c));
     }
@@ -85,15 +90,21 @@ void kindsOf(const std::vector<std::uint32_t>& w, std::set<std::uint32_t>& kinds
     for (std::uint32_t s = 0; s < w[1]; ++s) kinds.insert(w[shapesAt + s * KERF_TAPE_SHAPE_WORDS]);
 }
 
+// Every shape alone and random trees of every operation, as tapes.
+std::vector<Tape> testTapes(test::RandomShapes& r)
+{
+    std::vector<Tape> tapes;
+    for (NodeType type : test::RandomShapes::primitiveTypes())
+        for (int i = 0; i < 3; ++i) tapes.push_back(compileTape(test::RandomShapes::document(r.primitive(type))));
+    for (int i = 0; i < 60; ++i) tapes.push_back(compileTape(r.tree(3)));
+    return tapes;
+}
+
 TEST_F(TapeLanguages, GlslAndCppGiveTheSameValuesGradientsAndFeaturesOnEveryKind)
 {
     test::RandomShapes r(29);
-    std::vector<Tape> tapes;
-    // Each primitive alone (the halfspace too, which random trees leave out)...
-    for (NodeType type : test::RandomShapes::primitiveTypes())
-        for (int i = 0; i < 3; ++i) tapes.push_back(compileTape(test::RandomShapes::document(r.primitive(type))));
-    // ... and random trees of every operation.
-    for (int i = 0; i < 60; ++i) tapes.push_back(compileTape(r.tree(3)));
+    // Each primitive alone (the halfspace too, which random trees leave out) and random trees.
+    const std::vector<Tape> tapes = testTapes(r);
 
     std::set<std::uint32_t> kinds;
     int points = 0, featureMismatches = 0;
@@ -127,6 +138,61 @@ TEST_F(TapeLanguages, GlslAndCppGiveTheSameValuesGradientsAndFeaturesOnEveryKind
     EXPECT_LE(featureMismatches, points / 1000); // only where two operands tie to the last bit
 }
 
+TEST_F(TapeLanguages, GlslIntervalsEncloseTheTapeAndAgreeWithTheCppIntervalEvaluator)
+{
+    test::RandomShapes r(31);
+    std::set<std::uint32_t> kinds;
+    int boxes = 0, escapes = 0, samples = 0;
+    double worstEscape = 0.0, worstDifference = 0.0;
+    IntervalEvaluator cpp;
+    for (const Tape& tape : testTapes(r))
+        for (const TileCase& c : tileCases(tape, r, 30)) {
+            kindsOf(c.words, kinds);
+            // Boxes inside the tile from a hundredth of it to all of it, as the voxelizer's levels are.
+            std::vector<vk::TapeProbe::Box> in;
+            for (int i = 0; i < 16; ++i) {
+                const double edge = c.size * std::pow(10.0, r.uniform(-2.0, 0.0));
+                const glm::dvec3 lo = r.vec(0.0, c.size - edge);
+                in.push_back({glm::vec3(lo), glm::vec3(lo + glm::dvec3(edge))});
+            }
+            const std::vector<glm::vec2> gpu = probe->enclose(c.words, in);
+            ASSERT_EQ(gpu.size(), in.size());
+            for (std::size_t i = 0; i < in.size(); ++i) {
+                const Aabb box{glm::dvec3(in[i].lo), glm::dvec3(in[i].hi)};
+                const Interval ref = cpp.evaluate(c.tape, box);
+                ASSERT_TRUE(std::isfinite(gpu[i].x) && std::isfinite(gpu[i].y)) << gpu[i].x << " " << gpu[i].y;
+                ASSERT_LE(gpu[i].x, gpu[i].y);
+                // The same enclosures in float and in double: they differ by rounding and margins only.
+                const double scale = 1.0 + std::max(std::abs(ref.lo), std::abs(ref.hi));
+                worstDifference = std::max({worstDifference, std::abs(double(gpu[i].x) - ref.lo) / scale,
+                                            std::abs(double(gpu[i].y) - ref.hi) / scale});
+                // Sound: every value the float tape takes in the box lies inside (the corners, the centre, random points).
+                for (int j = 0; j < 24; ++j) {
+                    glm::dvec3 t = j < 8 ? glm::dvec3(j & 1, (j >> 1) & 1, (j >> 2) & 1) : r.vec(0.0, 1.0);
+                    if (j == 8) t = glm::dvec3(0.5);
+                    const glm::vec3 p = glm::vec3(box.min + t * box.size());
+                    const float v = voxel::evaluateTileTape(c.words.data(), p);
+                    const double outside = std::max(double(gpu[i].x) - v, v - double(gpu[i].y));
+                    if (outside > 0.0) {
+                        ++escapes;
+                        worstEscape = std::max(worstEscape, outside / (1.0 + std::abs(v)));
+                    }
+                    ++samples;
+                }
+                ++boxes;
+            }
+        }
+    std::printf("    %d boxes, %d samples: worst relative difference GLSL - C++ interval %.3g; %d samples outside "
+                "the GLSL interval (worst by %.3g relative)\n",
+                boxes, samples, worstDifference, escapes, worstEscape);
+    for (std::uint32_t k = 0; k < KERF_SHAPE_KINDS; ++k) EXPECT_TRUE(kinds.count(k)) << "shape kind " << k << " untested";
+    EXPECT_GT(boxes, 2000);
+    EXPECT_EQ(escapes, 0);
+    // GLSL widens the centre's value by 2^-20 of the magnitudes involved (coordinates and parameters up to
+    // about 100 mm here: 1e-4 mm) for its float rounding; C++ by 1e-12 of them.
+    EXPECT_LT(worstDifference, 3e-4);
+}
+
 TEST_F(TapeLanguages, AnUnknownShapeKindIsNaNInBothLanguagesEvenUnderAMin)
 {
     test::RandomShapes r(3);
@@ -140,6 +206,8 @@ TEST_F(TapeLanguages, AnUnknownShapeKindIsNaNInBothLanguagesEvenUnderAMin)
     words[shapesAt + (words[1] - 1) * KERF_TAPE_SHAPE_WORDS] = KERF_SHAPE_KINDS + 3u;
     const std::vector<glm::vec3> points{{0, 0, 0}, {5, -3, 2}, {100, 100, 100}};
     const auto gpu = probe->evaluate(words, points);
+    const auto intervals = probe->enclose(words, {{{-1, -1, -1}, {1, 1, 1}}, {{50, 50, 50}, {60, 70, 80}}});
+    for (const glm::vec2& iv : intervals) EXPECT_TRUE(std::isnan(iv.x) && std::isnan(iv.y)) << iv.x << " " << iv.y;
     for (std::size_t i = 0; i < points.size(); ++i) {
         std::uint32_t feature = 0;
         EXPECT_TRUE(std::isnan(voxel::evaluateTileTape(words.data(), points[i])));

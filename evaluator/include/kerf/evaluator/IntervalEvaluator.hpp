@@ -10,6 +10,9 @@
 // primitive's field is an exact distance (1-Lipschitz) and placements are
 // isometries. Combining operations are monotone (min, max, smooth min/max,
 // offset) or convex (shell), so their interval images are exact.
+// The GLSL tape library computes the same intervals on the device, in float
+// (shaders/tape.glsl, evaluateTileTapeInterval); TapeLanguagesTest holds the
+// two together.
 //
 // Simplification drops every branch that cannot change the result inside the
 // box: a min whose operands' intervals do not overlap keeps the lower one, a

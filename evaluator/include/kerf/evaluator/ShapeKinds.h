@@ -1,8 +1,8 @@
 // The numbers of the shape kinds (a tape's primitives), read by C++ (the
-// kerf::ShapeKind enum below) and by GLSL (shaders/tape_body.glsl, through
+// kerf::ShapeKind enum below) and by GLSL (shaders/tape_shapes.glsl, through
 // TileTapeFormat.h), so that the two languages cannot number them apart.
 // Each kind's formula is its unit in Primitives.hpp and its function in
-// tape_body.glsl; TapeLanguagesTest evaluates every kind in both.
+// tape_shapes.glsl; TapeLanguagesTest evaluates every kind in both.
 #ifndef KERF_SHAPE_KINDS_H
 #define KERF_SHAPE_KINDS_H
 

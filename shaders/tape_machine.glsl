@@ -1,0 +1,68 @@
+// The stack machine of tape.glsl, written once for T (float values, vec4
+// duals, vec2 intervals): a tile's encoded tape in post-order, primitives
+// pushed, operations combining the top of the stack. Included only by
+// tape.glsl after tape_shapes.glsl, which defines primitiveT, smoothMinT,
+// smoothMaxT and shellT for T (tape.glsl itself for intervals), and
+// KERF_TAPE_EVALUATE (this function's name); KERF_TAPE_FEATURES where the
+// deciding feature is tracked.
+
+// The stack lives in eight registers, top first (TileTape.cpp's st[j] is
+// s<j>): a push shifts it down, a binary operation up. A dynamically indexed
+// array would live in local memory (lavapipe slowed the whole kernel
+// fourfold for one).
+#if KERF_TAPE_MAX_STACK != 8
+#error "the tape evaluator keeps exactly eight stack registers"
+#endif
+
+T KERF_TAPE_EVALUATE(uint t, T px, T py, T pz, out uint feature)
+{
+    const uint count = tapeWord(t, 0u);
+    const uint shapes = KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * count;
+    T s0 = cT(0.0), s1 = cT(0.0), s2 = cT(0.0), s3 = cT(0.0), s4 = cT(0.0), s5 = cT(0.0), s6 = cT(0.0), s7 = cT(0.0);
+#ifdef KERF_TAPE_FEATURES
+    uint f0 = 0u, f1 = 0u, f2 = 0u, f3 = 0u, f4 = 0u, f5 = 0u, f6 = 0u, f7 = 0u;
+#endif
+    tapeUnknownKind = false;
+    for (uint i = 0u; i < count; ++i) {
+        const uint code = tapeWord(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i);
+        const float k = tapeFloat(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);
+        const uint op = code & 0xFFu;
+        if (op == KERF_TAPE_PRIMITIVE) {
+            const uint s = shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS;
+            s7 = s6; s6 = s5; s5 = s4; s4 = s3; s3 = s2; s2 = s1; s1 = s0;
+            s0 = primitiveT(t, s, px, py, pz);
+#ifdef KERF_TAPE_FEATURES
+            f7 = f6; f6 = f5; f5 = f4; f4 = f3; f3 = f2; f2 = f1; f1 = f0;
+            f0 = tapeWord(t, s + 1u);
+#endif
+        } else if (op <= KERF_TAPE_SMOOTH_MAX) {
+            const T b = s0, a = s1;
+            T r;
+            if (op == KERF_TAPE_MIN) r = minT(a, b);
+            else if (op == KERF_TAPE_MAX) r = maxT(a, b);
+            else if (op == KERF_TAPE_SMOOTH_MIN) r = smoothMinT(a, b, k);
+            else r = smoothMaxT(a, b, k);
+            s0 = r;
+            s1 = s2; s2 = s3; s3 = s4; s4 = s5; s5 = s6; s6 = s7;
+#ifdef KERF_TAPE_FEATURES
+            // The deciding feature: the operand the exact min/max would pick.
+            const bool isMin = op == KERF_TAPE_MIN || op == KERF_TAPE_SMOOTH_MIN;
+            f0 = (isMin ? valT(b) < valT(a) : valT(a) < valT(b)) ? f0 : f1;
+            f1 = f2; f2 = f3; f3 = f4; f4 = f5; f5 = f6; f6 = f7;
+#endif
+        } else if (op == KERF_TAPE_NEGATE) {
+            s0 = negT(s0);
+        } else if (op == KERF_TAPE_OFFSET) {
+            s0 = subT(s0, cT(k));
+        } else {
+            s0 = shellT(s0, k);
+        }
+    }
+#ifdef KERF_TAPE_FEATURES
+    feature = f0;
+#else
+    feature = 0u;
+#endif
+    // A min or max could pass over the NaN of an unknown kind: the whole result is NaN instead.
+    return tapeUnknownKind ? cT(kTapeNaN) : s0;
+}
