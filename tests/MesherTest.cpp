@@ -542,24 +542,17 @@ TEST(Mesher, ProgressRisesToOneAndCancelReturnsNothing)
     MeshOptions o;
     o.featureSize = 0.5;
     std::vector<double> seen;
-    MeshProgress p;
-    p.onProgress = [&](double f) { seen.push_back(f); };
-    ASSERT_TRUE(meshPart(doc, o, p).has_value());
+    ASSERT_TRUE(meshPart(doc, o, Progress([&](double f) { seen.push_back(f); })).has_value());
     ASSERT_FALSE(seen.empty());
     EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
     EXPECT_EQ(seen.back(), 1.0);
     EXPECT_LE(seen.size(), 220u);
 
     // Cancelled before it starts, and part way.
-    p.onProgress = nullptr;
-    p.cancelled = [] { return true; };
-    EXPECT_FALSE(meshPart(doc, o, p).has_value());
+    EXPECT_FALSE(meshPart(doc, o, Progress::cancelledWhen([] { return true; })).has_value());
     std::atomic<bool> cancel{false};
-    p.onProgress = [&](double f) {
-        if (f > 0.3) cancel = true;
-    };
-    p.cancelled = [&] { return cancel.load(); };
-    EXPECT_FALSE(meshPart(doc, o, p).has_value());
+    const Progress partWay([&](double f) { cancel = cancel || f > 0.3; }, [&] { return cancel.load(); });
+    EXPECT_FALSE(meshPart(doc, o, partWay).has_value());
 }
 
 // ---------------------------------------------------------------------------

@@ -6,6 +6,8 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+
+#include <atomic>
 #include <tbb/task_arena.h>
 
 #include <array>
@@ -129,7 +131,7 @@ private:
 
 } // namespace
 
-VolumeEstimate integrateVolume(const Tape& tape, double cellSize, int threads)
+VolumeEstimate integrateVolume(const Tape& tape, double cellSize, int threads, const Progress& work)
 {
     if (!(cellSize > 0.0) || !std::isfinite(cellSize))
         throw std::invalid_argument("integrateVolume: the cell size must be positive");
@@ -149,13 +151,17 @@ VolumeEstimate integrateVolume(const Tape& tape, double cellSize, int threads)
     std::vector<BlockSum> sums(count);
     tbb::enumerable_thread_specific<BlockIntegrator> integrators(tape, box.min, cellSize);
     tbb::task_arena arena = workerArena(threads);
+    std::atomic<std::size_t> done{0};
     arena.execute([&] {
         tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
+            if (work.cancelled()) return;
             const std::int64_t b = std::int64_t(i);
             const glm::i64vec3 block(b % blocks.x, (b / blocks.x) % blocks.y, b / (blocks.x * blocks.y));
             sums[i] = integrators.local().integrate(block * std::int64_t(1 << kBlockLevels));
+            if (work.reporting()) work.report(double(++done) / double(count));
         });
     });
+    result.complete = !work.cancelled();
     // Summed in block order: the same figures whatever the thread count.
     double variance = 0.0, sampled = 0.0;
     for (const BlockSum& s : sums) {

@@ -8,6 +8,8 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+
+#include <atomic>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -265,7 +267,7 @@ std::vector<PointDistance> distancesToSurface(const Tape& tape, const std::vecto
     return out;
 }
 
-SurfaceDistance measureSurfaceDistance(const Mesh& mesh, const Tape& tape, int threads)
+SurfaceDistance measureSurfaceDistance(const Mesh& mesh, const Tape& tape, int threads, const Progress& work)
 {
     SurfaceDistance result;
     const std::size_t nv = mesh.vertices.size(), nt = mesh.triangles.size();
@@ -276,9 +278,12 @@ SurfaceDistance measureSurfaceDistance(const Mesh& mesh, const Tape& tape, int t
     std::vector<ChunkResult> vertexResults(vertexChunks), triangleResults(triangleChunks);
     tbb::enumerable_thread_specific<Scratch> scratch;
     tbb::task_arena arena = workerArena(threads);
+    std::atomic<std::size_t> chunksDone{0};
+    const double chunks = double(vertexChunks + triangleChunks);
     arena.execute([&] {
         // The vertices first: the triangles' quadrature needs their distances.
         tbb::parallel_for(std::size_t(0), vertexChunks, [&](std::size_t c) {
+            if (work.cancelled()) return;
             Scratch& s = scratch.local();
             const std::size_t first = c * kVertexChunk, last = std::min(nv, first + kVertexChunk);
             s.points.assign(mesh.vertices.begin() + long(first), mesh.vertices.begin() + long(last));
@@ -297,8 +302,10 @@ SurfaceDistance measureSurfaceDistance(const Mesh& mesh, const Tape& tape, int t
                 r.vertexMax = std::max(r.vertexMax, d.upper);
                 r.maxLower = std::max(r.maxLower, d.lower);
             }
+            if (work.reporting()) work.report(double(++chunksDone) / chunks);
         });
         tbb::parallel_for(std::size_t(0), triangleChunks, [&](std::size_t c) {
+            if (work.cancelled()) return;
             Scratch& s = scratch.local();
             const std::size_t first = c * kTriangleChunk, last = std::min(nt, first + kTriangleChunk);
             s.points.clear();
@@ -336,8 +343,10 @@ SurfaceDistance measureSurfaceDistance(const Mesh& mesh, const Tape& tape, int t
                 r.weighted += area * (vertices / 20.0 + midpoints * 2.0 / 15.0 + d[3].upper * 9.0 / 20.0);
                 r.area += area;
             }
+            if (work.reporting()) work.report(double(++chunksDone) / chunks);
         });
     });
+    result.complete = !work.cancelled();
     // Summed in chunk order: the same figures whatever the thread count.
     double weighted = 0.0;
     for (const auto* results : {&vertexResults, &triangleResults})

@@ -173,11 +173,10 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         if (interrupted) return interruptedMessage();
 
         const bool terminal = ::isatty(STDERR_FILENO);
-        MeshProgress progress;
-        progress.cancelled = [] { return interrupted.load(); };
         int shownPercent = -1;
+        Progress::OnFraction showPercent;
         if (terminal) {
-            progress.onProgress = [&](double fraction) {
+            showPercent = [&](double fraction) {
                 const int percent = int(fraction * 100.0);
                 if (percent == shownPercent) return;
                 shownPercent = percent;
@@ -185,6 +184,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
                     << std::flush;
             };
         }
+        const Progress progress(showPercent, [] { return interrupted.load(); });
         const auto meshStart = std::chrono::steady_clock::now();
         const std::string partName = std::filesystem::path(file).stem().string();
         // Meshing, checking the mesh as a reader will see it, and writing;

@@ -59,13 +59,13 @@ public:
         dirty_.assign(n, 1);
     }
 
-    std::size_t run(const std::function<bool()>& cancelled)
+    std::size_t run(const Progress& work)
     {
         std::size_t total = 0;
         std::vector<Candidate> candidates;
         std::vector<std::uint32_t> touchedList;
         for (int pass = 0;; ++pass) {
-            if (cancelled && cancelled()) break;
+            if (work.cancelled()) break;
             propose(candidates);
             if (candidates.empty()) break;
             std::sort(candidates.begin(), candidates.end());
@@ -529,15 +529,15 @@ private:
 } // namespace
 
 std::size_t collapseEdges(CollapseMesh& mesh, const CollapseLimits& limits, SurfaceQueries& surface,
-                          const std::function<bool()>& cancelled)
+                          const Progress& work)
 {
     if (mesh.removed.size() != mesh.positions.size()) mesh.removed.assign(mesh.positions.size(), 0);
     if (mesh.held.size() != mesh.positions.size()) mesh.held.assign(mesh.positions.size(), 0);
-    return Collapser(mesh, limits, surface).run(cancelled);
+    return Collapser(mesh, limits, surface).run(work);
 }
 
 std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits, double cube, const glm::dvec3& shift,
-                                tbb::task_arena& arena, SurfaceQueries& surface, const std::function<bool()>& cancelled)
+                                tbb::task_arena& arena, SurfaceQueries& surface, const Progress& work)
 {
     const std::size_t vertexCount = mesh.positions.size();
     if (mesh.removed.size() != vertexCount) mesh.removed.assign(vertexCount, 0);
@@ -605,7 +605,7 @@ std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits
     for (const std::vector<std::size_t>& phase : phases)
     arena.execute([&] {
         tbb::parallel_for(std::size_t(0), phase.size(), [&](std::size_t member) {
-            if (cancelled && cancelled()) return;
+            if (work.cancelled()) return;
             const std::size_t g = phase[member];
             const auto [first, last] = groups[g];
             // The cube's vertices, numbered locally.
@@ -671,7 +671,7 @@ std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits
                         }
                     }
             SurfaceQueries cubeSurface = surface.region(lo - margin, hi + margin);
-            total += collapseEdges(part, cubeLimits, cubeSurface, cancelled);
+            total += collapseEdges(part, cubeLimits, cubeSurface, work);
             // Back: this cube alone owns its triangles and its vertices that
             // were not held, so the writes of different cubes never meet.
             for (std::size_t k = first; k < last; ++k) {

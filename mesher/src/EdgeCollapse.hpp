@@ -34,6 +34,7 @@
 // calls with cubes shifted by half a cube, then one over the whole, reach
 // what one call over the whole would, at a fraction of the time.
 
+#include "kerf/document/Progress.hpp"
 #include "Quadric.hpp"
 #include "SurfaceQueries.hpp"
 
@@ -114,15 +115,15 @@ struct CollapseLimits {
 };
 
 /// Simplifies `mesh` on the calling thread. Returns the number of collapses;
-/// stops early (with a valid mesh) once `cancelled` returns true.
+/// stops early (with a valid mesh) once `work` is cancelled.
 std::size_t collapseEdges(CollapseMesh& mesh, const CollapseLimits& limits, SurfaceQueries& surface,
-                          const std::function<bool()>& cancelled = {});
+                          const Progress& work = {});
 
 /// The same in parallel over cubes of edge `cube` mm whose corners lie at
 /// `shift` + cube * (i, j, k) (in the mesh's coordinates), in `arena`; each
 /// cube asks `surface.region()` of its vertices' box.
 std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits, double cube,
                                 const glm::dvec3& shift, tbb::task_arena& arena, SurfaceQueries& surface,
-                                const std::function<bool()>& cancelled = {});
+                                const Progress& work = {});
 
 } // namespace kerf::mesher

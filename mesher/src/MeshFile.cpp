@@ -78,25 +78,28 @@ glm::dvec3 fileOffsetFor(const Mesh& mesh, MeshFileFormat format, double toleran
 
 MeshFileReport writeMeshFile(Mesh& mesh, const std::filesystem::path& file, MeshFileFormat format,
                              const std::string& partName, double tolerance, bool writeOnlyIfSolid,
-                             const std::function<bool()>& cancelled)
+                             const Progress& work)
 {
     MeshFileReport report;
-    auto stop = [&] { return report.cancelled = cancelled && cancelled(); };
+    auto stop = [&] { return report.cancelled = work.cancelled(); };
     const WrittenFormat written = writtenFormatOf(format);
     report.offset = fileOffsetFor(mesh, format, tolerance);
     report.spacing = spacingAt(largestCoordinate(mesh, report.offset), format);
     report.fit = fitToWritten(mesh, written, report.offset);
+    work.report(0.1);
     if (stop()) return report;
     // STL readers weld by position; 3MF readers keep the indices.
     const Mesh asRead = readBack(mesh, written, format != MeshFileFormat::ThreeMf, report.offset);
     report.asRead = checkMesh(asRead);
+    work.report(0.3);
     if (stop()) return report;
-    const SelfIntersections crossings = findSelfIntersections(asRead, 0, cancelled);
+    const SelfIntersections crossings = findSelfIntersections(asRead, 0, work);
     report.selfIntersections = crossings.pairs;
     if (crossings.stopped || stop()) {
         report.cancelled = true;
         return report;
     }
+    work.report(0.8);
     if (writeOnlyIfSolid && !report.solid()) return report;
     if (format == MeshFileFormat::ThreeMf)
         writeThreeMf(mesh, file, partName, report.offset);
@@ -104,6 +107,7 @@ MeshFileReport writeMeshFile(Mesh& mesh, const std::filesystem::path& file, Mesh
         writeStl(mesh, file, format == MeshFileFormat::AsciiStl ? StlFormat::Ascii : StlFormat::Binary);
     std::error_code ec;
     report.bytes = std::filesystem::file_size(file, ec);
+    work.report(1.0);
     return report;
 }
 
@@ -127,10 +131,12 @@ std::string describeDefects(const MeshFileReport& report)
 }
 
 ExportedPart exportPart(const Document& doc, const MeshOptions& options, const std::filesystem::path& file,
-                        MeshFileFormat format, const std::string& partName, const MeshProgress& progress)
+                        MeshFileFormat format, const std::string& partName, const Progress& work)
 {
+    // Meshing is most of the time; checking the file as read back the rest.
+    const Progress meshing = work.stage(0.0, 0.85), writing = work.stage(0.85, 1.0);
     ExportedPart out;
-    std::optional<Mesh> mesh = meshPart(doc, options, progress, &out.stats);
+    std::optional<Mesh> mesh = meshPart(doc, options, meshing, &out.stats);
     if (!mesh) {
         out.cancelled = true;
         return out;
@@ -139,7 +145,7 @@ ExportedPart exportPart(const Document& doc, const MeshOptions& options, const s
         out.empty = true;
         return out;
     }
-    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance, true, progress.cancelled);
+    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance, true, writing);
     if (out.report.cancelled) {
         out.cancelled = true;
         return out;
@@ -149,12 +155,12 @@ ExportedPart exportPart(const Document& doc, const MeshOptions& options, const s
     MeshOptions plain = options;
     plain.tolerance = 0.0;
     out.stats = {};
-    mesh = meshPart(doc, plain, progress, &out.stats);
+    mesh = meshPart(doc, plain, meshing, &out.stats);
     if (!mesh) {
         out.cancelled = true;
         return out;
     }
-    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance, true, progress.cancelled);
+    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance, true, writing);
     out.cancelled = out.report.cancelled;
     return out;
 }

@@ -40,26 +40,6 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// Serializes progress reports and keeps them non-decreasing and sparse.
-class ProgressReporter {
-public:
-    explicit ProgressReporter(const MeshProgress& p) : progress_(p) {}
-    void report(double fraction)
-    {
-        if (!progress_.onProgress) return;
-        std::lock_guard lock(mutex_);
-        fraction = std::clamp(fraction, 0.0, 1.0);
-        if (fraction < last_ + 0.005 && !(fraction == 1.0 && last_ < 1.0)) return;
-        last_ = fraction;
-        progress_.onProgress(fraction);
-    }
-
-private:
-    const MeshProgress& progress_;
-    std::mutex mutex_;
-    double last_ = -1.0;
-};
-
 // Adds a thread's CPU-ish seconds (wall time of its tasks) to an atomic total.
 void addSeconds(std::atomic<std::int64_t>& total, Clock::time_point since)
 {
@@ -102,8 +82,7 @@ struct LatticeMesh {
 
 // The marching-cubes mesh: every surface cell, closed and oriented.
 std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layout, const MeshOptions& options,
-                                       ProgressReporter& reporter, const std::function<bool()>& cancelled,
-                                       std::atomic<bool>& stop, tbb::task_arena& arena, MeshStats& stats)
+                                       const Progress& work, tbb::task_arena& arena, MeshStats& stats)
 {
     const Lattice lattice = Lattice::fromLayout(layout);
     if (std::max({lattice.dims.x, lattice.dims.y, lattice.dims.z}) >= (std::int64_t(1) << 20))
@@ -115,7 +94,7 @@ std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layou
     TileShares states(lattice);
     std::atomic<std::int64_t> seedNanos{0}, cellNanos{0};
     tbb::enumerable_thread_specific<TileScratch> scratch([&] { return TileScratch(tape, lattice); });
-    const CancelCheck buildCancelled = [&] { return cancelled(); };
+    std::atomic<bool> stop{false}; // a worker saw the cancellation: the others need not ask
 
     // Round 1: every tile of the voxelizer's grid: seeds from its float
     // contree, sorted into the mesher tiles inside it, then the cells they
@@ -136,7 +115,7 @@ std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layou
                 s.quietVoxels.clear();
                 s.build.quietVoxels = meshing.findHiddenDetail ? &s.quietVoxels : nullptr;
                 std::optional<TileData> built =
-                    buildTile(tape, layout, glm::ivec3(t), layout.levels, s.build, buildCancelled);
+                    buildTile(tape, layout, glm::ivec3(t), layout.levels, s.build, work);
                 if (!built) {
                     stop = true;
                     return;
@@ -164,7 +143,7 @@ std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layou
                                  std::int64_t(k) / (split * split));
                     auto state = std::make_unique<TileShare>(t * split + sub);
                     state->counters.seeds = seeds[k].size();
-                    if (!mesher.process(*state, seeds[k], s, cancelled)) {
+                    if (!mesher.process(*state, seeds[k], s, work)) {
                         stop = true;
                         return;
                     }
@@ -174,15 +153,15 @@ std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layou
                     quiet[k].clear();
                 }
                 addSeconds(cellNanos, t0);
-                reporter.report(0.5 * double(++tilesDone) / double(tileCount));
+                work.report(0.5 * double(++tilesDone) / double(tileCount));
             }
         });
     });
-    if (stop || cancelled()) return std::nullopt;
+    if (stop || work.cancelled()) return std::nullopt;
 
     // Further rounds: cells that other tiles asked for, until none is asked.
     for (stats.rounds = 1;; ++stats.rounds) {
-        std::vector<TileShare*> work;
+        std::vector<TileShare*> asked;
         for (TileShare* st : states.ordered()) {
             for (const I3& c : st->outbox) {
                 const I3 t = lattice.tileOf(c);
@@ -195,21 +174,21 @@ std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layou
             st->outbox.shrink_to_fit();
         }
         for (TileShare* st : states.ordered())
-            if (!st->inbox.empty()) work.push_back(st);
-        if (work.empty()) break;
+            if (!st->inbox.empty()) asked.push_back(st);
+        if (asked.empty()) break;
         arena.execute([&] {
-            tbb::parallel_for(std::size_t(0), work.size(), [&](std::size_t k) {
+            tbb::parallel_for(std::size_t(0), asked.size(), [&](std::size_t k) {
                 if (stop.load(std::memory_order_relaxed)) return;
                 const auto t0 = Clock::now();
-                TileShare& st = *work[k];
+                TileShare& st = *asked[k];
                 std::vector<std::uint64_t> cells;
                 cells.swap(st.inbox);
-                if (!mesher.process(st, cells, scratch.local(), cancelled)) stop = true;
+                if (!mesher.process(st, cells, scratch.local(), work)) stop = true;
                 addSeconds(cellNanos, t0);
             });
         });
-        if (stop || cancelled()) return std::nullopt;
-        reporter.report(std::min(0.55, 0.5 + 0.01 * stats.rounds));
+        if (stop || work.cancelled()) return std::nullopt;
+        work.report(std::min(0.55, 0.5 + 0.01 * stats.rounds));
     }
 
     // Merge: global vertex numbers in tile order, shared vertices resolved.
@@ -222,13 +201,13 @@ std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layou
     stats.cellSeconds = double(cellNanos.load()) * 1e-9;
     stats.featureFlips = flipFeatureEdges(out.mesh, out.normals);
     stats.latticeTriangles = out.mesh.triangles.size();
-    reporter.report(0.6);
+    work.report(0.6);
     return out;
 }
 
 } // namespace
 
-std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const MeshProgress& progress,
+std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const Progress& work,
                              MeshStats* statsOut)
 {
     const auto start = Clock::now();
@@ -254,18 +233,11 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     stats.tiles = layout.dims;
     stats.levels = layout.levels;
 
-    ProgressReporter reporter(progress);
-    std::atomic<bool> stop{false};
-    const std::function<bool()> cancelled = [&] {
-        if (stop.load(std::memory_order_relaxed)) return true;
-        if (progress.cancelled && progress.cancelled()) stop = true;
-        return stop.load(std::memory_order_relaxed);
-    };
     tbb::task_arena arena = workerArena(options.threads);
-    std::optional<LatticeMesh> lattice = latticeMesh(tape, layout, options, reporter, cancelled, stop, arena, stats);
+    std::optional<LatticeMesh> lattice = latticeMesh(tape, layout, options, work, arena, stats);
     if (!lattice) return std::nullopt;
     if (options.tolerance == 0.0) {
-        reporter.report(1.0);
+        work.report(1.0);
         return finish(std::move(lattice->mesh));
     }
 
@@ -284,10 +256,10 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     simplify.placement = 0.25 * options.tolerance;
     simplify.tolerance = options.tolerance;
     simplify.microLength = 4.0 * stats.edgeMargin;
-    stats.collapses = simplifyToTolerance(mesh, normals, tape, simplify, arena, cancelled);
-    if (cancelled()) return std::nullopt;
+    stats.collapses = simplifyToTolerance(mesh, normals, tape, simplify, arena, work);
+    if (work.cancelled()) return std::nullopt;
     stats.simplifySeconds = secondsSince(t0);
-    reporter.report(0.75);
+    work.report(0.75);
     t0 = Clock::now();
     RefineSettings refineSettings;
     refineSettings.tolerance = options.tolerance;
@@ -295,19 +267,19 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     refineSettings.clearance = simplify.clearance;
     refineSettings.maxTriangles = std::max<std::size_t>(16 * mesh.triangles.size(), 1 << 20);
     RefineStats refine;
-    if (!refineToTolerance(mesh, normals, tape, refineSettings, arena, refine, cancelled)) return std::nullopt;
+    if (!refineToTolerance(mesh, normals, tape, refineSettings, arena, refine, work)) return std::nullopt;
     stats.refineSeconds = secondsSince(t0);
     stats.splits = refine.splits;
     stats.creaseSplits = refine.creaseSplits;
     stats.worstSample = refine.worstSample;
     stats.trianglesOverTolerance = refine.trianglesOverTolerance;
-    reporter.report(0.9);
+    work.report(0.9);
     t0 = Clock::now();
     simplify.microLength = 0.0;
-    if (refine.splits > 0) stats.collapses += simplifyToTolerance(mesh, normals, tape, simplify, arena, cancelled);
-    if (cancelled()) return std::nullopt;
+    if (refine.splits > 0) stats.collapses += simplifyToTolerance(mesh, normals, tape, simplify, arena, work);
+    if (work.cancelled()) return std::nullopt;
     stats.simplifySeconds += secondsSince(t0);
-    reporter.report(1.0);
+    work.report(1.0);
     return finish(std::move(mesh));
 }
 
@@ -356,7 +328,7 @@ std::string describeHiddenDetail(const MeshStats& stats)
            "; a feature size of " + shortNumber(finerFeatureSize(stats)) + " mm resolves it";
 }
 
-std::optional<Mesh> meshPart(const Document& doc, const MeshOptions& options, const MeshProgress& progress,
+std::optional<Mesh> meshPart(const Document& doc, const MeshOptions& options, const Progress& work,
                              MeshStats* stats)
 {
     MeshOptions o = options;
@@ -365,7 +337,7 @@ std::optional<Mesh> meshPart(const Document& doc, const MeshOptions& options, co
             throw std::invalid_argument("mesher: no feature size given and the document sets none");
         o.featureSize = *doc.settings.featureSize;
     }
-    return meshTape(compileTape(doc), o, progress, stats);
+    return meshTape(compileTape(doc), o, work, stats);
 }
 
 } // namespace kerf

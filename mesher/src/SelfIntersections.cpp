@@ -224,7 +224,7 @@ bool intersect(const Mesh& mesh, std::uint32_t s, std::uint32_t t)
 } // namespace
 
 SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples,
-                                        const std::function<bool()>& cancelled)
+                                        const Progress& work)
 {
     SelfIntersections out;
     std::vector<Box> boxes(mesh.triangles.size());
@@ -238,7 +238,7 @@ SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples,
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 4096),
                       [&](const tbb::blocked_range<std::size_t>& range) {
         if (stop.load(std::memory_order_relaxed)) return;
-        if (cancelled && cancelled()) {
+        if (work.cancelled()) {
             stop = true;
             return;
         }

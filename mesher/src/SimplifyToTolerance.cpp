@@ -61,7 +61,7 @@ bool hasEdgeShorterThan(const CollapseMesh& mesh, double length)
 
 std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape,
                                   const SimplifySettings& settings, tbb::task_arena& arena,
-                                  const std::function<bool()>& cancelled)
+                                  const Progress& progress)
 {
     if (mesh.triangles.empty()) return 0;
     // Work relative to the middle of the mesh: quadrics lose precision with
@@ -95,14 +95,14 @@ std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, 
         micro.maxMeanSquaredError = std::numeric_limits<double>::infinity();
         micro.maxEdgeLength = settings.microLength;
         micro.checkGeometry = false;
-        collapses += collapsePartitioned(work, micro, settings.cube, lo - origin, arena, field, cancelled);
-        if (hasEdgeShorterThan(work, settings.microLength)) collapses += collapseEdges(work, micro, field, cancelled);
+        collapses += collapsePartitioned(work, micro, settings.cube, lo - origin, arena, field, progress);
+        if (hasEdgeShorterThan(work, settings.microLength)) collapses += collapseEdges(work, micro, field, progress);
     }
-    collapses += collapsePartitioned(work, limits, settings.cube, lo - origin, arena, field, cancelled);
+    collapses += collapsePartitioned(work, limits, settings.cube, lo - origin, arena, field, progress);
     collapses += collapsePartitioned(work, limits, settings.cube, lo - origin + glm::dvec3(0.5 * settings.cube), arena,
-                                     field, cancelled);
-    collapses += collapseEdges(work, limits, field, cancelled);
-    if (cancelled && cancelled()) return 0;
+                                     field, progress);
+    collapses += collapseEdges(work, limits, field, progress);
+    if (progress.cancelled()) return 0;
 
     // Keep the live triangles and the vertices they use, in their order.
     std::vector<std::uint32_t> index(work.positions.size(), std::numeric_limits<std::uint32_t>::max());

@@ -11,6 +11,7 @@
 // ToleranceRefiner.hpp then checks every triangle on the exact field and
 // puts back what was taken too far.
 
+#include "kerf/document/Progress.hpp"
 #include "kerf/evaluator/Tape.hpp"
 #include "kerf/mesher/Mesh.hpp"
 
@@ -42,6 +43,6 @@ struct SimplifySettings {
 /// cancelled.
 std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape,
                                   const SimplifySettings& settings, tbb::task_arena& arena,
-                                  const std::function<bool()>& cancelled = {});
+                                  const Progress& work = {});
 
 } // namespace kerf::mesher

@@ -437,7 +437,7 @@ void TileMesher::lookForHiddenDetail(TileShare& st, const std::vector<QuietCell>
 }
 
 bool TileMesher::process(TileShare& st, const std::vector<std::uint64_t>& cells, TileScratch& s,
-                         const std::function<bool()>& cancelled) const
+                         const Progress& work) const
 {
     s.tapes.clear();
     s.roots.setMargin(meshing_.edgeMargin);
@@ -452,7 +452,7 @@ bool TileMesher::process(TileShare& st, const std::vector<std::uint64_t>& cells,
     const std::int64_t n = lattice_.n;
     TileCounters& counters = st.counters;
     while (!s.wave.empty()) {
-        if (cancelled && cancelled()) return false;
+        if (work.cancelled()) return false;
         evaluateCorners(st, s);
         s.next.clear();
         for (std::size_t i = 0; i < s.wave.size(); ++i) {

@@ -19,6 +19,7 @@
 // 70% load) and a bit in the examined-cell bricks. Corner values live only
 // for the round.
 
+#include "kerf/document/Progress.hpp"
 #include "CellSet.hpp"
 #include "ChunkedVector.hpp"
 #include "FlatHash.hpp"
@@ -150,7 +151,7 @@ public:
     /// tile; requests for other tiles go to state.outbox) and meshes every
     /// cell found. Returns false when cancelled; the state is then unusable.
     bool process(TileShare& state, const std::vector<std::uint64_t>& cells, TileScratch& scratch,
-                 const std::function<bool()>& cancelled) const;
+                 const Progress& work) const;
 
     /// Looks for detail thinner than a cell (HiddenDetail.hpp) in the quiet
     /// cells that the tile has not examined (a cell examined was meshed, or

@@ -391,7 +391,7 @@ private:
 } // namespace
 
 bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape, const RefineSettings& settings,
-                       tbb::task_arena& arena, RefineStats& stats, const std::function<bool()>& cancelled)
+                       tbb::task_arena& arena, RefineStats& stats, const Progress& work)
 {
     stats = {};
     if (mesh.triangles.empty()) return true;
@@ -406,7 +406,7 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
     std::vector<std::uint32_t> stuck;
     constexpr std::size_t kChunk = 256;
     for (stats.rounds = 0; !dirty.empty(); ++stats.rounds) {
-        if (cancelled && cancelled()) return false;
+        if (work.cancelled()) return false;
         std::vector<Verdict> verdicts(dirty.size());
         arena.execute([&] {
             tbb::parallel_for(std::size_t(0), (dirty.size() + kChunk - 1) / kChunk, [&](std::size_t c) {

@@ -22,6 +22,7 @@
 // Threads: the sampling runs in the arena, per chunk of triangles; the
 // splits are sequential (there are few). Deterministic.
 
+#include "kerf/document/Progress.hpp"
 #include "kerf/evaluator/Tape.hpp"
 #include "kerf/mesher/Mesh.hpp"
 
@@ -62,6 +63,6 @@ struct RefineSettings {
 /// of the surface, or a limit is reached. Returns false when cancelled (the
 /// mesh is then valid but unfinished).
 bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape, const RefineSettings& settings,
-                       tbb::task_arena& arena, RefineStats& stats, const std::function<bool()>& cancelled = {});
+                       tbb::task_arena& arena, RefineStats& stats, const Progress& work = {});
 
 } // namespace kerf::mesher

@@ -7,6 +7,8 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include <atomic>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -144,20 +146,25 @@ private:
 
 } // namespace
 
-TraceImage traceExact(const Tape& tape, const Camera& camera, double epsilon, int threads)
+TraceImage traceExact(const Tape& tape, const Camera& camera, double epsilon, int threads, const Progress& work)
 {
     if (!(epsilon > 0.0)) throw std::invalid_argument("traceExact: epsilon must be positive");
     TraceImage image(camera.width(), camera.height());
     if (tape.empty()) return image;
     tbb::task_arena arena = workerArena(threads);
+    std::atomic<int> rowsDone{0};
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<int>(0, image.height), [&](const tbb::blocked_range<int>& rows) {
             PacketTracer tracer(tape, camera, epsilon, image); // scratch memory for this task
-            for (int y = rows.begin(); y != rows.end(); ++y)
+            for (int y = rows.begin(); y != rows.end(); ++y) {
+                if (work.cancelled()) return;
                 for (int x = 0; x < image.width; x += kPacket)
                     tracer.trace(y, x, std::min(kPacket, image.width - x));
+                if (work.reporting()) work.report(double(++rowsDone) / double(image.height));
+            }
         });
     });
+    image.complete = !work.cancelled();
     return image;
 }
 

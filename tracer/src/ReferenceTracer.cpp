@@ -9,6 +9,8 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include <atomic>
 #include <tbb/task_arena.h>
 
 #include <bit>
@@ -592,13 +594,15 @@ RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray, const Section& 
 }
 
 TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, int threads, const Section& section,
-                       TraceQuality quality)
+                       TraceQuality quality, const Progress& work)
 {
     TraceImage image(camera.width(), camera.height());
     tbb::task_arena arena = workerArena(threads);
+    std::atomic<int> rowsDone{0};
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<int>(0, image.height), [&](const tbb::blocked_range<int>& rows) {
-            for (int y = rows.begin(); y != rows.end(); ++y)
+            for (int y = rows.begin(); y != rows.end(); ++y) {
+                if (work.cancelled()) return;
                 for (int x = 0; x < image.width; ++x) {
                     const RayHit h = traceRay(buffers, camera.ray(x, y), section, quality);
                     const std::size_t i = image.index(x, y);
@@ -606,8 +610,11 @@ TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, in
                     image.normal[i] = h.normal;
                     image.feature[i] = h.feature;
                 }
+                if (work.reporting()) work.report(double(++rowsDone) / double(image.height));
+            }
         });
     });
+    image.complete = !work.cancelled();
     return image;
 }
 

@@ -255,9 +255,7 @@ void ExportDialog::start()
             MeshOptions options;
             options.featureSize = featureSize;
             options.tolerance = tolerance;
-            MeshProgress progress;
-            progress.onProgress = [this](double f) { fraction_ = f; };
-            progress.cancelled = [this] { return cancel_.load(); };
+            const Progress progress([this](double f) { fraction_ = f; }, [this] { return cancel_.load(); });
             const auto t0 = std::chrono::steady_clock::now();
             const ExportedPart exported = exportPart(doc_, options, file, format, partName, progress);
             const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -23,7 +23,7 @@ constexpr float kGhostOpacity = 0.35f;
 constexpr double kCellsAcrossSmallest = 16.0;
 constexpr double kCellsAcrossAll = 1500.0;
 
-std::vector<PlacedMesh> meshGhosts(const std::vector<Document>& tools, const std::function<bool()>& cancelled)
+std::vector<PlacedMesh> meshGhosts(const std::vector<Document>& tools, const Progress& work)
 {
     std::vector<PlacedMesh> out;
     for (const Document& doc : tools) {
@@ -38,9 +38,7 @@ std::vector<PlacedMesh> meshGhosts(const std::vector<Document>& tools, const std
         MeshOptions options;
         options.featureSize = std::max(smallest / kCellsAcrossSmallest, std::max({all.x, all.y, all.z}) / kCellsAcrossAll);
         options.findHiddenDetail = false;
-        MeshProgress progress;
-        progress.cancelled = cancelled;
-        const std::optional<Mesh> mesh = meshTape(tape, options, progress);
+        const std::optional<Mesh> mesh = meshTape(tape, options, work);
         if (!mesh) return {}; // cancelled
         PlacedMesh ghost;
         ghost.id = "ghost";
@@ -96,7 +94,7 @@ void SelectionGhosts::show(const Document& doc, const std::vector<std::string>& 
     const auto current = generation_;
     watcher->setFuture(QtConcurrent::run([tools = std::move(tools), current, generation] {
         try {
-            return meshGhosts(tools, [&] { return current->load() != generation; });
+            return meshGhosts(tools, Progress::cancelledWhen([&] { return current->load() != generation; }));
         } catch (const std::exception&) {
             return std::vector<PlacedMesh>{}; // no ghost is better than a message about one
         }

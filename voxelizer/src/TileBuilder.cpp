@@ -27,8 +27,8 @@ struct BuildNode {
 
 class Builder {
 public:
-    Builder(TileBuildScratch& s, int levels, double tileSize, const CancelCheck& cancelled)
-        : s_(s), levels_(levels), tileSize_(tileSize), cancelled_(cancelled)
+    Builder(TileBuildScratch& s, int levels, double tileSize, const Progress& work)
+        : s_(s), levels_(levels), tileSize_(tileSize), work_(work)
     {
         if (s_.levelTapes.size() < std::size_t(levels + 1)) s_.levelTapes.resize(std::size_t(levels + 1));
     }
@@ -40,7 +40,7 @@ public:
         const double size = tileSize_ / std::pow(4.0, level);
         const double child = size / 4.0;
         if (level == levels_ - 1) return buildLeaf(lo, child, level, out);
-        if (cancelled_ && cancelled_()) throw Cancelled{};
+        if (work_.cancelled()) throw Cancelled{};
         const Tape& tape = s_.levelTapes[std::size_t(level)];
         Tape& childTape = s_.levelTapes[std::size_t(level + 1)];
         for (int c = 0; c < 64; ++c) {
@@ -144,7 +144,7 @@ private:
     TileBuildScratch& s_;
     int levels_;
     double tileSize_;
-    const CancelCheck& cancelled_;
+    const Progress& work_;
 };
 
 TileData serialize(BuildNode& root, int levels)
@@ -177,7 +177,7 @@ TileData serialize(BuildNode& root, int levels)
 } // namespace
 
 std::optional<TileData> buildTile(const Tape& tape, const GridLayout& layout, const glm::ivec3& tile, int levels,
-                                  TileBuildScratch& scratch, const CancelCheck& cancelled)
+                                  TileBuildScratch& scratch, const Progress& work)
 {
     levels = std::clamp(levels, 1, voxel::kMaxLevels);
     const Aabb box = layout.tileBox(tile);
@@ -196,7 +196,7 @@ std::optional<TileData> buildTile(const Tape& tape, const GridLayout& layout, co
     tileTape = tileTape.rebased(box.min);
     BuildNode root;
     try {
-        Builder builder(scratch, levels, layout.tileSize, cancelled);
+        Builder builder(scratch, levels, layout.tileSize, work);
         if (!builder.build(glm::dvec3(0.0), 0, root)) {
             // Ambiguous to intervals but no sign change: report which side it is on.
             const double c = 0.5 * layout.tileSize;

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <mutex>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
@@ -18,7 +17,7 @@
 namespace kerf {
 
 VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const VoxelizeOptions& options,
-                       const VoxelizeProgress& progress, const CancelCheck& cancelled)
+                       const Progress& work)
 {
     VoxelSnapshot snap;
     snap.layout = layout;
@@ -31,29 +30,24 @@ VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const Voxeliz
     const BlockTapes blocks(tape, layout);
     std::atomic<long> built{0};
     std::atomic<bool> stopped{false};
-    std::mutex reporting;
-    const long reportEvery = std::max(1L, layout.tileCount() / 200);
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<long>(0, layout.tileCount(), 1), [&](const tbb::blocked_range<long>& r) {
             auto& s = scratch.local();
             for (long i = r.begin(); i != r.end(); ++i) {
                 if (stopped) return;
                 const glm::ivec3 t = layout.tileCoord(i);
-                if (cancelled && cancelled()) {
+                if (work.cancelled()) {
                     stopped = true;
                     return;
                 }
-                auto tile = buildTile(blocks.forTile(t), layout, t, levels, s, cancelled);
+                auto tile = buildTile(blocks.forTile(t), layout, t, levels, s, work);
                 if (!tile) {
                     stopped = true;
                     return;
                 }
                 if (tile && tile->state != TileState::Empty)
                     snap.tiles[std::size_t(i)] = std::make_shared<const TileData>(std::move(*tile));
-                if (progress && (++built % reportEvery) == 0) {
-                    const std::unique_lock lock(reporting, std::try_to_lock);
-                    if (lock) progress(double(built.load()) / double(layout.tileCount()));
-                }
+                if (work.reporting()) work.report(double(++built) / double(layout.tileCount()));
             }
         });
     });
@@ -72,11 +66,11 @@ VoxelEstimate estimateVoxels(const Tape& tape, const GridLayout& layout, double 
     // is abandoned (the previous one stands), so the estimate takes about
     // probeSeconds at most, whatever the part.
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(probeSeconds);
-    const CancelCheck pastDeadline = [deadline] { return std::chrono::steady_clock::now() > deadline; };
+    const Progress pastDeadline = Progress::cancelledWhen([deadline] { return std::chrono::steady_clock::now() > deadline; });
     for (int levels = 1; levels <= layout.levels; ++levels) {
         const auto start = std::chrono::steady_clock::now();
-        VoxelSnapshot s = voxelize(tape, layout, {.levels = levels, .threads = 0}, {},
-                                   e.measuredLevels > 0 ? pastDeadline : CancelCheck{});
+        VoxelSnapshot s = voxelize(tape, layout, {.levels = levels, .threads = 0},
+                                   e.measuredLevels > 0 ? pastDeadline : Progress{});
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (!s.complete) {
             // Overran: the time a whole level would take is at least this.

@@ -275,7 +275,7 @@ void Voxelizer::process(Request request)
     tbb::task_arena arena = workerArena(options_.threads);
     tbb::enumerable_thread_specific<TileBuildScratch> scratch;
     const BlockTapes blocks(tape, layout);
-    const CancelCheck cancelled = [&] { return stale(revision); };
+    const Progress superseded = Progress::cancelledWhen([&] { return stale(revision); });
 
     auto pass = [&](bool coarse, std::size_t tiles, int levels) {
         std::lock_guard lock(mutex_);
@@ -296,7 +296,7 @@ void Voxelizer::process(Request request)
             tbb::parallel_for(std::size_t(0), tiles.size(), [&](std::size_t k) {
                 if (aborted.load()) return;
                 const glm::ivec3 tc = layout.tileCoord(tiles[k]);
-                auto t = buildTile(blocks.forTile(tc), layout, tc, levelsOf(tiles[k]), scratch.local(), cancelled);
+                auto t = buildTile(blocks.forTile(tc), layout, tc, levelsOf(tiles[k]), scratch.local(), superseded);
                 if (!t) {
                     aborted = true;
                     return;

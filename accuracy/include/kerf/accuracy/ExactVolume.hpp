@@ -19,6 +19,7 @@
 // and each cell's variance falls with its volume squared), the cost grows as
 // cellSize^-2 (the surface's area in cells).
 
+#include "kerf/document/Progress.hpp"
 #include "kerf/evaluator/Tape.hpp"
 
 #include <cstdint>
@@ -34,12 +35,14 @@ struct VolumeEstimate {
     std::uint64_t sampledCells = 0;
     std::uint64_t samples = 0;
     bool bounded = true; // false: the part is unbounded, no volume
+    bool complete = true; // false: cancelled part way, the figures are not the part's
 };
 
 /// Integrates the inside of `tape`'s solid (world coordinates) with cells of
 /// edge `cellSize` mm (> 0), on `threads` threads (0: every core). The result
 /// does not depend on the thread count. Throws std::invalid_argument for a
-/// non-positive cell size.
-VolumeEstimate integrateVolume(const Tape& tape, double cellSize, int threads = 0);
+/// non-positive cell size. `work` hears the fraction of blocks integrated;
+/// cancelled, it stops between blocks and the estimate is not complete.
+VolumeEstimate integrateVolume(const Tape& tape, double cellSize, int threads = 0, const Progress& work = {});
 
 } // namespace kerf

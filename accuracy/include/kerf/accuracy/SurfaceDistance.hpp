@@ -44,6 +44,7 @@
 // the full tape there; a walk that leaves the box is redone with the full
 // tape. Threads: oneTBB; the result does not depend on the thread count.
 
+#include "kerf/document/Progress.hpp"
 #include "kerf/evaluator/Tape.hpp"
 #include "kerf/mesher/Mesh.hpp"
 
@@ -73,10 +74,12 @@ struct SurfaceDistance {
     double maxLowerBound = 0.0;   // mm: the largest |f| at a sample; the true maximum lies in [this, max]
     double vertexMax = 0.0;       // mm: the largest distance of a vertex (about 0: vertices are root-found)
     double area = 0.0;            // mm^2 of the triangles measured
+    bool complete = true;         // false: cancelled part way, the figures cover part of the mesh
 };
 
 /// Measures `mesh` against the surface of `tape` (world coordinates), on
-/// `threads` threads (0: every core).
-SurfaceDistance measureSurfaceDistance(const Mesh& mesh, const Tape& tape, int threads = 0);
+/// `threads` threads (0: every core). `work` hears the fraction of samples
+/// measured; cancelled, it stops between chunks and the result is not complete.
+SurfaceDistance measureSurfaceDistance(const Mesh& mesh, const Tape& tape, int threads = 0, const Progress& work = {});
 
 } // namespace kerf

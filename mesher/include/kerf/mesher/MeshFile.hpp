@@ -59,12 +59,13 @@ struct MeshFileReport {
 /// reader will see it and writes it whole or not at all. `partName` names
 /// the 3MF object. Throws std::runtime_error (or OutputFileError) naming the
 /// file on failure; with `writeOnlyIfSolid` a mesh that a reader would not
-/// see as a solid is not written, and the report says why. `cancelled`
-/// (asked between the steps and during the crossing search) stops before
+/// see as a solid is not written, and the report says why. `work` hears
+/// the steps (fitting, checking, the crossing search, writing); cancelled
+/// (asked between them and during the crossing search) it stops before
 /// anything is written.
 MeshFileReport writeMeshFile(Mesh& mesh, const std::filesystem::path& file, MeshFileFormat format,
                              const std::string& partName, double tolerance, bool writeOnlyIfSolid = true,
-                             const std::function<bool()>& cancelled = {});
+                             const Progress& work = {});
 
 /// The defects of a report in words ("12 open edges, 3 crossing triangle
 /// pairs"), empty when it is a solid.
@@ -85,6 +86,6 @@ struct ExportedPart {
 /// written instead and simplificationDefects says why. The
 /// file is written only when report.solid().
 ExportedPart exportPart(const Document& doc, const MeshOptions& options, const std::filesystem::path& file,
-                        MeshFileFormat format, const std::string& partName, const MeshProgress& progress = {});
+                        MeshFileFormat format, const std::string& partName, const Progress& work = {});
 
 } // namespace kerf

@@ -33,6 +33,7 @@
 // triangles plus hash tables over surface cells and edges; nothing per volume
 // cell. A tile's float contree lives only while its seeds are read.
 
+#include "kerf/document/Progress.hpp"
 #include "kerf/document/Document.hpp"
 #include "kerf/evaluator/Tape.hpp"
 #include "kerf/mesher/Mesh.hpp"
@@ -68,16 +69,6 @@ struct MeshOptions {
     /// returns true. Dropping seeds must not change the mesh of a connected
     /// surface: the flood fill finds the rest.
     std::function<bool(const glm::i64vec3& cell)> keepSeed;
-};
-
-/// Progress and cancellation. Both are optional. `onProgress` receives the
-/// fraction done in [0, 1], non-decreasing, from worker threads (calls are
-/// serialized, never concurrent), at most about 200 times. `cancelled` is
-/// polled from worker threads; once it returns true the work stops soon
-/// (within one contree node or one batch of cells) and nothing is returned.
-struct MeshProgress {
-    std::function<void(double fraction)> onProgress;
-    std::function<bool()> cancelled;
 };
 
 /// What the mesher did, for reports and benchmarks.
@@ -141,16 +132,18 @@ double finerFeatureSize(const MeshStats& stats);
 /// dialog alike.
 std::string describeHiddenDetail(const MeshStats& stats);
 
-/// Meshes the document's part. An empty part gives an empty mesh. Returns
-/// nothing when cancelled (never half a mesh). Throws std::invalid_argument
+/// Meshes the document's part. An empty part gives an empty mesh. `work`
+/// hears the fraction done; once it is cancelled the meshing stops soon
+/// (within one contree node or one batch of cells) and returns nothing
+/// (never half a mesh). Throws std::invalid_argument
 /// when no feature size is given or set, std::runtime_error when the part is
 /// too large for its feature size.
-std::optional<Mesh> meshPart(const Document& doc, const MeshOptions& options = {}, const MeshProgress& progress = {},
+std::optional<Mesh> meshPart(const Document& doc, const MeshOptions& options = {}, const Progress& work = {},
                              MeshStats* stats = nullptr);
 
 /// The same for a compiled tape (world coordinates; evaluated where it is,
 /// never rebased); options.featureSize must be positive.
-std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const MeshProgress& progress = {},
+std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const Progress& work = {},
                              MeshStats* stats = nullptr);
 
 } // namespace kerf

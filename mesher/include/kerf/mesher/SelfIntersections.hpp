@@ -10,6 +10,7 @@
 // it), or, for triangles in one plane, overlap in that plane. Threads:
 // oneTBB over triangles; the count does not depend on them.
 
+#include "kerf/document/Progress.hpp"
 #include "kerf/mesher/Mesh.hpp"
 
 #include <glm/vec3.hpp>
@@ -28,10 +29,10 @@ struct SelfIntersections {
     bool stopped = false;                                // cancelled before the end
 };
 
-/// `cancelled`, asked now and then from the worker threads, stops the
+/// `work`, asked now and then from the worker threads, stops the
 /// search early (the count is then incomplete and `stopped` is set).
 SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples = 8,
-                                        const std::function<bool()>& cancelled = {});
+                                        const Progress& work = {});
 
 /// Whether triangles A and B (vertex indices, and their positions a[3], b[3])
 /// intersect other than along the vertices or the edge they share by index.

@@ -13,6 +13,7 @@
 // as misses. Rays are marched 64 at a time so that the evaluator's batched,
 // vectorised loops do the work.
 
+#include "kerf/document/Progress.hpp"
 #include "kerf/evaluator/Tape.hpp"
 #include "kerf/tracer/Camera.hpp"
 #include "kerf/tracer/Image.hpp"
@@ -22,7 +23,10 @@ namespace kerf {
 /// Traces every pixel of `camera`'s image against `tape` (any origin), rows
 /// in parallel with oneTBB on `threads` threads (0: every core). `epsilon`
 /// (mm, > 0) is the hit distance. An empty tape gives an image of misses.
-TraceImage traceExact(const Tape& tape, const Camera& camera, double epsilon, int threads = 0);
+/// `work` hears the fraction of rows traced; cancelled, the tracing stops
+/// between rows and the image is not complete.
+TraceImage traceExact(const Tape& tape, const Camera& camera, double epsilon, int threads = 0,
+                      const Progress& work = {});
 
 /// What one exactly traced ray found (picking and measuring in the viewport).
 struct ExactHit {

@@ -29,6 +29,8 @@ struct TraceImage {
     /// Index into the part's features of the surface hit; kNoFeature where
     /// nothing is hit or the feature is unknown.
     std::vector<std::uint32_t> feature;
+    /// False when the tracing was cancelled part way: rows are missing (misses).
+    bool complete = true;
 
     TraceImage() = default;
     TraceImage(int w, int h);

@@ -55,6 +55,7 @@
 // a voxel for the depths GridLayout::choose makes), plus the ray origin's
 // float error relative to the grid origin (distance * 6e-8).
 
+#include "kerf/document/Progress.hpp"
 #include "kerf/tracer/Camera.hpp"
 #include "kerf/tracer/Image.hpp"
 #include "kerf/tracer/Section.hpp"
@@ -98,7 +99,10 @@ RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray, const Section& 
 
 /// Traces every pixel of `camera`'s image, rows in parallel with oneTBB on
 /// `threads` threads (0: every core). The buffers must not change meanwhile.
+/// `work` hears the fraction of rows traced; cancelled, the tracing stops
+/// between rows and the image is not complete.
 TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, int threads = 0,
-                       const Section& section = {}, TraceQuality quality = TraceQuality::Voxels);
+                       const Section& section = {}, TraceQuality quality = TraceQuality::Voxels,
+                       const Progress& work = {});
 
 } // namespace kerf

@@ -5,6 +5,7 @@
 // call, voxels whose corners change sign are populated, and their corners
 // keep distance, normal and deciding feature (each shared corner once).
 
+#include "kerf/document/Progress.hpp"
 #include "kerf/evaluator/IntervalEvaluator.hpp"
 #include "kerf/evaluator/PointEvaluator.hpp"
 #include "kerf/evaluator/Tape.hpp"
@@ -37,13 +38,10 @@ struct TileBuildScratch {
     std::vector<QuietVoxel>* quietVoxels = nullptr;
 };
 
-/// Returns true when the work should stop (a newer edit arrived).
-using CancelCheck = std::function<bool()>;
-
 /// Builds tile `tile` of `layout` from `tape` (a tape in world coordinates,
 /// origin at zero) with a contree `levels` deep (1..voxel::kMaxLevels).
-/// Returns nothing when cancelled: never half a tile.
+/// Returns nothing when `work` is cancelled (polled between nodes): never half a tile.
 std::optional<TileData> buildTile(const Tape& tape, const GridLayout& layout, const glm::ivec3& tile, int levels,
-                                  TileBuildScratch& scratch, const CancelCheck& cancelled = {});
+                                  TileBuildScratch& scratch, const Progress& work = {});
 
 } // namespace kerf

@@ -3,7 +3,7 @@
 // oneTBB (tests, benchmarks, `kerf check`, export). The interactive path is
 // the background Voxelizer.
 
-#include "kerf/voxelizer/TileBuilder.hpp" // CancelCheck
+#include "kerf/document/Progress.hpp"
 #include "kerf/voxelizer/VoxelSnapshot.hpp"
 
 #include <functional>
@@ -16,15 +16,12 @@ struct VoxelizeOptions {
     int threads = 0;  // 0: every core
 };
 
-/// Called with the fraction of tiles built, from worker threads (never two
-/// at once), about 200 times at most.
-using VoxelizeProgress = std::function<void(double fraction)>;
-
-/// Builds every tile of `layout` from `tape` (world coordinates).
-/// Stops early when `cancelled` returns true (checked between and inside
-/// tiles): the snapshot is then not complete (whole tiles only, some missing).
+/// Builds every tile of `layout` from `tape` (world coordinates), reporting
+/// the fraction of tiles built to `work`. Stops early when `work` is
+/// cancelled (checked between and inside tiles): the snapshot is then not
+/// complete (whole tiles only, some missing).
 VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const VoxelizeOptions& options = {},
-                       const VoxelizeProgress& progress = {}, const CancelCheck& cancelled = {});
+                       const Progress& work = {});
 
 struct VoxelEstimate {
     double populatedVoxels = 0.0; // at the layout's full depth
