@@ -341,5 +341,35 @@ TEST(DocumentEdits, IdsInSubtreeNameTheNodeAndEverythingBelow)
     EXPECT_EQ(edit::idsInSubtree(d.root).size(), d.root.count());
 }
 
+TEST(DocumentEdits, PrimitiveIdsInSubtreeAreWhatASelectionHighlights)
+{
+    const Document d = sample();
+    EXPECT_EQ(edit::primitiveIdsInSubtree(*d.root.find("d")), (std::unordered_set<std::string>{"board", "hole"}));
+    EXPECT_EQ(edit::primitiveIdsInSubtree(*d.root.find("leg-3")), (std::unordered_set<std::string>{"leg-3"}));
+    EXPECT_EQ(edit::primitiveIdsInSubtree(d.root),
+              (std::unordered_set<std::string>{"board", "hole", "leg-3", "knob"}));
+}
+
+TEST(DocumentEdits, ASelectionComesBackInTreeOrderWithoutIdsThatAreGone)
+{
+    const Document d = sample();
+    EXPECT_EQ(edit::inTreeOrder(d, {"knob", "hole", "gone", "d", "leg-3"}),
+              (std::vector<std::string>{"d", "hole", "leg-3", "knob"}));
+    EXPECT_TRUE(edit::inTreeOrder(d, {}).empty());
+}
+
+TEST(DocumentEdits, AReferenceMeshGetsAUniqueIdAndAPathThatTravelsWithTheDocument)
+{
+    Document d = sample();
+    EXPECT_EQ(edit::addMeshReference(d, "/work/parts/leg.stl", std::filesystem::path("/work/doc")), "leg");
+    EXPECT_EQ(edit::addMeshReference(d, "/work/parts/leg.stl", std::filesystem::path("/work/doc")), "leg-2");
+    EXPECT_EQ(edit::addMeshReference(d, "/elsewhere/leg.obj", std::nullopt), "leg-3");
+    EXPECT_EQ(edit::addMeshReference(d, "/work/doc/.stl", std::filesystem::path("/work/doc")), ".stl");
+    ASSERT_EQ(d.meshes.size(), 4u);
+    EXPECT_EQ(d.meshes[0].path, "../parts/leg.stl"); // relative to the document's folder
+    EXPECT_EQ(d.meshes[2].path, "/elsewhere/leg.obj"); // an untitled document keeps it absolute
+    EXPECT_EQ(d.meshes[3].path, ".stl");
+}
+
 } // namespace
 } // namespace kerf

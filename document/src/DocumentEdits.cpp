@@ -209,6 +209,48 @@ std::unordered_set<std::string> idsInSubtree(const Node& node)
     return ids;
 }
 
+std::unordered_set<std::string> primitiveIdsInSubtree(const Node& node)
+{
+    std::unordered_set<std::string> ids;
+    const auto walk = [&](const auto& self, const Node& n) -> void {
+        if (isPrimitive(n.type)) ids.insert(n.id);
+        for (const Node& c : n.children) self(self, c);
+    };
+    walk(walk, node);
+    return ids;
+}
+
+std::vector<std::string> inTreeOrder(const Document& doc, const std::vector<std::string>& ids)
+{
+    const std::unordered_set<std::string> wanted(ids.begin(), ids.end());
+    std::vector<std::string> ordered;
+    const auto walk = [&](const auto& self, const Node& n) -> void {
+        if (wanted.count(n.id)) ordered.push_back(n.id);
+        for (const Node& c : n.children) self(self, c);
+    };
+    walk(walk, doc.root);
+    return ordered;
+}
+
+std::string addMeshReference(Document& doc, const std::filesystem::path& file,
+                             const std::optional<std::filesystem::path>& documentFolder)
+{
+    const std::string stem = file.stem().string();
+    const std::string base = stem.empty() ? "mesh" : stem;
+    auto taken = [&](const std::string& id) {
+        return std::any_of(doc.meshes.begin(), doc.meshes.end(), [&](const MeshReference& m) { return m.id == id; });
+    };
+    std::string id = base;
+    for (int k = 2; taken(id); ++k) id = base + "-" + std::to_string(k);
+    std::filesystem::path path = std::filesystem::absolute(file);
+    if (documentFolder) path = path.lexically_relative(std::filesystem::absolute(*documentFolder));
+    MeshReference m;
+    m.id = id;
+    m.path = path.generic_string();
+    doc.meshes.push_back(std::move(m));
+    return id;
+}
+
 Document emptyDocument()
 {
     Document doc;

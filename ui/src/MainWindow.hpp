@@ -4,6 +4,13 @@
 // toolbars for every command, and a status bar that shows the
 // voxelization's progress, the GPU memory, the frame time and the device.
 //
+// Its rooms: MainWindow.cpp (assembly, docks, document and selection,
+// status), MainWindowCommands.cpp (menus and toolbars, grouped as the
+// menus are), MainWindowFiles.cpp (the File menu's commands, autosave and
+// recovery), MainWindowEdits.cpp (the Edit and Add menus' commands); the
+// panels and tools are classes of their own (SectionPanel, StatusReadout,
+// RecentFilesMenu, MeasureTool, MoveTool, SelectionGhosts).
+//
 // Everything the person does goes through the DocumentSession (undoable,
 // validated); the voxelizer rebuilds in the background and the viewport
 // streams what it publishes; files are saved atomically; the document is
@@ -27,10 +34,6 @@ class QTreeView;
 class QLabel;
 class QTimer;
 class QMenu;
-class QDockWidget;
-class QCheckBox;
-class QComboBox;
-class QSlider;
 
 namespace kerf::qt {
 class ViewportWidget;
@@ -44,7 +47,8 @@ class MeasureTool;
 class MoveTool;
 class SelectionGhosts;
 class PropertyEditor;
-class QuantityEdit;
+class RecentFilesMenu;
+class StatusReadout;
 
 struct MainWindowOptions {
     std::filesystem::path recoveryFolder = RecoveryStore::defaultFolder();
@@ -127,7 +131,17 @@ private:
     static constexpr int kLayoutVersion = 1; // saveState's version: bump when the docks change
     void restoreLayout();
     bool isBundledExample(const std::filesystem::path& file) const;
+    // MainWindowCommands.cpp: one function per menu.
+    QAction* newAction(const QString& text, const QString& name, const QKeySequence& key = {});
     void buildActions();
+    void buildFileMenu();
+    void buildEditMenu();
+    void buildAddMenu();
+    void buildViewMenu();
+    void buildToolsMenu();
+    void buildToolbars();
+    void buildTreeContextMenu();
+    void showExportDialog();
     void buildDocks();
     void buildStatusBar();
     void onDocumentChanged();
@@ -137,16 +151,12 @@ private:
     void updateStatus();
     void showMessage(const QString& text, int timeoutMs = 6000);
     bool maybeSave();
-    void addRecentFile(const std::filesystem::path& file);
-    void rebuildRecentMenu();
     void addMeshFiles(const QStringList& files);
-    void updateSection();
     QString askFile(bool save, const QString& suggested);
     void reportError(const QString& title, const QString& message);
 
     MainWindowOptions options_;
-    QString untitledStem_ = QStringLiteral("part");
-    bool sectionPlaced_ = false; // the section's offset was typed or slid (kept from then on) // Save As's suggestion for an untitled document
+    QString untitledStem_ = QStringLiteral("part"); // Save As's suggestion for an untitled document
     DocumentSession* session_;
     VoxelizerBridge* voxelizer_;
     std::unique_ptr<RecoveryStore> recovery_;
@@ -154,7 +164,26 @@ private:
     QTreeView* tree_;
     FeatureTreeModel* model_;
     PropertyEditor* properties_;
-    QMenu* recentMenu_ = nullptr;
+    RecentFilesMenu* recentFiles_ = nullptr;
+    // The actions that appear in more than one place (menu, toolbar, context menu).
+    struct Commands {
+        QAction* newDocument = nullptr;
+        QAction* open = nullptr;
+        QAction* save = nullptr;
+        QAction* exportPart = nullptr;
+        QAction* undo = nullptr;
+        QAction* redo = nullptr;
+        QAction* remove = nullptr;
+        QAction* duplicate = nullptr;
+        QAction* rename = nullptr;
+        QAction* fitAll = nullptr;
+        QAction* orthographic = nullptr;
+        QAction* exactEdges = nullptr;
+        QMenu* add = nullptr;
+        QMenu* group = nullptr;
+        QMenu* view = nullptr;
+        std::vector<QAction*> primitives, operations;
+    } commands_;
     QTimer* autosave_;
     QTimer* progressTimer_;
     std::uint64_t autosavedRevision_ = 0;
@@ -171,18 +200,8 @@ private:
     MoveTool* move_ = nullptr;
     SelectionGhosts* ghosts_ = nullptr;
 
-    // Section.
-    QCheckBox* sectionOn_ = nullptr;
-    QComboBox* sectionAxis_ = nullptr;
-    QSlider* sectionSlider_ = nullptr;
-    QuantityEdit* sectionOffset_ = nullptr;
-    QCheckBox* sectionFlip_ = nullptr;
-
     // Status bar.
-    QLabel* voxelStatus_;
-    QLabel* memoryStatus_;
-    QLabel* frameStatus_;
-    QLabel* deviceStatus_;
+    StatusReadout* status_ = nullptr;
     QString lastMessage_;
 };
 

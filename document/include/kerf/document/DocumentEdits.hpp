@@ -13,6 +13,7 @@
 
 #include "kerf/document/Document.hpp"
 
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -74,6 +75,24 @@ std::string differenceWithNewBase(const Document& before, const Document& after)
 
 /// The ids of a node and of everything below it.
 std::unordered_set<std::string> idsInSubtree(const Node& node);
+
+/// The ids of the primitives at or below a node: what a view highlights
+/// when the node is selected.
+std::unordered_set<std::string> primitiveIdsInSubtree(const Node& node);
+
+/// `ids` in the order of their nodes in the tree (depth first, parents
+/// before children), ids not in the document left out: a selection made in
+/// any order groups its siblings in the order they had.
+std::vector<std::string> inTreeOrder(const Document& doc, const std::vector<std::string>& ids);
+
+/// Adds a reference mesh for `file` to the document and returns its id: the
+/// file's stem, numbered when the document has a mesh of that id already
+/// ("leg", "leg-2", "leg-3"), "mesh" for a file without a stem. Its path is
+/// kept relative to `documentFolder` when the document has a folder (it
+/// travels with the document), absolute otherwise. Whether the file reads
+/// as a mesh is the caller's question (the core does not read meshes).
+std::string addMeshReference(Document& doc, const std::filesystem::path& file,
+                             const std::optional<std::filesystem::path>& documentFolder);
 
 /// A new empty document: a root union with no children, settings default.
 /// Not valid on its own (a union needs a child): editors add one first.

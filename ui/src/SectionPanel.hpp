@@ -1,0 +1,54 @@
+#pragma once
+// The Section panel: a clipping plane across X, Y or Z at an offset typed in
+// millimetres or dragged on a slider that spans the part, and which side is
+// kept. It emits the section to show; the window passes it to the viewport.
+//
+// The typed offset is the truth and the slider follows it: a typed value is
+// never replaced by the slider's rounding, nor lost when the section is
+// turned off and on. The first time it is turned on it cuts through the
+// middle of the part; after that where it was left.
+
+#include "kerf/document/Aabb.hpp"
+#include "kerf/tracer/Section.hpp"
+
+#include <QWidget>
+
+#include <functional>
+#include <utility>
+
+class QCheckBox;
+class QComboBox;
+class QSlider;
+
+namespace kerf::ui {
+
+class QuantityEdit;
+
+class SectionPanel : public QWidget {
+    Q_OBJECT
+public:
+    /// `partBounds` gives the extent the slider spans (asked each time: the part changes).
+    SectionPanel(std::function<Aabb()> partBounds, QWidget* parent = nullptr);
+
+    /// The section as set (an empty Section when it is off).
+    Section section() const;
+
+signals:
+    void sectionChanged(const Section& section);
+
+private:
+    std::pair<double, double> extent() const;
+    double sliderOffset() const;
+    void followOffset();
+    void publish();
+
+    std::function<Aabb()> partBounds_;
+    QCheckBox* on_;
+    QComboBox* axis_;
+    QSlider* slider_;
+    QuantityEdit* offset_;
+    QCheckBox* flip_;
+    bool placed_ = false; // the offset was typed or slid (kept from then on)
+};
+
+} // namespace kerf::ui
