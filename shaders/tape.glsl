@@ -138,55 +138,6 @@ vec2 maxT(vec2 a, vec2 b) { return max(a, b); }
 #define KERF_TAPE_INTERVALS
 #include "tape_shapes.glsl"
 
-// The enclosures of primitive::*::enclosure (Primitives.hpp) over the box
-// (x, y, z) of the shape's local frame: the natural extension where the
-// formula does not branch, else a containment (a solid inside another has a
-// field at least as large everywhere, one containing another at most as
-// large). NaN for a kind not named here.
-void polygonBounds(uint t, uint first, uint count, out vec2 lo, out vec2 hi)
-{
-    lo = vec2(kTapeInf);
-    hi = vec2(-kTapeInf);
-    for (uint i = 0u; i < count; ++i) {
-        const vec2 v = vec2(tapeFloat(t, first + 2u * i), tapeFloat(t, first + 2u * i + 1u));
-        lo = min(lo, v);
-        hi = max(hi, v);
-    }
-}
-vec2 enclosureT(uint t, uint s, vec2 x, vec2 y, vec2 z)
-{
-    const uint a = s + KERF_TAPE_SHAPE_PARAMS;
-    const uint kind = tapeWord(t, s);
-    if (kind == KERF_SHAPE_BOX)
-        return boxT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
-    if (kind == KERF_SHAPE_SPHERE) return sphereT(x, y, z, tapeFloat(t, a));
-    if (kind == KERF_SHAPE_CYLINDER) return cylinderT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u));
-    if (kind == KERF_SHAPE_CONE) {
-        // Between the cylinders of its larger and its smaller radius.
-        const float r1 = tapeFloat(t, a), r2 = tapeFloat(t, a + 1u), h = tapeFloat(t, a + 2u);
-        return vec2(cylinderT(x, y, z, max(r1, r2), h).x, cylinderT(x, y, z, min(r1, r2), h).y);
-    }
-    if (kind == KERF_SHAPE_TORUS) return torusT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u));
-    if (kind == KERF_SHAPE_EXTRUDE) {
-        // Inside its profile's bounding box swept over its height.
-        vec2 lo, hi;
-        polygonBounds(t, tapeWord(t, a + 1u), tapeWord(t, a + 2u), lo, hi);
-        const vec2 mid = 0.5 * (lo + hi), halfSize = 0.5 * (hi - lo);
-        return vec2(boxT(subT(x, cT(mid.x)), subT(y, cT(mid.y)), z, halfSize.x, halfSize.y, tapeFloat(t, a), 0.0).x, kTapeInf);
-    }
-    if (kind == KERF_SHAPE_HALFSPACE)
-        return halfspaceT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
-    if (kind == KERF_SHAPE_REVOLVE) {
-        // Inside the cylinder of its largest radius over its height.
-        vec2 lo, hi;
-        polygonBounds(t, tapeWord(t, a + 1u), tapeWord(t, a + 2u), lo, hi);
-        const float zMid = 0.5 * (lo.y + hi.y), halfHeight = 0.5 * (hi.y - lo.y);
-        return vec2(cylinderT(x, y, subT(z, cT(zMid)), max(hi.x, 0.0), halfHeight).x, kTapeInf);
-    }
-    tapeUnknownKind = true;
-    return cT(kTapeNaN);
-}
-
 // The primitive at word s over the tape-relative box (px, py, pz), as
 // shapeInterval (IntervalEvaluator.cpp): its value at the centre widened by
 // the half diagonal (a distance field changes by at most the distance

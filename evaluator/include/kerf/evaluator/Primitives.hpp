@@ -145,8 +145,8 @@ template <class T, class Points> T revolution(T x, T y, T z, const Points& v)
 /// template above, for every scalar type), and a sound interval enclosure
 /// over a box of its local frame. A new primitive is a unit here, its place
 /// in the two lists below, its number in ShapeKinds.h, its GLSL function in
-/// shaders/tape_shapes.glsl (its enclosure in tape.glsl's enclosureT) and
-/// its row in the node type table
+/// shaders/tape_shapes.glsl (with its enclosure in enclosureT) and its row
+/// in the node type table
 /// (document/src/NodeTypes.cpp); docs/architecture.md has the list.
 namespace primitive {
 
