@@ -75,7 +75,9 @@ std::vector<Refusal> refusals()
         {"UnknownType", variant(R"("type": "torus")", R"("type": "donut")"), "ring", "type", "unknown type 'donut'"},
         {"MissingRequired", variant(R"(, "height": 40)", ""), "hole", "height", "missing"},
         {"MissingId", variant(R"("id": "ring", )", ""), "", "root.children[4].id", "missing"},
-        {"WrongKindString", variant(R"("radius": 4)", R"("radius": "4")"), "hole", "radius", "must be a number"},
+        {"WrongKindObject", variant(R"("radius": 4)", R"("radius": {"mm": 4})"), "hole", "radius", "must be a number"},
+        // A string is an expression (parameters, issue 16); one that does not read is refused as such.
+        {"BadExpression", variant(R"("radius": 4)", R"("radius": "4 +")"), "hole", "radius", "the expression \"4 +\""},
         {"WrongKindArray", variant(R"("size": [100, 50, 18])", R"("size": [100, 50])"), "board", "size", "3 numbers"},
         {"WrongKindBool", variant(R"("visible": false)", R"("visible": 0)"), "cut", "visible", "true or false"},
         {"Infinite", variant(R"("radius": 4)", R"("radius": 1e999)"), "hole", "radius", "finite"},

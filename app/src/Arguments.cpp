@@ -21,10 +21,15 @@ Arguments::Arguments(const std::vector<std::string>& args, const std::vector<std
         if (a.size() > 1 && a[0] == '-') {
             std::string name = a, value;
             const auto eq = a.find('=');
-            const bool inlineValue = eq != std::string::npos && a.rfind("--", 0) == 0;
+            bool inlineValue = eq != std::string::npos && a.rfind("--", 0) == 0;
             if (inlineValue) {
                 name = a.substr(0, eq);
                 value = a.substr(eq + 1);
+            } else if (a.rfind("-D", 0) == 0 && a.size() > 2 && isIn(valueOptions, "-D")) {
+                // OpenSCAD's spelling without a space: -Dthickness=19
+                name = "-D";
+                value = a.substr(2);
+                inlineValue = true;
             }
             if (isIn(flags, name) && !inlineValue) {
                 flags_.push_back(name);
@@ -54,6 +59,26 @@ std::optional<std::string> Arguments::value(const std::string& option) const
     for (const auto& [name, value] : values_)
         if (name == option) v = value; // the last one wins
     return v;
+}
+
+std::vector<std::string> Arguments::values(const std::string& option) const
+{
+    std::vector<std::string> v;
+    for (const auto& [name, value] : values_)
+        if (name == option) v.push_back(value);
+    return v;
+}
+
+std::vector<std::pair<std::string, std::string>> Arguments::defines() const
+{
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const std::string& d : values("-D")) {
+        const auto eq = d.find('=');
+        if (eq == std::string::npos || eq == 0)
+            throw UsageError("-D wants NAME=VALUE (a parameter of the document and its new value), not '" + printable(d) + "'");
+        out.emplace_back(d.substr(0, eq), d.substr(eq + 1));
+    }
+    return out;
 }
 
 double Arguments::parsePositiveMillimetres(const std::string& option, const std::string& text)

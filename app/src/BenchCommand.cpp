@@ -31,7 +31,7 @@ namespace {
 
 const char* kBenchHelp = R"(Usage: kerf bench [FILE.kerf] [--feature-sizes LIST] [--json OUT.json] [--plot OUT.png]
                   [--size WxH] [--view NAME] [--frames N] [--cpu] [--trace-only]
-                  [--exact-edges]
+                  [--exact-edges] [-D NAME=VALUE]...
 
 Measures the trade between speed and accuracy for a part (the bundled side
 chair when no file is given), at each feature size of LIST:
@@ -63,6 +63,8 @@ Options:
   --exact-edges         also trace with the hybrid refinement (kerf render
                         --quality exact, the viewport's Exact Edges): its
                         trace time and picture error, in a second table
+  -D NAME=VALUE         set the document's parameter NAME (a number or an
+                        expression, like 19 or 3/4in) for this run; repeatable
   --help                show this help
 
 Feature sizes that would need more than 40 million voxels are refused.
@@ -262,7 +264,7 @@ int runBench(const std::vector<std::string>& args, std::ostream& out, std::ostre
 {
     std::string file;
     try {
-        const Arguments a(args, {"--feature-sizes", "--json", "--plot", "--size", "--view", "--frames"},
+        const Arguments a(args, {"--feature-sizes", "--json", "--plot", "--size", "--view", "--frames", "-D"},
                           {"--cpu", "--trace-only", "--exact-edges", "--help", "-h"});
         if (a.has("--help") || a.has("-h")) {
             out << kBenchHelp;
@@ -296,7 +298,7 @@ int runBench(const std::vector<std::string>& args, std::ostream& out, std::ostre
         const std::optional<std::string> sizes = a.value("--feature-sizes");
         if (sizes) options.featureSizes = parseFeatureSizes(*sizes);
 
-        const Document doc = Document::load(file);
+        const Document doc = Document::load(file, a.defines());
         const Tape tape = compileTape(doc);
         if (tape.empty() || tape.bounds().isEmpty()) {
             err << "kerf bench: " << printable(file) << ": the part is empty (nothing visible); nothing to measure\n";

@@ -25,16 +25,19 @@ namespace kerf {
 
 namespace {
 
-const char* kCheckHelp = R"(Usage: kerf check FILE.kerf [--json]
+const char* kCheckHelp = R"(Usage: kerf check FILE.kerf [--json] [-D NAME=VALUE]...
 
 Loads and validates a Kerf document. Prints the feature count, the bounding
 box, and the voxel memory the viewport needs at the document's feature size:
 measured (the part is voxelized) when that takes seconds, else estimated
 from a coarse voxelization, with the feature size this machine could build.
+Lists the document's parameters with their expressions and values.
 
 Options:
-  --json     print the figures as one JSON object
-  --help     show this help
+  --json           print the figures as one JSON object
+  -D NAME=VALUE    set the document's parameter NAME (a number or an
+                   expression, like 19 or 3/4in) for this check; repeatable
+  --help           show this help
 
 Exit status: 0 valid, 2 bad usage or a refused document (the reason, naming
 the file, the node id and the field, goes to stderr).
@@ -47,14 +50,14 @@ std::string point(const glm::dvec3& p) { return "(" + mm(p.x) + ", " + mm(p.y) +
 int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
 {
     try {
-        const Arguments a(args, {}, {"--json", "--help", "-h"});
+        const Arguments a(args, {"-D"}, {"--json", "--help", "-h"});
         if (a.has("--help") || a.has("-h")) {
             out << kCheckHelp;
             return 0;
         }
         if (a.positional().size() != 1) throw UsageError("expects exactly one FILE.kerf");
         const std::filesystem::path file = a.positional()[0];
-        const Document doc = Document::load(file);
+        const Document doc = Document::load(file, a.defines());
         const DocumentSummary s = summarize(doc, file.parent_path().string());
 
         // The viewport's voxel memory: estimated first (a coarse voxelization
@@ -104,6 +107,16 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
             j["contree_levels"] = layout.levels;
             j["voxelize_seconds"] = seconds;
             if (!layout.note.empty()) j["note"] = layout.note;
+            j["parameters"] = nlohmann::ordered_json::array();
+            for (const Parameter& p : doc.parameters) {
+                nlohmann::ordered_json pj;
+                pj["name"] = p.name;
+                pj["expression"] = p.expression;
+                pj["value"] = p.value;
+                if (p.unit) pj["unit"] = *p.unit;
+                if (p.comment) pj["comment"] = *p.comment;
+                j["parameters"].push_back(std::move(pj));
+            }
             j["meshes"] = s.meshes;
             j["missing_meshes"] = s.missingMeshes;
             out << j.dump(2) << "\n";
@@ -124,6 +137,16 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
         out << "  feature size:  " << mm(s.featureSize) << " mm"
             << (s.featureSizeFromDocument ? " (document)" : " (default: the document sets none)") << "\n";
         out << "  tape:          " << s.tapeLength << " instructions\n";
+        if (!doc.parameters.empty()) {
+            out << "  parameters:    " << doc.parameters.size() << "\n";
+            for (const Parameter& p : doc.parameters) {
+                const std::string unit = p.unit == "length" ? " mm" : p.unit == "angle" ? " deg" : "";
+                out << "    " << printable(p.name) << " = " << mm(p.value) << unit;
+                if (p.expression != mm(p.value)) out << "  (" << printable(p.expression) << ")";
+                if (p.comment) out << "  " << printable(*p.comment);
+                out << "\n";
+            }
+        }
         char mib[64];
         if (built) {
             std::snprintf(mib, sizeof mib, "%.1f MiB", double(voxels.bytes()) / (1024.0 * 1024.0));

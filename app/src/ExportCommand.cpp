@@ -35,7 +35,7 @@ namespace kerf {
 namespace {
 
 const char* kExportHelp = R"(Usage: kerf export FILE.kerf -o OUT.stl|OUT.3mf [--tolerance MM] [--feature-size MM]
-                   [--ascii] [--json]
+                   [--ascii] [--json] [-D NAME=VALUE]...
 
 Meshes the part and writes it for a slicer or CAM program: binary STL for
 .stl (ASCII with --ascii), 3MF for .3mf (indexed triangles, millimetres,
@@ -62,6 +62,9 @@ Options:
                          feature size that resolves them.
   --ascii                write ASCII STL instead of binary (.stl only)
   --json                 print the figures as one JSON object
+  -D NAME=VALUE          set the document's parameter NAME (a number or an
+                         expression, like 19 or 3/4in) for this export;
+                         repeatable
   --help                 show this help
 
 STL stores float32 coordinates: a part far from the origin (about 10 m and
@@ -116,7 +119,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
 {
     std::string file;
     try {
-        const Arguments a(args, {"-o", "--output", "--feature-size", "--tolerance"},
+        const Arguments a(args, {"-o", "--output", "--feature-size", "--tolerance", "-D"},
                           {"--ascii", "--json", "--help", "-h"});
         if (a.has("--help") || a.has("-h")) {
             out << kExportHelp;
@@ -158,7 +161,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
                 << " not written\n";
             return 1;
         };
-        const Document doc = Document::load(file);
+        const Document doc = Document::load(file, a.defines());
         const Aabb bounds = partBounds(doc);
         if (bounds.isEmpty()) {
             err << "kerf export: " << printable(file) << ": the part is empty (nothing is visible); nothing to export\n";

@@ -33,7 +33,7 @@ namespace {
 
 const char* kRenderHelp = R"(Usage: kerf render FILE.kerf -o OUT.png [--size WxH] [--view NAME]
                    [--feature-size MM] [--quality voxels|exact] [--ortho] [--cpu]
-                   [--json]
+                   [--json] [-D NAME=VALUE]...
 
 Voxelizes the part and traces it with the Vulkan compute tracer, without a
 window, then writes a shaded PNG.
@@ -49,6 +49,8 @@ Options:
   --ortho               orthographic instead of perspective projection
   --cpu                 use the CPU reference tracer instead of Vulkan
   --json                print the figures as one JSON object
+  -D NAME=VALUE         set the document's parameter NAME (a number or an
+                        expression, like 19 or 3/4in) for this run; repeatable
   --help                show this help
 
 Exit status: 0 written, 1 the work failed, 2 bad usage or a bad input file.
@@ -64,7 +66,7 @@ double msSince(std::chrono::steady_clock::time_point t)
 int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
 {
     try {
-        const Arguments a(args, {"-o", "--output", "--size", "--view", "--feature-size", "--quality"},
+        const Arguments a(args, {"-o", "--output", "--size", "--view", "--feature-size", "--quality", "-D"},
                           {"--ortho", "--cpu", "--json", "--help", "-h"});
         if (a.has("--help") || a.has("-h")) {
             out << kRenderHelp;
@@ -89,7 +91,7 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
             throw RefusedRequest(e.what());
         }
 
-        const Document doc = Document::load(file);
+        const Document doc = Document::load(file, a.defines());
         const Tape tape = compileTape(doc);
         const double featureSize =
             requested ? requestedSize : doc.settings.featureSize.value_or(defaultFeatureSize(tape.bounds()));

@@ -1,6 +1,12 @@
 #include "kerf/document/DocumentEdits.hpp"
 
+#include "FieldPath.hpp"
+#include "kerf/document/Expression.hpp"
+
+#include <cctype>
+
 #include <algorithm>
+#include <map>
 #include <limits>
 #include <stdexcept>
 #include <unordered_set>
@@ -194,6 +200,14 @@ void updateNode(Document& doc, std::string_view id, const Node& updated)
     Node& n = requireNode(doc, id);
     if (updated.type != n.type) refuse("a node's type cannot change");
     if (updated.id != n.id) refuse("a node's id cannot change here");
+    // An expression stays where its field keeps its number; a number typed
+    // over a driven field replaces the expression.
+    std::map<std::string, std::string> expressions = updated.expressions;
+    for (auto it = expressions.begin(); it != expressions.end();) {
+        if (detail::numberAt(n, it->first) != detail::numberAt(updated, it->first)) it = expressions.erase(it);
+        else ++it;
+    }
+    n.expressions = std::move(expressions);
     n.name = updated.name;
     n.transform = updated.transform;
     n.visible = updated.visible;
@@ -249,6 +263,95 @@ std::string addMeshReference(Document& doc, const std::filesystem::path& file,
     m.path = path.generic_string();
     doc.meshes.push_back(std::move(m));
     return id;
+}
+
+namespace {
+
+bool isName(const std::string& s)
+{
+    if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+    return std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+}
+
+// Calls f(where, expression text) for every expression of the document.
+// (Doc is Document or const Document: the texts are editable through the first.)
+template <class Doc, class F> void forEachExpression(Doc& doc, F&& f)
+{
+    for (auto& p : doc.parameters) f("parameters." + p.name, p.expression);
+    std::vector<decltype(&doc.root)> stack{&doc.root};
+    while (!stack.empty()) {
+        auto* n = stack.back();
+        stack.pop_back();
+        for (auto& [path, text] : n->expressions) f(n->id + "." + path, text);
+        for (auto it = n->children.rbegin(); it != n->children.rend(); ++it) stack.push_back(&*it);
+    }
+}
+
+Parameter* findParameter(Document& doc, const std::string& name)
+{
+    for (Parameter& p : doc.parameters)
+        if (p.name == name) return &p;
+    return nullptr;
+}
+
+} // namespace
+
+std::string addParameter(Document& doc, const std::string& base, const std::string& expression)
+{
+    if (!isName(base)) refuse("'" + base + "' is not a name (letters, digits and _, not starting with a digit)");
+    std::string name = base;
+    for (int k = 2; findParameter(doc, name); ++k) name = base + std::to_string(k);
+    Parameter p;
+    p.name = name;
+    p.expression = expression;
+    doc.parameters.push_back(std::move(p));
+    return name;
+}
+
+std::vector<std::string> parameterUses(const Document& doc, const std::string& name)
+{
+    std::vector<std::string> where;
+    forEachExpression(doc, [&](const std::string& at, const std::string& text) {
+        try {
+            const expr::Uses u = expr::uses(text);
+            if (std::find(u.names.begin(), u.names.end(), name) != u.names.end()) where.push_back(at);
+        } catch (const expr::ExpressionError&) {
+            // A malformed expression uses nothing it can be asked about.
+        }
+    });
+    return where;
+}
+
+void renameParameter(Document& doc, const std::string& from, const std::string& to)
+{
+    if (!findParameter(doc, from)) refuse("there is no parameter '" + from + "'");
+    if (from == to) return;
+    if (!isName(to)) refuse("'" + to + "' is not a name (letters, digits and _, not starting with a digit)");
+    if (findParameter(doc, to)) refuse("there is a parameter '" + to + "' already");
+    Document renamed = doc;
+    forEachExpression(renamed, [&](const std::string&, std::string& text) {
+        try {
+            text = expr::renameName(text, from, to);
+        } catch (const expr::ExpressionError&) {
+            // Left as written: it is refused on its own when resolved.
+        }
+    });
+    findParameter(renamed, from)->name = to;
+    doc = std::move(renamed);
+}
+
+void removeParameter(Document& doc, const std::string& name)
+{
+    const auto it = std::find_if(doc.parameters.begin(), doc.parameters.end(), [&](const Parameter& p) { return p.name == name; });
+    if (it == doc.parameters.end()) refuse("there is no parameter '" + name + "'");
+    const std::vector<std::string> uses = parameterUses(doc, name);
+    if (!uses.empty()) {
+        std::string list;
+        for (std::size_t i = 0; i < uses.size() && i < 5; ++i) list += (i ? ", " : "") + uses[i];
+        if (uses.size() > 5) list += " and " + std::to_string(uses.size() - 5) + " more";
+        refuse("'" + name + "' is used by " + list);
+    }
+    doc.parameters.erase(it);
 }
 
 Document emptyDocument()

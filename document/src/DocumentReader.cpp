@@ -14,6 +14,7 @@
 #include "BoundedJsonParser.hpp"
 #include "DocumentFile.hpp"
 #include "JsonMembers.hpp"
+#include "ResolveExpressions.hpp"
 
 #include <glm/glm.hpp>
 
@@ -24,6 +25,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <unordered_map>
 #include <unordered_set>
 
 namespace kerf {
@@ -47,14 +49,34 @@ std::string formatNumber(double v) { return formatFieldNumber(v); }
 
 class Reader {
 public:
-    explicit Reader(std::string file) : file_(std::move(file)) {}
+    Reader(std::string file, const ParameterOverrides& overrides) : file_(std::move(file)), overrides_(overrides) {}
 
     Document read(std::string_view text)
     {
         if (text.empty()) fail("", "", "the file is empty (a Kerf document is a JSON object)");
-        const Json j = parseJson(text);
+        Json j = parseJson(text);
         if (!j.is_object()) fail("", "", "a Kerf document is a JSON object, this is " + describeKind(j));
         if (markedNumbers_) refuseNonFinite(j);
+        // Expressions first: every check below then sees their numbers.
+        const detail::ResolvedExpressions resolved = detail::resolveExpressions(j, file_, overrides_);
+        try {
+            Document doc = readResolved(j);
+            doc.parameters = resolved.parameters;
+            attachExpressions(doc, resolved.sites);
+            return doc;
+        } catch (const DocumentError& e) {
+            // A value refused for its range names the expression that gave it.
+            for (const detail::ExpressionSite& s : resolved.sites)
+                if (s.nodeId == e.nodeId() && s.path == e.field())
+                    throw DocumentError(e.file(), e.nodeId(), e.field(),
+                                        e.reason() + " (the expression \"" + s.text + "\" gives " + formatNumber(s.value) + ")");
+            throw;
+        }
+    }
+
+private:
+    Document readResolved(const Json& j)
+    {
 
         Document doc;
         const Json* format = member(j, "format");
@@ -82,7 +104,7 @@ public:
         if (const Json* meshes = member(j, "meshes")) readMeshes(*meshes, doc.meshes);
 
         static const std::unordered_set<std::string> known = {"format", "version", "units", "name",
-                                                              "settings", "root", "meshes"};
+                                                              "settings", "root", "meshes", "parameters"};
         for (auto it = j.begin(); it != j.end(); ++it)
             if (!known.count(it.key())) appendMember(doc.extra, it.key(), it.value());
 
@@ -90,7 +112,21 @@ public:
         return doc;
     }
 
-private:
+    static void attachExpressions(Document& doc, const std::vector<detail::ExpressionSite>& sites)
+    {
+        if (sites.empty()) return;
+        std::unordered_map<std::string, Node*> byId;
+        std::vector<Node*> stack{&doc.root};
+        while (!stack.empty()) {
+            Node* n = stack.back();
+            stack.pop_back();
+            byId.emplace(n->id, n);
+            for (Node& c : n->children) stack.push_back(&c);
+        }
+        for (const detail::ExpressionSite& s : sites)
+            if (const auto it = byId.find(s.nodeId); it != byId.end()) it->second->expressions[s.path] = s.text;
+    }
+
     [[noreturn]] void fail(const std::string& nodeId, const std::string& field, const std::string& reason) const
     {
         throw DocumentError(file_, nodeId, field, reason);
@@ -525,20 +561,36 @@ private:
     }
 
     std::string file_;
+    const ParameterOverrides& overrides_;
     bool markedNumbers_ = false;
     mutable std::unordered_set<std::string> ids_;
 };
 
 } // namespace
 
-Document Document::parse(std::string_view text, const std::string& sourceName)
+Document Document::parse(std::string_view text, const std::string& sourceName, const ParameterOverrides& overrides)
 {
-    return Reader(sourceName).read(text);
+    return Reader(sourceName, overrides).read(text);
 }
 
-Document Document::load(const std::filesystem::path& file)
+Document Document::load(const std::filesystem::path& file, const ParameterOverrides& overrides)
 {
-    return parse(detail::readDocumentFile(file), file.string());
+    return parse(detail::readDocumentFile(file), file.string(), overrides);
+}
+
+Document Document::resolved(const std::string& sourceName) const { return parse(serialize(), sourceName); }
+
+bool Document::hasExpressions() const
+{
+    if (!parameters.empty()) return true;
+    std::vector<const Node*> stack{&root};
+    while (!stack.empty()) {
+        const Node* n = stack.back();
+        stack.pop_back();
+        if (!n->expressions.empty()) return true;
+        for (const Node& c : n->children) stack.push_back(&c);
+    }
+    return false;
 }
 
 void Document::validate(const std::string& sourceName) const

@@ -6,6 +6,7 @@
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/NodeTypes.hpp"
 
+#include "FieldPath.hpp"
 #include "JsonMembers.hpp"
 
 #include <unordered_set>
@@ -45,7 +46,7 @@ void writeParams(const Node& n, Json& j)
         const std::string key(f.key);
         switch (f.shape) {
         case FieldShape::Number:
-            if (!f.optional || f.numberIn(n) != f.absent) j[key] = f.numberIn(n);
+            if (!f.optional || f.numberIn(n) != f.absent || n.expressions.count(key)) j[key] = f.numberIn(n);
             break;
         case FieldShape::Vector:
         case FieldShape::Direction: j[key] = vec3(f.vectorIn(n)); break;
@@ -73,6 +74,17 @@ Json writeNode(const Node& n)
     writeParams(n, j);
     if (auto t = writeTransform(n.transform)) j["transform"] = std::move(*t);
     if (!n.visible) j["visible"] = false;
+    // A field driven by an expression is written as the expression (a
+    // transform whose expressions give zero is written all the same).
+    for (const auto& [path, text] : n.expressions) {
+        if (path.rfind("transform.translate", 0) == 0 && !(j.contains("transform") && j["transform"].contains("translate")))
+            j["transform"]["translate"] = vec3(n.transform.translate);
+        if (path.rfind("transform.rotate", 0) == 0 && !(j.contains("transform") && j["transform"].contains("rotate")))
+            j["transform"]["rotate"] = vec3(n.transform.rotate);
+    }
+    for (const auto& [path, text] : n.expressions)
+        if (const auto p = detail::parseFieldPath(path))
+            if (Json* v = detail::jsonAt(j, *p)) *v = text;
     if (n.color) j["color"] = formatColor(*n.color);
     if (!isPrimitive(n.type)) {
         Json kids = Json::array();
@@ -97,6 +109,19 @@ std::string Document::serialize() const
     if (settings.bounds) s["bounds"] = Json::array({vec3(settings.bounds->min), vec3(settings.bounds->max)});
     mergeExtra(s, settings.extra);
     if (!s.empty()) j["settings"] = std::move(s);
+    if (!parameters.empty()) {
+        Json ps = Json::array();
+        for (const Parameter& p : parameters) {
+            Json pj = Json::object();
+            pj["name"] = p.name;
+            pj["expression"] = p.expression;
+            if (p.unit) pj["unit"] = *p.unit;
+            if (p.comment) pj["comment"] = *p.comment;
+            mergeExtra(pj, p.extra);
+            ps.push_back(std::move(pj));
+        }
+        j["parameters"] = std::move(ps);
+    }
     j["root"] = writeNode(root);
     if (!meshes.empty()) {
         Json ms = Json::array();

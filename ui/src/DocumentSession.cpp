@@ -33,7 +33,12 @@ bool DocumentSession::apply(const QString& text, const std::function<void(Docume
         edit(after);
         // A document with an empty root is where every new part starts; it
         // is let through so that the first feature can be added to it.
-        if (!after.root.children.empty() || !isBoolean(after.root.type)) after.validate(path_ ? path_->string() : "");
+        // With expressions, the edit is evaluated again: what refers to an
+        // edited field or parameter follows it.
+        if (!after.root.children.empty() || !isBoolean(after.root.type)) {
+            if (after.hasExpressions()) after = after.resolved(path_ ? path_->string() : "");
+            else after.validate(path_ ? path_->string() : "");
+        }
     } catch (const DocumentError& e) {
         if (error) {
             // The message without the file name: the field is right there.

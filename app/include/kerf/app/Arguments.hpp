@@ -36,6 +36,11 @@ public:
 
     bool has(const std::string& flag) const;
     std::optional<std::string> value(const std::string& option) const;
+    /// Every value of an option given more than once, in order.
+    std::vector<std::string> values(const std::string& option) const;
+    /// The `-D NAME=VALUE` (or `-DNAME=VALUE`) definitions, for the
+    /// document's parameters; throws UsageError for one without '='.
+    std::vector<std::pair<std::string, std::string>> defines() const;
     const std::vector<std::string>& positional() const { return positional_; }
 
     /// A positive number of millimetres; throws UsageError naming the option.

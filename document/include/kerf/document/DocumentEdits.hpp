@@ -62,8 +62,9 @@ std::string duplicateNode(Document& doc, std::string_view id);
 std::string wrapNodes(Document& doc, const std::vector<std::string>& ids, Node op);
 
 /// Replaces a node's own fields (name, transform, visibility, colour,
-/// parameters, unknown fields) by `updated`'s, keeping its children and its
-/// id. Refuses a change of type.
+/// parameters, unknown fields, expressions) by `updated`'s, keeping its
+/// children and its id; a field whose number changed loses its expression
+/// (a number typed over it). Refuses a change of type.
 void updateNode(Document& doc, std::string_view id, const Node& updated);
 
 /// The first difference of `after` whose base (its first child: the body
@@ -93,6 +94,22 @@ std::vector<std::string> inTreeOrder(const Document& doc, const std::vector<std:
 /// as a mesh is the caller's question (the core does not read meshes).
 std::string addMeshReference(Document& doc, const std::filesystem::path& file,
                              const std::optional<std::filesystem::path>& documentFolder);
+
+/// Parameters (Document::parameters), as the Parameters panel edits them.
+/// Each refuses with std::invalid_argument (a sentence) and leaves the
+/// document unchanged; the caller then resolves the document
+/// (Document::resolved) so that every expression sees the change.
+///
+/// Adds a parameter named `base` (numbered when taken: "p", "p2") with
+/// `expression`; returns its name.
+std::string addParameter(Document& doc, const std::string& base, const std::string& expression);
+/// Renames a parameter and every use of it in the document's expressions.
+/// Refuses a name that is not a name or is taken.
+void renameParameter(Document& doc, const std::string& from, const std::string& to);
+/// Removes a parameter; refused while an expression uses it (naming where).
+void removeParameter(Document& doc, const std::string& name);
+/// Where `name` is used: "parameters.rows", "board.size[0]", in document order.
+std::vector<std::string> parameterUses(const Document& doc, const std::string& name);
 
 /// A new empty document: a root union with no children, settings default.
 /// Not valid on its own (a union needs a child): editors add one first.

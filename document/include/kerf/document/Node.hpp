@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -143,6 +144,10 @@ struct Node {
     std::vector<Node> children;
     /// Fields this version does not know, in file order; written back on save.
     Json extra = Json::object();
+    /// The fields that hold an expression instead of a number, by path
+    /// ("radius", "size[0]", "profile[2][1]", "transform.translate[2]"):
+    /// the number in the field is the expression's value, resolved on load.
+    std::map<std::string, std::string> expressions;
 
     bool operator==(const Node&) const = default;
 

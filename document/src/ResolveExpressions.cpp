@@ -1,0 +1,313 @@
+#include "ResolveExpressions.hpp"
+
+#include "kerf/document/DocumentError.hpp"
+#include "kerf/document/Expression.hpp"
+#include "kerf/document/NodeTypes.hpp"
+
+#include "BoundedJsonParser.hpp"
+#include "FieldPath.hpp"
+
+#include <cmath>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace kerf::detail {
+
+namespace {
+
+using expr::ExpressionError;
+using expr::Quantity;
+
+enum class Dimension : std::uint8_t { Length, Plain }; // what a field or a declared parameter holds
+
+bool isParameterName(const std::string& s)
+{
+    if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+    for (char c : s)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+    return true;
+}
+
+// A node's numeric fields and what they hold: its type's table and its transform.
+std::optional<Dimension> fieldDimension(const Json& node, const FieldPath& path)
+{
+    if (path.keys.size() == 2 && path.keys[0] == "transform")
+        return path.keys[1] == "translate" ? std::optional(Dimension::Length)
+               : path.keys[1] == "rotate"  ? std::optional(Dimension::Plain)
+                                           : std::nullopt;
+    if (path.keys.size() != 1) return std::nullopt;
+    const auto type = node.find("type");
+    if (type == node.end() || !type->is_string()) return std::nullopt;
+    const std::optional<NodeType> t = nodeTypeFromName(type->get<std::string>());
+    if (!t) return std::nullopt;
+    for (const FieldSpec& f : nodeTypeSpec(*t).fields)
+        if (f.key == path.keys[0]) return f.unit == FieldUnit::Length ? Dimension::Length : Dimension::Plain;
+    return std::nullopt;
+}
+
+bool isCountField(const Json& node, const std::string& key)
+{
+    const auto type = node.find("type");
+    if (type == node.end() || !type->is_string()) return false;
+    const std::optional<NodeType> t = nodeTypeFromName(type->get<std::string>());
+    if (!t) return false;
+    for (const FieldSpec& f : nodeTypeSpec(*t).fields)
+        if (f.key == key) return f.shape == FieldShape::Counts;
+    return false;
+}
+
+Quantity asField(double v, Dimension d) { return d == Dimension::Length ? Quantity::lengthMm(v) : Quantity{v, 0, false}; }
+
+class Resolution {
+public:
+    Resolution(Json& doc, std::string file, const ParameterOverrides& overrides) : file_(std::move(file))
+    {
+        readParameters(doc, overrides);
+        if (auto root = doc.find("root"); root != doc.end()) collectNodes(*root);
+    }
+
+    ResolvedExpressions run()
+    {
+        for (std::size_t i = 0; i < params_.size(); ++i) parameterValue(i);
+        for (const std::string& key : siteOrder_) siteValue(sites_.at(key));
+        ResolvedExpressions out;
+        for (const Param& p : params_) out.parameters.push_back(p.spec);
+        for (const std::string& key : siteOrder_) {
+            Site& s = sites_.at(key);
+            // The number in the field: an integer where the reader wants one.
+            if (s.count && s.value == std::round(s.value) && std::fabs(s.value) < 9.0e15)
+                *s.json = static_cast<std::int64_t>(s.value);
+            else
+                *s.json = s.value;
+            out.sites.push_back({s.nodeId, s.path, s.text, s.value});
+        }
+        return out;
+    }
+
+private:
+    enum class State : std::uint8_t { Pending, Busy, Done };
+    struct Param {
+        Parameter spec;
+        State state = State::Pending;
+        Quantity q;
+    };
+    struct Site {
+        std::string nodeId, path, text;
+        Json* json = nullptr;
+        Dimension dimension = Dimension::Plain;
+        bool count = false;
+        State state = State::Pending;
+        double value = 0.0;
+    };
+
+    [[noreturn]] void fail(const std::string& nodeId, const std::string& field, const std::string& reason) const
+    {
+        throw DocumentError(file_, nodeId, field, reason);
+    }
+
+    void readParameters(Json& doc, const ParameterOverrides& overrides)
+    {
+        const auto list = doc.find("parameters");
+        if (list != doc.end()) {
+            if (!list->is_array()) fail("", "parameters", "must be an array of {\"name\", \"expression\"} objects");
+            for (std::size_t i = 0; i < list->size(); ++i) {
+                const Json& pj = (*list)[i];
+                const std::string where = "parameters[" + std::to_string(i) + "]";
+                if (!pj.is_object()) fail("", where, "must be an object with \"name\" and \"expression\"");
+                Param p;
+                for (auto it = pj.begin(); it != pj.end(); ++it) {
+                    const std::string& k = it.key();
+                    const Json& v = it.value();
+                    if (k == "name") {
+                        if (!v.is_string() || !isParameterName(v.get<std::string>()))
+                            fail("", where + ".name", "must be a name of letters, digits and _ (not starting with a digit)");
+                        p.spec.name = v.get<std::string>();
+                    } else if (k == "expression") {
+                        if (v.is_string()) p.spec.expression = v.get<std::string>();
+                        else if (v.is_number()) p.spec.expression = v.dump();
+                        else fail("", where + ".expression", "must be a number or an expression in a string");
+                    } else if (k == "comment") {
+                        if (!v.is_string()) fail("", where + ".comment", "must be a string");
+                        p.spec.comment = v.get<std::string>();
+                    } else if (k == "unit") {
+                        const std::string u = v.is_string() ? v.get<std::string>() : "";
+                        if (u != "length" && u != "angle" && u != "number")
+                            fail("", where + ".unit", "must be \"length\", \"angle\" or \"number\"");
+                        p.spec.unit = u;
+                    } else {
+                        p.spec.extra[k] = v;
+                    }
+                }
+                if (p.spec.name.empty()) fail("", where, "has no \"name\"");
+                if (!pj.contains("expression")) fail("", "parameters." + p.spec.name, "has no \"expression\"");
+                if (byName_.count(p.spec.name)) fail("", "parameters." + p.spec.name, "is defined twice");
+                byName_[p.spec.name] = params_.size();
+                params_.push_back(std::move(p));
+            }
+        }
+        for (const auto& [name, value] : overrides) {
+            const auto it = byName_.find(name);
+            if (it == byName_.end()) {
+                std::string known;
+                for (const Param& p : params_) known += (known.empty() ? "" : ", ") + p.spec.name;
+                fail("", "-D " + name, "the document has no parameter '" + name + "'" +
+                                           (known.empty() ? " (it has none)" : " (its parameters: " + known + ")"));
+            }
+            params_[it->second].spec.expression = value;
+        }
+    }
+
+    // Every node object by id, and every numeric field that holds a string.
+    void collectNodes(Json& root)
+    {
+        std::vector<Json*> stack{&root};
+        while (!stack.empty()) {
+            Json* n = stack.back();
+            stack.pop_back();
+            if (!n->is_object()) continue;
+            const auto id = n->find("id");
+            if (id == n->end() || !id->is_string()) continue; // the reader refuses it
+            const std::string nodeId = id->get<std::string>();
+            nodes_.emplace(nodeId, n);
+            for (auto it = n->begin(); it != n->end(); ++it) {
+                if (it.key() == "children" && it->is_array()) {
+                    for (auto& c : *it) stack.push_back(&c);
+                } else if (it.key() == "transform" && it->is_object()) {
+                    for (const char* k : {"translate", "rotate"})
+                        if (auto v = it->find(k); v != it->end())
+                            collectStrings(*n, nodeId, std::string("transform.") + k, *v, 0);
+                } else if (fieldDimension(*n, FieldPath{{it.key()}, {}})) {
+                    collectStrings(*n, nodeId, it.key(), it.value(), 0);
+                }
+            }
+        }
+    }
+
+    void collectStrings(const Json& node, const std::string& nodeId, const std::string& path, Json& v, int depth)
+    {
+        if (v.is_string()) {
+            const std::string& text = v.get_ref<const std::string&>();
+            if (text.rfind(kNonFiniteMarker, 0) == 0) return; // the reader names it
+            const FieldPath fp = *parseFieldPath(path);
+            Site s{nodeId, path, text, &v, *fieldDimension(node, FieldPath{fp.keys, {}}),
+                   fp.keys.size() == 1 && isCountField(node, fp.keys[0])};
+            const std::string key = nodeId + "." + path;
+            siteOrder_.push_back(key);
+            sites_.emplace(key, std::move(s));
+        } else if (v.is_array() && depth < 2) {
+            for (std::size_t i = 0; i < v.size(); ++i)
+                collectStrings(node, nodeId, path + "[" + std::to_string(i) + "]", v[i], depth + 1);
+        }
+    }
+
+    expr::Resolver resolver()
+    {
+        expr::Resolver r;
+        r.name = [this](std::string_view name) {
+            const auto it = byName_.find(std::string(name));
+            if (it == byName_.end()) {
+                std::string known;
+                for (const Param& p : params_) known += (known.empty() ? "" : ", ") + p.spec.name;
+                throw ExpressionError("uses the unknown name '" + std::string(name) + "'" +
+                                      (known.empty() ? " (the document has no parameters)" : " (parameters: " + known + ")"));
+            }
+            return parameterValue(it->second);
+        };
+        r.field = [this](std::string_view id, std::string_view path) {
+            const auto node = nodes_.find(std::string(id));
+            if (node == nodes_.end()) throw ExpressionError("refers to the node '" + std::string(id) + "', which does not exist");
+            const std::optional<FieldPath> fp = parseFieldPath(path);
+            const std::optional<Dimension> d = fp ? fieldDimension(*node->second, FieldPath{fp->keys, {}}) : std::nullopt;
+            const Json* v = fp && d ? jsonAt(*node->second, *fp) : nullptr;
+            if (!v) throw ExpressionError("refers to '" + std::string(id) + "." + std::string(path) + "', not a number of that node");
+            if (const auto s = sites_.find(std::string(id) + "." + std::string(path)); s != sites_.end())
+                return asField(siteValue(s->second), *d);
+            if (!v->is_number()) throw ExpressionError("refers to '" + std::string(id) + "." + std::string(path) + "', not a number of that node");
+            return asField(v->get<double>(), *d);
+        };
+        return r;
+    }
+
+    Quantity parameterValue(std::size_t i)
+    {
+        Param& p = params_[i];
+        if (p.state == State::Done) return p.q;
+        const std::string field = "parameters." + p.spec.name;
+        if (p.state == State::Busy) fail("", field, "the expression \"" + p.spec.expression + "\" refers back to itself" + chain());
+        p.state = State::Busy;
+        enter(field);
+        trail_.push_back(p.spec.name);
+        try {
+            Quantity q = expr::evaluate(p.spec.expression, resolver());
+            if (p.spec.unit) {
+                const bool wantLength = *p.spec.unit == "length";
+                if (!q.fits(wantLength))
+                    throw ExpressionError(std::string("gives ") + (q.length == 1 ? "a length" : "a value of another unit") +
+                                          " where the parameter's unit is " + *p.spec.unit);
+                q = wantLength ? Quantity::lengthMm(q.value) : Quantity{q.value, 0, false};
+            }
+            p.q = q;
+        } catch (const ExpressionError& e) {
+            fail("", field, "the expression \"" + p.spec.expression + "\" " + e.what());
+        }
+        trail_.pop_back();
+        p.spec.value = p.q.value;
+        p.state = State::Done;
+        return p.q;
+    }
+
+    double siteValue(Site& s)
+    {
+        if (s.state == State::Done) return s.value;
+        if (s.state == State::Busy) fail(s.nodeId, s.path, "the expression \"" + s.text + "\" refers back to itself" + chain());
+        s.state = State::Busy;
+        enter(s.path, s.nodeId);
+        trail_.push_back(s.nodeId + "." + s.path);
+        try {
+            const Quantity q = expr::evaluate(s.text, resolver());
+            if (!q.fits(s.dimension == Dimension::Length))
+                throw ExpressionError(std::string("is a unit mismatch: it gives ") + (q.length == 1 ? "a length" : q.length == 0 ? "a plain number" : "mm^" + std::to_string(q.length)) +
+                                      " where " + (s.dimension == Dimension::Length ? "a length" : "a plain number or angle") + " belongs");
+            s.value = q.value;
+        } catch (const ExpressionError& e) {
+            fail(s.nodeId, s.path, "the expression \"" + s.text + "\" " + e.what());
+        }
+        trail_.pop_back();
+        s.state = State::Done;
+        return s.value;
+    }
+
+    // References nest as deep as the chain of values they pass through: a
+    // bound keeps a hostile file from exhausting the stack.
+    void enter(const std::string& field, const std::string& nodeId = "") const
+    {
+        if (trail_.size() >= kMaxReferenceDepth)
+            fail(nodeId, field, "is reached through more than " + std::to_string(kMaxReferenceDepth) +
+                                    " references, one through the next, from '" + trail_.front() + "'");
+    }
+    static constexpr std::size_t kMaxReferenceDepth = 200;
+
+    std::string chain() const
+    {
+        std::string c;
+        for (const std::string& t : trail_) c += t + " -> ";
+        return trail_.empty() ? std::string() : " (" + c + "...)";
+    }
+
+    std::string file_;
+    std::vector<Param> params_;
+    std::unordered_map<std::string, std::size_t> byName_;
+    std::unordered_map<std::string, Json*> nodes_;
+    std::unordered_map<std::string, Site> sites_;
+    std::vector<std::string> siteOrder_;
+    std::vector<std::string> trail_;
+};
+
+} // namespace
+
+ResolvedExpressions resolveExpressions(Json& j, const std::string& file, const ParameterOverrides& overrides)
+{
+    return Resolution(j, file, overrides).run();
+}
+
+} // namespace kerf::detail
