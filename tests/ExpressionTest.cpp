@@ -7,6 +7,7 @@
 #include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/Expression.hpp"
+#include "kerf/document/NodePlacement.hpp"
 #include "kerf/evaluator/CutList.hpp"
 
 #include <gtest/gtest.h>
@@ -74,6 +75,9 @@ TEST(Expression, LengthsCarryTheirUnits)
     EXPECT_DOUBLE_EQ(value("1'"), 304.8);
     EXPECT_DOUBLE_EQ(value("2 * 3/4in"), 38.1);
     EXPECT_DOUBLE_EQ(value("3/4"), 0.75); // without a unit, a plain division
+    EXPECT_DOUBLE_EQ(value("11 3/4in"), 298.45); // a whole number and a fraction
+    EXPECT_DOUBLE_EQ(value("2 + 11 3/4in"), 300.45);
+    EXPECT_NE(refusal("11 3/4").find("where an operator or the end was expected"), std::string::npos);
     EXPECT_EQ(eval("18mm").length, 1);
     EXPECT_FALSE(eval("18mm").bare);
     EXPECT_TRUE(eval("18").bare);
@@ -350,6 +354,18 @@ TEST(DocumentExpressions, ParametersAreAddedRenamedWithTheirUsesAndRemovedOnlyWh
     EXPECT_EQ(d, before);
     edit::removeParameter(d, "width2");
     EXPECT_EQ(d.parameters.size(), 4u);
+}
+
+TEST(DocumentExpressions, AFeatureDraggedAlongOneAxisKeepsTheExpressionsOfTheOthers)
+{
+    Document d = load(kShelfSide);
+    d.root.find("hole")->expressions["transform.translate[0]"] = "thickness / 6";
+    d = d.resolved();
+    edit::moveNodeInWorld(d, "hole", {0.0, 0.0, 10.0});
+    const Document after = d.resolved();
+    EXPECT_DOUBLE_EQ(after.root.find("hole")->transform.translate.z, -286.0); // dragged, not put back
+    EXPECT_FALSE(after.root.find("hole")->expressions.count("transform.translate[2]"));
+    EXPECT_EQ(after.root.find("hole")->expressions.at("transform.translate[0]"), "thickness / 6");
 }
 
 TEST(DocumentExpressions, ADocumentWithoutExpressionsHasNone)

@@ -632,6 +632,39 @@ TEST(Voxelizer, AnEditRebuildsOnlyTheTilesItReaches)
     expectEqualsFullRebuild(*after, doc);
 }
 
+// Parameters (issue 16): an edit of a parameter changes the numbers of the
+// features whose expressions use it, and only their tiles are rebuilt.
+TEST(Voxelizer, AParameterEditRebuildsOnlyTheTilesOfTheFeaturesThatUseIt)
+{
+    const std::string text = R"({"format":"kerf","version":1,"settings":{"feature_size":0.5},
+        "parameters":[{"name":"hole","expression":"4mm","unit":"length"},{"name":"board","expression":"12"}],
+        "root":{"id":"root","type":"union","children":[
+          {"id":"d","type":"difference","children":[
+            {"id":"top","type":"box","size":[80,40,"board"],"round":1},
+            {"id":"hole1","type":"cylinder","radius":"hole","height":20,"transform":{"translate":[-25,0,0]}}]},
+          {"id":"far","type":"box","size":[10,10,10],"transform":{"translate":[0,0,40]}}]}})";
+    Voxelizer vox({.limits = {}, .coarseLevelDrop = 1, .threads = 2, .featureSize = 0.0, .onPublish = {}});
+    Document doc = Document::parse(text, "parametric.kerf");
+    ASSERT_TRUE(vox.waitFor(vox.setDocument(doc), true, std::chrono::seconds(60)));
+    const auto before = vox.snapshot();
+    doc.parameters[0].expression = "5mm"; // the hole, 1 mm wider
+    doc = doc.resolved();
+    ASSERT_EQ(doc.root.find("hole1")->as<CylinderParams>().radius, 5.0);
+    ASSERT_TRUE(vox.waitFor(vox.setDocument(doc), true, std::chrono::seconds(60)));
+    const auto after = vox.snapshot();
+    const VoxelizerStats stats = vox.lastStats();
+    EXPECT_GT(stats.dirtyTiles, 0u);
+    EXPECT_LT(stats.dirtyTiles * 4, stats.tilesInGrid) << "a parameter of one hole rebuilt most of the grid";
+    // The far box and the board away from the hole are the very same tiles as before.
+    const Aabb reach = Aabb{{-30, -5, -10}, {-20, 5, 10}}.grown(4 * after->layout.voxelSize);
+    for (long i = 0; i < after->layout.tileCount(); ++i) {
+        if (!after->layout.tileBox(after->layout.tileCoord(i)).overlaps(reach)) {
+            EXPECT_EQ(after->tiles[std::size_t(i)], before->tiles[std::size_t(i)]) << "tile " << i << " was rebuilt";
+        }
+    }
+    expectEqualsFullRebuild(*after, doc);
+}
+
 TEST(Voxelizer, PublicationsAreConsistentAndNeverHoldPartialTiles)
 {
     std::mutex m;

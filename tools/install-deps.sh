@@ -8,7 +8,7 @@ packages=(
   # toolchain
   build-essential cmake ninja-build ccache pkg-config git
   # core
-  nlohmann-json3-dev libtbb-dev libglm-dev libopenmesh-dev libstb-dev libmuparser-dev
+  nlohmann-json3-dev libtbb-dev libglm-dev libopenmesh-dev libstb-dev
   # 3MF export (lib3mf) and the files its pkg-config names (libzip, zlib)
   lib3mf-dev libzip-dev zlib1g-dev
   # tests and benchmarks

@@ -184,8 +184,21 @@ private:
 
     Quantity literal(double a)
     {
-        // "3/4in": a fraction with a unit is one length.
         const std::size_t afterA = at_;
+        // "11 3/4in": a whole number and a fraction with a unit, as a woodworker writes it.
+        if (a == std::floor(a) && at_ < s_.size() && s_[at_] == ' ') {
+            while (at_ < s_.size() && s_[at_] == ' ') ++at_;
+            if (const std::optional<double> b = numberHere(); b && at_ < s_.size() && s_[at_] == '/') {
+                ++at_;
+                if (const std::optional<double> c = numberHere())
+                    if (const std::optional<double> scale = unitHere()) {
+                        if (*c == 0.0) fail("divides by zero");
+                        return Quantity::lengthMm((a + *b / *c) * *scale);
+                    }
+            }
+            at_ = afterA;
+        }
+        // "3/4in": a fraction with a unit is one length.
         if (at_ < s_.size() && s_[at_] == '/') {
             ++at_;
             if (const std::optional<double> b = numberHere()) {

@@ -56,7 +56,11 @@ void moveNodeInWorld(Document& doc, std::string_view id, const glm::dvec3& world
     const Affine frame = parentFrame(doc, id);
     Node* n = doc.root.find(id);
     // Ancestors are rotations and reflections: the inverse is the transpose.
-    n->transform.translate += frame.inverseOrthogonal().applyLinear(worldDelta);
+    const glm::dvec3 local = frame.inverseOrthogonal().applyLinear(worldDelta);
+    n->transform.translate += local;
+    // A moved coordinate is the number the move gave, no longer its expression's.
+    for (int a = 0; a < 3; ++a)
+        if (local[a] != 0.0) n->expressions.erase("transform.translate[" + std::to_string(a) + "]");
 }
 
 bool isSubtracted(const Document& doc, std::string_view id)

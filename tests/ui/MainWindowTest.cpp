@@ -9,6 +9,7 @@
 #include "ExportDialog.hpp"
 #include "FeatureTreeModel.hpp"
 #include "MainWindow.hpp"
+#include "ParametersPanel.hpp"
 #include "PropertyEditor.hpp"
 #include "QuantityEdit.hpp"
 #include "kerf/document/DocumentError.hpp"
@@ -306,6 +307,7 @@ private slots:
     void aSelectedHoleShowsItsToolBodyAsAGhost();
     void theBoundingBoxOfTheSelectionIsMeasuredAndDrawn();
     void aTurnedProfileIsEditedInItsPointTable();
+    void theThicknessChangedInTheParametersPanelCarriesEveryDependentFeature();
 
 private:
     QTemporaryDir recovery_, files_;
@@ -1612,6 +1614,97 @@ void MainWindowTest::theBoundingBoxOfTheSelectionIsMeasuredAndDrawn()
     action(w.get(), "action.boundingBox")->trigger();
     QTRY_VERIFY_WITH_TIMEOUT(w->measureText().startsWith("Bounding box: 18.00 x 300.00 x 1800.00 mm"), 30000);
     QCOMPARE(w->viewport()->dimensionText(), QString("18.00 x 300.00 x 1800.00 mm"));
+}
+
+void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependentFeature()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side-parametric.kerf"));
+    auto* panel = w->findChild<ParametersPanel*>("parametersPanel");
+    QVERIFY(panel);
+    QTableWidget* table = panel->table();
+    QCOMPARE(table->rowCount(), 6);
+    QCOMPARE(table->item(0, ParametersPanel::NameColumn)->text(), QString("thickness"));
+    QCOMPARE(table->item(0, ParametersPanel::ValueColumn)->text(), QString("18 mm"));
+    QVERIFY(table->item(0, ParametersPanel::NameColumn)->toolTip().contains("panel.size[0]"));
+    auto panelThickness = [&] { return w->session()->document().root.find("panel")->as<BoxParams>().size.x; };
+    auto dadoX = [&] { return w->session()->document().root.find("dado-bottom")->transform.translate.x; };
+
+    // The person types 3/4in over the thickness's expression, as they would (the table's editor).
+    table->setCurrentCell(0, ParametersPanel::ExpressionColumn);
+    table->editItem(table->item(0, ParametersPanel::ExpressionColumn));
+    auto* editor = table->findChild<QLineEdit*>();
+    QVERIFY(editor);
+    editor->selectAll();
+    QTest::keyClicks(editor, "3/4in");
+    QTest::keyClick(editor, Qt::Key_Return);
+    QTRY_COMPARE(panelThickness(), 19.05);
+    QCOMPARE(dadoX(), 19.05 / 2 - 8 + 4.5); // the dado keeps its depth from the face
+    QCOMPARE(w->session()->document().root.find("back-groove")->transform.translate.x, 19.05 / 2 - 9 + 5);
+    QCOMPARE(table->item(0, ParametersPanel::ValueColumn)->text(), QString("19.05 mm"));
+    QVERIFY(panel->error().isEmpty());
+    // The cut list follows.
+    action(w.get(), "action.cutList")->trigger();
+    auto* cut = w->findChild<CutListDialog*>("cutListDialog");
+    QVERIFY(cut);
+    QTRY_VERIFY_WITH_TIMEOUT(cut->ready(), 30000);
+    QCOMPARE(cut->rows().size(), std::size_t(1));
+    QVERIFY(std::abs(cut->rows()[0].thickness - 19.05) <= cut->rows()[0].uncertainty + 1e-6);
+    cut->close();
+
+    // One undo step brings 18 mm back everywhere.
+    w->session()->undoStack()->undo();
+    QCOMPARE(panelThickness(), 18.0);
+    QCOMPARE(table->item(0, ParametersPanel::ExpressionColumn)->text(), QString("18mm"));
+
+    // A bad expression is refused under the table; nothing changes.
+    table->item(0, ParametersPanel::ExpressionColumn)->setText("thickness + 1");
+    QVERIFY2(panel->error().contains("refers back to itself"), qPrintable(panel->error()));
+    QCOMPARE(table->item(0, ParametersPanel::ExpressionColumn)->text(), QString("18mm"));
+    QCOMPARE(panelThickness(), 18.0);
+
+    // Renamed: the expressions that use it follow; the part does not move.
+    table->item(0, ParametersPanel::NameColumn)->setText("board");
+    QCOMPARE(w->session()->document().root.find("panel")->expressions.at("size[0]"), std::string("board"));
+    QCOMPARE(panelThickness(), 18.0);
+
+    // In use: Delete is refused, saying where; a new unused one goes.
+    table->setCurrentCell(0, ParametersPanel::NameColumn);
+    panel->removeSelected();
+    QVERIFY2(panel->error().contains("'board' is used by"), qPrintable(panel->error()));
+    QCOMPARE(table->rowCount(), 6);
+    panel->addParameter();
+    QCOMPARE(table->rowCount(), 7);
+    QCOMPARE(table->item(6, ParametersPanel::NameColumn)->text(), QString("p"));
+    if (auto* open = table->findChild<QLineEdit*>()) QTest::keyClick(open, Qt::Key_Escape);
+    table->setCurrentCell(6, ParametersPanel::NameColumn);
+    panel->removeSelected();
+    QCOMPARE(table->rowCount(), 6);
+    QVERIFY(panel->error().isEmpty());
+    saveScreenshot(*w, "parameters-panel");
+
+    // The property editor shows a driven field's value and keeps its expression;
+    // a number typed over it replaces the expression (and only that one).
+    w->selectNodes({"panel"});
+    PropertyEditor* props = w->propertyEditor();
+    QCOMPARE(props->expressionFor("size.x"), QString("board"));
+    auto* sizeX = props->findChild<QuantityEdit*>("field.size.x");
+    QVERIFY(sizeX);
+    QCOMPARE(sizeX->value(), 18.0);
+    QVERIFY(sizeX->toolTip().contains("= board"));
+    QVERIFY(sizeX->property("driven").toBool());
+    saveScreenshot(*w, "parameters-driven-field");
+    sizeX->setValue(20.0);
+    QTRY_COMPARE(panelThickness(), 20.0);
+    QCOMPARE(props->expressionFor("size.x"), QString());
+    QCOMPARE(props->expressionFor("size.z"), QString("height"));
+    QVERIFY(!props->findChild<QuantityEdit*>("field.size.x")->property("driven").toBool());
+    // Inches and fractions of an inch in any length field; the document stays in millimetres.
+    typeInto(field(*w, "size.y"), "11 3/4in");
+    QCOMPARE(w->session()->document().root.find("panel")->as<BoxParams>().size.y, 298.45);
+    QCOMPARE(props->errorFor("size.y"), QString());
+    typeInto(field(*w, "rotate.z"), "2mm");
+    QVERIFY2(props->errorFor("rotate.z").contains("a length does not belong here"), qPrintable(props->errorFor("rotate.z")));
 }
 
 QTEST_MAIN(MainWindowTest)

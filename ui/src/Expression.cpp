@@ -1,6 +1,6 @@
 #include "Expression.hpp"
 
-#include <muParser.h>
+#include "kerf/document/Expression.hpp"
 
 #include <cctype>
 #include <cmath>
@@ -47,16 +47,23 @@ ExpressionResult evaluateExpression(std::string_view text, std::string_view unit
         return r;
     }
     try {
-        mu::Parser parser;
-        parser.SetExpr(expr);
-        const double v = parser.Eval();
-        if (!std::isfinite(v)) {
-            r.error = "'" + expr + "' is not a finite number";
-            return r;
-        }
-        r.value = v;
-    } catch (const mu::Parser::exception_type& e) {
-        r.error = "cannot read '" + expr + "' as a number: " + e.GetMsg();
+        // The document's own expression language (kerf/document/Expression.hpp):
+        // lengths with units ("3/4in", "1.8cm"), the same functions; no names
+        // here (a field takes a number; parameters live in their panel).
+        expr::Resolver none;
+        none.name = [](std::string_view n) -> expr::Quantity {
+            throw expr::ExpressionError("'" + std::string(n) + "' is not a number or a unit");
+        };
+        none.field = [](std::string_view id, std::string_view path) -> expr::Quantity {
+            throw expr::ExpressionError("'" + std::string(id) + "." + std::string(path) + "' is not a number");
+        };
+        const expr::Quantity q = expr::evaluate(expr, none);
+        const bool wantLength = unit == "mm";
+        if (!q.fits(wantLength))
+            throw expr::ExpressionError(wantLength ? "it is not a length" : "a length does not belong here");
+        r.value = q.value;
+    } catch (const expr::ExpressionError& e) {
+        r.error = "cannot read '" + expr + "' as a number: " + e.what();
     }
     return r;
 }

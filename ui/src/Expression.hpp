@@ -1,9 +1,11 @@
 #pragma once
 // Arithmetic a person types into a numeric field: "18*2", "450 - 2*18",
-// "(300+2)/2", "sqrt(2)*10", "pi*25". Evaluated with muparser (Debian's
-// libmuparser), so the grammar, precedence and functions are a well-kept
-// library's, not ours. A trailing unit that matches the field ("mm", "°",
-// "deg") is accepted and ignored. Qt-free.
+// "(300+2)/2", "sqrt(2)*10", "3/4in", "1.8cm". Evaluated in the document's
+// own expression language (kerf/document/Expression.hpp), so a field reads
+// what a parameter reads, lengths with units included (a length field
+// takes inches and fractions of an inch, and keeps millimetres). A
+// trailing unit that matches the field ("mm", "°", "deg") is accepted and
+// ignored. Qt-free.
 
 #include <optional>
 #include <string>

@@ -3,6 +3,7 @@
 #include "FeatureTreeModel.hpp"
 #include "MeasureTool.hpp"
 #include "MoveTool.hpp"
+#include "ParametersPanel.hpp"
 #include "PropertyEditor.hpp"
 #include "SectionPanel.hpp"
 #include "SelectionGhosts.hpp"
@@ -174,6 +175,15 @@ void MainWindow::buildDocks()
     treeDock->setWidget(tree_);
     addDockWidget(Qt::LeftDockWidgetArea, treeDock);
 
+    // The document's named parameters, under the tree: what the features are designed in.
+    auto* parameters = new ParametersPanel(session_, this);
+    parameters->setObjectName("parametersPanel");
+    auto* parametersDock = new QDockWidget(tr("Parameters"), this);
+    parametersDock->setObjectName("dock.parameters");
+    parametersDock->setWidget(parameters);
+    addDockWidget(Qt::LeftDockWidgetArea, parametersDock);
+    splitDockWidget(treeDock, parametersDock, Qt::Vertical);
+
     auto* scroll = new QScrollArea(this);
     scroll->setWidget(properties_);
     scroll->setWidgetResizable(true);
@@ -211,7 +221,8 @@ void MainWindow::buildDocks()
     resizeDocks({propDock, sectionDock}, {560, 180}, Qt::Vertical);
 
     // The docks' toggles go in the View menu.
-    for (QDockWidget* d : {treeDock, propDock, sectionDock, measureDock}) commands_.view->addAction(d->toggleViewAction());
+    for (QDockWidget* d : {treeDock, parametersDock, propDock, sectionDock, measureDock})
+        commands_.view->addAction(d->toggleViewAction());
 }
 
 void MainWindow::buildStatusBar() { status_ = new StatusReadout(statusBar()); }

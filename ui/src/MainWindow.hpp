@@ -128,7 +128,7 @@ protected:
     void dropEvent(QDropEvent* e) override;
 
 private:
-    static constexpr int kLayoutVersion = 1; // saveState's version: bump when the docks change
+    static constexpr int kLayoutVersion = 2; // saveState's version: bump when the docks change
     void restoreLayout();
     bool isBundledExample(const std::filesystem::path& file) const;
     // MainWindowCommands.cpp: one function per menu.

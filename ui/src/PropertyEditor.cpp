@@ -2,6 +2,7 @@
 
 #include "NodeText.hpp"
 #include "QuantityEdit.hpp"
+#include "kerf/document/DocumentEdits.hpp"
 #include "UndoKeysToWindow.hpp"
 
 #include "kerf/document/NodeTypes.hpp"
@@ -113,9 +114,13 @@ bool PropertyEditor::applyToNode(const QString& text, const std::function<void(N
     const bool ok = session_->apply(
         text,
         [&](Document& d) {
-            Node* n = d.root.find(id);
+            const Node* n = d.root.find(id);
             if (!n) throw std::invalid_argument("the node is gone");
-            change(*n);
+            // Through updateNode: a number typed over a field an expression
+            // drives replaces the expression (else resolving would put it back).
+            Node updated = *n;
+            change(updated);
+            edit::updateNode(d, id, updated);
         },
         &why, mergeKey);
     if (error) showError(error, ok ? QString() : why);
@@ -142,15 +147,36 @@ void PropertyEditor::commit(std::size_t index, double value)
     const bool ok = session_->apply(
         label,
         [&](Document& d) {
-            Node* m = d.root.find(id);
+            const Node* m = d.root.find(id);
             if (!m) throw std::invalid_argument("the node is gone");
-            set(*m, value);
+            Node updated = *m; // through updateNode, as applyToNode
+            set(updated, value);
+            edit::updateNode(d, id, updated);
         },
         &why, QString::fromStdString(id) + "/" + key);
     if (error) showError(error, ok ? QString() : why);
     // Refused: the field shows the document's value again, the reason stays.
     if (!ok && edit)
         if (const Node* now = session_->document().root.find(id)) edit->showValue(get(*now));
+}
+
+QString PropertyEditor::expressionPath(const QString& key)
+{
+    // "translate.x" -> "transform.translate[0]", "size.z" -> "size[2]", "radius" -> "radius".
+    const qsizetype dot = key.indexOf('.');
+    if (dot < 0) return key;
+    const QString base = key.left(dot), axis = key.mid(dot + 1);
+    const int index = axis == "x" ? 0 : axis == "y" ? 1 : 2;
+    const QString path = base + "[" + QString::number(index) + "]";
+    return base == "translate" || base == "rotate" ? "transform." + path : path;
+}
+
+QString PropertyEditor::expressionFor(const QString& key) const
+{
+    const Node* n = session_->document().root.find(nodeId_);
+    if (!n) return {};
+    const auto it = n->expressions.find(expressionPath(key).toStdString());
+    return it == n->expressions.end() ? QString() : QString::fromStdString(it->second);
 }
 
 void PropertyEditor::addQuantity(const QString& label, const QString& key, int unit,
@@ -434,8 +460,18 @@ void PropertyEditor::refresh()
             color_->setStyleSheet({});
         }
     }
-    for (Field& f : fields_)
+    for (Field& f : fields_) {
         if (!f.edit->hasFocus()) f.edit->showValue(f.get(*n));
+        // A field an expression drives shows its value, tinted, the expression in its tooltip.
+        const auto driven = n->expressions.find(expressionPath(f.key).toStdString());
+        const bool isDriven = driven != n->expressions.end();
+        f.edit->setProperty("driven", isDriven);
+        f.edit->setStyleSheet(isDriven ? QStringLiteral("QAbstractSpinBox { background: #e6efff; }") : QString());
+        f.edit->setToolTip(isDriven ? tr("= %1\nDriven by this expression (the Parameters panel); a number typed here "
+                                         "replaces it.")
+                                          .arg(QString::fromStdString(driven->second))
+                                    : QString());
+    }
     if (profile_ && profileField_ && n->type == shownType_) {
         const auto& pts = profileField_->pointsIn(*n);
         const QSignalBlocker block(profile_);

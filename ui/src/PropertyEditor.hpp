@@ -42,6 +42,10 @@ public:
     const std::string& nodeId() const { return nodeId_; }
     /// The message shown under a field ("" when none), by spec name.
     QString errorFor(const QString& field) const;
+    /// The expression that drives a field ("" when a plain number), by spec name.
+    QString expressionFor(const QString& field) const;
+    /// A field's spec name as a path of the document's expressions ("size.x" -> "size[0]").
+    static QString expressionPath(const QString& key);
 
 private:
     struct Field {

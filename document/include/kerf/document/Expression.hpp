@@ -10,6 +10,7 @@
 //   unary   := '-' unary | '+' unary | atom
 //   atom    := literal | name | reference | function '(' sum (',' sum)* ')' | '(' sum ')'
 //   literal := number [unit] | number '/' number unit      ("3/4in" is three quarters of an inch)
+//            | integer ' ' number '/' number unit           ("11 3/4in")
 //   unit    := mm | cm | m | in | " | ft | '
 //   reference := node-id '.' key ('.' key)* ('[' integer ']')*   ("seat.size[0]", "leg.transform.translate[2]")
 //   function: min, max (two or more), abs, sqrt, sin, cos, tan (degrees), round, floor, ceil

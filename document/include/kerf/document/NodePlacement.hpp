@@ -32,8 +32,9 @@ Aabb firstInstanceBounds(const Document& doc, std::string_view id);
 
 /// Moves the node by `worldDelta` (mm, world axes): its translate changes by
 /// the same displacement expressed in its parent's frame, so the feature
-/// moves exactly as dragged whatever its ancestors' rotations. Throws
-/// std::invalid_argument for an unknown id.
+/// moves exactly as dragged whatever its ancestors' rotations; a coordinate
+/// the move changes loses its expression (it is the dragged number now).
+/// Throws std::invalid_argument for an unknown id.
 void moveNodeInWorld(Document& doc, std::string_view id, const glm::dvec3& worldDelta);
 
 /// Whether the node's material is taken away from the part: it lies under a

@@ -1,0 +1,166 @@
+#include "ParametersPanel.hpp"
+
+#include "DocumentSession.hpp"
+#include "kerf/document/DocumentEdits.hpp"
+#include "kerf/document/NodeTypes.hpp"
+
+#include <QHBoxLayout>
+#include <QHeaderView>
+#include <QLabel>
+#include <QPushButton>
+#include <QSignalBlocker>
+#include <QTableWidget>
+#include <QVBoxLayout>
+
+namespace kerf::ui {
+
+ParametersPanel::ParametersPanel(DocumentSession* session, QWidget* parent) : QWidget(parent), session_(session)
+{
+    auto* layout = new QVBoxLayout(this);
+    table_ = new QTableWidget(0, 4, this);
+    table_->setObjectName("parameters.table");
+    table_->setHorizontalHeaderLabels({tr("Name"), tr("Expression"), tr("Value"), tr("Comment")});
+    table_->verticalHeader()->hide();
+    table_->verticalHeader()->setDefaultSectionSize(fontMetrics().height() + 8);
+    // Name and value as wide as they need; a long expression is cut (its
+    // whole text in the tooltip and the editor), the comment takes the rest.
+    table_->horizontalHeader()->setSectionResizeMode(NameColumn, QHeaderView::ResizeToContents);
+    table_->horizontalHeader()->setSectionResizeMode(ExpressionColumn, QHeaderView::Interactive);
+    table_->horizontalHeader()->setSectionResizeMode(ValueColumn, QHeaderView::ResizeToContents);
+    table_->horizontalHeader()->setSectionResizeMode(CommentColumn, QHeaderView::Stretch);
+    table_->setColumnWidth(ExpressionColumn, 12 * fontMetrics().averageCharWidth() + 12);
+    table_->setWordWrap(false);
+    table_->setTextElideMode(Qt::ElideRight);
+    table_->setSelectionBehavior(QAbstractItemView::SelectRows);
+    table_->setSelectionMode(QAbstractItemView::SingleSelection);
+    table_->setEditTriggers(QAbstractItemView::DoubleClicked | QAbstractItemView::EditKeyPressed |
+                            QAbstractItemView::AnyKeyPressed);
+    layout->addWidget(table_, 1);
+    auto* buttons = new QHBoxLayout;
+    add_ = new QPushButton(tr("Add"), this);
+    add_->setObjectName("parameters.add");
+    add_->setToolTip(tr("A new parameter: give it a name and an expression (18mm, 3/4in, height - 2 * thickness)"));
+    remove_ = new QPushButton(tr("Delete"), this);
+    remove_->setObjectName("parameters.delete");
+    remove_->setToolTip(tr("Delete the selected parameter (not while an expression uses it)"));
+    buttons->addWidget(add_);
+    buttons->addWidget(remove_);
+    buttons->addStretch(1);
+    layout->addLayout(buttons);
+    error_ = new QLabel(this);
+    error_->setObjectName("parameters.error");
+    error_->setWordWrap(true);
+    error_->setStyleSheet("color: #b00020;");
+    error_->hide();
+    layout->addWidget(error_);
+
+    connect(add_, &QPushButton::clicked, this, &ParametersPanel::addParameter);
+    connect(remove_, &QPushButton::clicked, this, &ParametersPanel::removeSelected);
+    connect(table_, &QTableWidget::itemChanged, this, &ParametersPanel::onItemChanged);
+    connect(session_, &DocumentSession::documentChanged, this, &ParametersPanel::refresh);
+    refresh();
+}
+
+QString ParametersPanel::error() const { return error_->isVisible() ? error_->text() : QString(); }
+
+void ParametersPanel::refresh()
+{
+    const QSignalBlocker block(table_);
+    refreshing_ = true;
+    const std::vector<Parameter>& params = session_->document().parameters;
+    table_->setRowCount(int(params.size()));
+    for (int r = 0; r < int(params.size()); ++r) {
+        const Parameter& p = params[std::size_t(r)];
+        const QString unit = p.unit == "length" ? tr(" mm") : p.unit == "angle" ? tr("°") : QString();
+        auto set = [&](int column, const QString& text, bool editable) {
+            QTableWidgetItem* item = table_->item(r, column);
+            if (!item) {
+                item = new QTableWidgetItem;
+                table_->setItem(r, column, item);
+            }
+            item->setText(text);
+            item->setFlags(editable ? item->flags() | Qt::ItemIsEditable : item->flags() & ~Qt::ItemIsEditable);
+        };
+        set(NameColumn, QString::fromStdString(p.name), true);
+        set(ExpressionColumn, QString::fromStdString(p.expression), true);
+        set(ValueColumn, QString::fromStdString(formatFieldNumber(p.value)) + unit, false);
+        set(CommentColumn, QString::fromStdString(p.comment.value_or("")), true);
+        table_->item(r, ExpressionColumn)->setToolTip(QString::fromStdString(p.expression));
+        table_->item(r, CommentColumn)->setToolTip(QString::fromStdString(p.comment.value_or("")));
+        const QString uses = [&] {
+            const std::vector<std::string> where = edit::parameterUses(session_->document(), p.name);
+            if (where.empty()) return tr("Not used yet");
+            QString list;
+            for (const std::string& w : where) list += (list.isEmpty() ? "" : ", ") + QString::fromStdString(w);
+            return tr("Used by %1").arg(list);
+        }();
+        table_->item(r, NameColumn)->setToolTip(uses);
+        table_->item(r, ValueColumn)->setToolTip(uses);
+    }
+    refreshing_ = false;
+}
+
+bool ParametersPanel::apply(const QString& undoText, const std::function<void(Document&)>& edit)
+{
+    QString why;
+    const bool ok = session_->apply(undoText, edit, &why);
+    if (ok) {
+        error_->hide();
+    } else {
+        error_->setText(why);
+        error_->show();
+        refresh(); // the table shows the document as it stays; the message says why
+    }
+    return ok;
+}
+
+void ParametersPanel::onItemChanged(QTableWidgetItem* item)
+{
+    if (refreshing_) return;
+    const int r = item->row();
+    const std::vector<Parameter>& params = session_->document().parameters;
+    if (r < 0 || r >= int(params.size())) return;
+    const std::string name = params[std::size_t(r)].name;
+    const std::string text = item->text().trimmed().toStdString();
+    switch (item->column()) {
+    case NameColumn:
+        apply(tr("Rename parameter %1").arg(QString::fromStdString(name)),
+              [&](Document& d) { edit::renameParameter(d, name, text); });
+        break;
+    case ExpressionColumn:
+        apply(tr("Set %1").arg(QString::fromStdString(name)), [&](Document& d) {
+            for (Parameter& p : d.parameters)
+                if (p.name == name) p.expression = text;
+        });
+        break;
+    case CommentColumn:
+        apply(tr("Comment on %1").arg(QString::fromStdString(name)), [&](Document& d) {
+            for (Parameter& p : d.parameters)
+                if (p.name == name) p.comment = text.empty() ? std::nullopt : std::optional(text);
+        });
+        break;
+    default: break;
+    }
+}
+
+void ParametersPanel::addParameter()
+{
+    std::string added;
+    if (!apply(tr("Add parameter"), [&](Document& d) { added = edit::addParameter(d, "p", "0"); })) return;
+    for (int r = 0; r < table_->rowCount(); ++r)
+        if (table_->item(r, NameColumn)->text() == QString::fromStdString(added)) {
+            table_->setCurrentCell(r, NameColumn);
+            table_->editItem(table_->item(r, NameColumn));
+        }
+}
+
+void ParametersPanel::removeSelected()
+{
+    const int r = table_->currentRow();
+    const std::vector<Parameter>& params = session_->document().parameters;
+    if (r < 0 || r >= int(params.size())) return;
+    const std::string name = params[std::size_t(r)].name;
+    apply(tr("Delete parameter %1").arg(QString::fromStdString(name)), [&](Document& d) { edit::removeParameter(d, name); });
+}
+
+} // namespace kerf::ui
