@@ -12,7 +12,8 @@
 // profiles) have no natural interval extension and are left out of the
 // interval instance: enclosureT (at the end) encloses them by containment,
 // as primitive::*::enclosure does in C++. A new shape kind is a function
-// here, a line in shapeT and a line in enclosureT.
+// here and its line in branchFreeShapeT, or, when it branches on the point,
+// a line in shapeT and one in enclosureT.
 
 T clamp01T(T v) { return minT(maxT(v, cT(0.0)), cT(1.0)); }
 
@@ -63,6 +64,23 @@ void localT(uint t, uint f, T px, T py, T pz, out T lx, out T ly, out T lz)
               cT(tapeFloat(t, f + 11u)));
 }
 
+// The kinds whose formula does not branch on the point: the same call for
+// values, duals and intervals (their natural extension). False for the others.
+bool branchFreeShapeT(uint t, uint s, T x, T y, T z, out T r)
+{
+    const uint a = s + KERF_TAPE_SHAPE_PARAMS;
+    const uint kind = tapeWord(t, s);
+    if (kind == KERF_SHAPE_BOX)
+        r = boxT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
+    else if (kind == KERF_SHAPE_SPHERE) r = sphereT(x, y, z, tapeFloat(t, a));
+    else if (kind == KERF_SHAPE_CYLINDER) r = cylinderT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u));
+    else if (kind == KERF_SHAPE_TORUS) r = torusT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u));
+    else if (kind == KERF_SHAPE_HALFSPACE)
+        r = halfspaceT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
+    else return false;
+    return true;
+}
+
 #ifndef KERF_TAPE_INTERVALS
 
 T coneT(T x, T y, T z, float r1, float r2, float h, float k2x, float k2y, float invK2)
@@ -110,20 +128,15 @@ T revolutionT(uint t, uint first, uint count, T x, T y, T z)
 // The shape at word s, at local point (x, y, z). NaN for a kind not named here.
 T shapeT(uint t, uint s, T x, T y, T z)
 {
+    T r;
+    if (branchFreeShapeT(t, s, x, y, z, r)) return r;
     const uint a = s + KERF_TAPE_SHAPE_PARAMS;
     const uint kind = tapeWord(t, s);
-    if (kind == KERF_SHAPE_BOX)
-        return boxT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
-    if (kind == KERF_SHAPE_SPHERE) return sphereT(x, y, z, tapeFloat(t, a));
-    if (kind == KERF_SHAPE_CYLINDER) return cylinderT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u));
     if (kind == KERF_SHAPE_CONE)
         return coneT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u),
                      tapeFloat(t, a + 4u), tapeFloat(t, a + 5u));
-    if (kind == KERF_SHAPE_TORUS) return torusT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u));
     if (kind == KERF_SHAPE_EXTRUDE)
         return extrusionT(polygonT(t, tapeWord(t, a + 1u), tapeWord(t, a + 2u), x, y, true), z, tapeFloat(t, a));
-    if (kind == KERF_SHAPE_HALFSPACE)
-        return halfspaceT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
     if (kind == KERF_SHAPE_REVOLVE) return revolutionT(t, tapeWord(t, a + 1u), tapeWord(t, a + 2u), x, y, z);
     tapeUnknownKind = true;
     return cT(kTapeNaN);
@@ -173,18 +186,15 @@ void polygonBounds(uint t, uint first, uint count, out vec2 lo, out vec2 hi)
 }
 vec2 enclosureT(uint t, uint s, vec2 x, vec2 y, vec2 z)
 {
+    vec2 r;
+    if (branchFreeShapeT(t, s, x, y, z, r)) return r;
     const uint a = s + KERF_TAPE_SHAPE_PARAMS;
     const uint kind = tapeWord(t, s);
-    if (kind == KERF_SHAPE_BOX)
-        return boxT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
-    if (kind == KERF_SHAPE_SPHERE) return sphereT(x, y, z, tapeFloat(t, a));
-    if (kind == KERF_SHAPE_CYLINDER) return cylinderT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u));
     if (kind == KERF_SHAPE_CONE) {
         // Between the cylinders of its larger and its smaller radius.
         const float r1 = tapeFloat(t, a), r2 = tapeFloat(t, a + 1u), h = tapeFloat(t, a + 2u);
         return vec2(cylinderT(x, y, z, max(r1, r2), h).x, cylinderT(x, y, z, min(r1, r2), h).y);
     }
-    if (kind == KERF_SHAPE_TORUS) return torusT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u));
     if (kind == KERF_SHAPE_EXTRUDE) {
         // Inside its profile's bounding box swept over its height.
         vec2 lo, hi;
@@ -192,8 +202,6 @@ vec2 enclosureT(uint t, uint s, vec2 x, vec2 y, vec2 z)
         const vec2 mid = 0.5 * (lo + hi), halfSize = 0.5 * (hi - lo);
         return vec2(boxT(subT(x, cT(mid.x)), subT(y, cT(mid.y)), z, halfSize.x, halfSize.y, tapeFloat(t, a), 0.0).x, kTapeInf);
     }
-    if (kind == KERF_SHAPE_HALFSPACE)
-        return halfspaceT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
     if (kind == KERF_SHAPE_REVOLVE) {
         // Inside the cylinder of its largest radius over its height.
         vec2 lo, hi;
