@@ -12,8 +12,8 @@
 // profiles) have no natural interval extension and are left out of the
 // interval instance: enclosureT (at the end) encloses them by containment,
 // as primitive::*::enclosure does in C++. A new shape kind is a function
-// here and its line in branchFreeShapeT, or, when it branches on the point,
-// a line in shapeT and one in enclosureT.
+// here, its line in shapeT, and its line in branchFreeShapeT (intervals
+// through the same formula) or, when it branches on the point, in enclosureT.
 
 T clamp01T(T v) { return minT(maxT(v, cT(0.0)), cT(1.0)); }
 
@@ -126,17 +126,25 @@ T revolutionT(uint t, uint first, uint count, T x, T y, T z)
 }
 
 // The shape at word s, at local point (x, y, z). NaN for a kind not named here.
+// One chain of every kind, not branchFreeShapeT and then the rest: the
+// tracer's hybrid refinement runs this for every pixel it refines, and the
+// split cost it 3 % on the H100 (docs/benchmarks.md).
 T shapeT(uint t, uint s, T x, T y, T z)
 {
-    T r;
-    if (branchFreeShapeT(t, s, x, y, z, r)) return r;
     const uint a = s + KERF_TAPE_SHAPE_PARAMS;
     const uint kind = tapeWord(t, s);
+    if (kind == KERF_SHAPE_BOX)
+        return boxT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
+    if (kind == KERF_SHAPE_SPHERE) return sphereT(x, y, z, tapeFloat(t, a));
+    if (kind == KERF_SHAPE_CYLINDER) return cylinderT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u));
     if (kind == KERF_SHAPE_CONE)
         return coneT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u),
                      tapeFloat(t, a + 4u), tapeFloat(t, a + 5u));
+    if (kind == KERF_SHAPE_TORUS) return torusT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u));
     if (kind == KERF_SHAPE_EXTRUDE)
         return extrusionT(polygonT(t, tapeWord(t, a + 1u), tapeWord(t, a + 2u), x, y, true), z, tapeFloat(t, a));
+    if (kind == KERF_SHAPE_HALFSPACE)
+        return halfspaceT(x, y, z, tapeFloat(t, a), tapeFloat(t, a + 1u), tapeFloat(t, a + 2u), tapeFloat(t, a + 3u));
     if (kind == KERF_SHAPE_REVOLVE) return revolutionT(t, tapeWord(t, a + 1u), tapeWord(t, a + 2u), x, y, z);
     tapeUnknownKind = true;
     return cT(kTapeNaN);
