@@ -1705,6 +1705,24 @@ void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependen
     QCOMPARE(props->errorFor("size.y"), QString());
     typeInto(field(*w, "rotate.z"), "2mm");
     QVERIFY2(props->errorFor("rotate.z").contains("a length does not belong here"), qPrintable(props->errorFor("rotate.z")));
+
+    // "=" starts an expression in any field: it drives the field from then on.
+    typeInto(field(*w, "size.y"), "=depth - 2mm");
+    QCOMPARE(w->session()->document().root.find("panel")->as<BoxParams>().size.y, 298.0);
+    QCOMPARE(props->expressionFor("size.y"), QString("depth - 2mm"));
+    QCOMPARE(props->errorFor("size.y"), QString());
+    // Focused, a driven field shows its expression to edit.
+    QuantityEdit* sizeY = field(*w, "size.y");
+    QFocusEvent focusIn(QEvent::FocusIn, Qt::TabFocusReason); // (the test window need not be the active one)
+    QApplication::sendEvent(sizeY, &focusIn);
+    QVERIFY2(sizeY->findChild<QLineEdit*>()->text().startsWith("=depth - 2mm"), // (the field's unit follows)
+             qPrintable(sizeY->findChild<QLineEdit*>()->text()));
+    // One that does not evaluate is refused under the field, its text kept to mend.
+    const Document before = w->session()->document();
+    typeInto(field(*w, "size.z"), "=hieght");
+    QVERIFY2(props->errorFor("size.z").contains("unknown name 'hieght'"), qPrintable(props->errorFor("size.z")));
+    QVERIFY(field(*w, "size.z")->findChild<QLineEdit*>()->text().startsWith("=hieght")); // (the unit may follow)
+    QVERIFY(w->session()->document() == before);
 }
 
 QTEST_MAIN(MainWindowTest)

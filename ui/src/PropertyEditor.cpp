@@ -201,6 +201,22 @@ void PropertyEditor::addQuantity(const QString& label, const QString& key, int u
     connect(edit, &QuantityEdit::unreadable, this, [this, index](const QString& why) {
         showError(fields_[index].error, why);
     });
+    connect(edit, &QuantityEdit::expressionEntered, this,
+            [this, index](const QString& expression) { commitExpression(index, expression); });
+}
+
+void PropertyEditor::commitExpression(std::size_t index, const QString& expression)
+{
+    if (refreshing_ || index >= fields_.size() || expression.isEmpty()) return;
+    const Node* n = session_->document().root.find(nodeId_);
+    if (!n) return;
+    const std::string path = expressionPath(fields_[index].key).toStdString();
+    const std::string text = expression.toStdString();
+    QString field = fields_[index].label;
+    if (field.size() > 1 && field[1].isLower()) field[0] = field[0].toLower();
+    // The document evaluates it (and refuses it, under the field, with its reason).
+    applyToNode(tr("Set %1 of %2 to =%3").arg(field, featureName(*n), expression),
+                [&](Node& m) { m.expressions[path] = text; }, fields_[index].error);
 }
 
 void PropertyEditor::addVector(const QString& label, const QString& key, int unit,
@@ -466,9 +482,10 @@ void PropertyEditor::refresh()
         const auto driven = n->expressions.find(expressionPath(f.key).toStdString());
         const bool isDriven = driven != n->expressions.end();
         f.edit->setProperty("driven", isDriven);
+        f.edit->setExpression(isDriven ? QString::fromStdString(driven->second) : QString());
         f.edit->setStyleSheet(isDriven ? QStringLiteral("QAbstractSpinBox { background: #e6efff; }") : QString());
         f.edit->setToolTip(isDriven ? tr("= %1\nDriven by this expression (the Parameters panel); a number typed here "
-                                         "replaces it.")
+                                         "replaces it, =... types another.")
                                           .arg(QString::fromStdString(driven->second))
                                     : QString());
     }

@@ -63,6 +63,8 @@ private:
     void addVector(const QString& label, const QString& key, int unit, std::function<glm::dvec3(const Node&)> get,
                    std::function<void(Node&, int, double)> set, int decimals = 6);
     void commit(std::size_t index, double value);
+    /// "=..." typed into a field: the field is driven by that expression from now on.
+    void commitExpression(std::size_t index, const QString& expression);
     bool applyToNode(const QString& text, const std::function<void(Node&)>& change, QLabel* error,
                      const QString& mergeKey = {});
     void showError(QLabel* error, const QString& message);

@@ -21,8 +21,7 @@ QuantityEdit::QuantityEdit(Unit unit, QWidget* parent) : QDoubleSpinBox(parent),
     setSingleStep(unit == Unit::Degrees ? 1.0 : 1.0);
     setKeyboardTracking(false); // typed text commits on Enter or leaving the field
     setAccelerated(true);
-    if (unit == Unit::Millimetres) setSuffix(QStringLiteral(" mm"));
-    if (unit == Unit::Degrees) setSuffix(QStringLiteral(" °"));
+    setSuffix(unitSuffix());
     setCorrectionMode(QAbstractSpinBox::CorrectToPreviousValue);
     connect(lineEdit(), &QLineEdit::editingFinished, this, [this] {
         lineEdit()->setModified(false); // committed: Ctrl+Z now undoes the edit (UndoKeysToWindow)
@@ -37,6 +36,30 @@ QuantityEdit::QuantityEdit(Unit unit, QWidget* parent) : QDoubleSpinBox(parent),
 // Text that reads as no number never reaches editingFinished (the line
 // edit's validator holds it back) and the spin box then quietly puts the old
 // value back: say why first, on Enter and on leaving the field.
+QString QuantityEdit::typedExpression() const
+{
+    QString t = lineEdit()->text().trimmed();
+    if (!t.startsWith('=')) return {};
+    if (!unitText().isEmpty() && t.endsWith(" " + unitText())) t.chop(unitText().size() + 1);
+    return t.mid(1).trimmed();
+}
+
+void QuantityEdit::setExpression(const QString& expression)
+{
+    expression_ = expression;
+    if (hasFocus() && !lineEdit()->isModified())
+        lineEdit()->setText(expression_.isEmpty() ? textFromValue(value()) + suffix() : "=" + expression_);
+}
+
+void QuantityEdit::focusInEvent(QFocusEvent* event)
+{
+    QDoubleSpinBox::focusInEvent(event);
+    if (!expression_.isEmpty()) {
+        lineEdit()->setText("=" + expression_);
+        lineEdit()->selectAll();
+    }
+}
+
 void QuantityEdit::reportUnreadableText()
 {
     const QString text = lineEdit()->text();
@@ -46,13 +69,29 @@ void QuantityEdit::reportUnreadableText()
 
 void QuantityEdit::keyPressEvent(QKeyEvent* event)
 {
-    if (event->key() == Qt::Key_Return || event->key() == Qt::Key_Enter) reportUnreadableText();
+    if (event->key() == Qt::Key_Return || event->key() == Qt::Key_Enter) {
+        // "=thickness + 2": an expression for the document, not a number for the box.
+        if (const QString e = typedExpression(); !e.isNull()) {
+            lineEdit()->setModified(false);
+            emit expressionEntered(e);
+            event->accept();
+            return;
+        }
+        reportUnreadableText();
+    }
     QDoubleSpinBox::keyPressEvent(event);
 }
 
 void QuantityEdit::focusOutEvent(QFocusEvent* event)
 {
-    if (lineEdit()->isModified()) reportUnreadableText();
+    if (lineEdit()->isModified()) {
+        if (const QString e = typedExpression(); !e.isNull()) {
+            lineEdit()->setModified(false);
+            emit expressionEntered(e);
+        } else {
+            reportUnreadableText();
+        }
+    }
     QDoubleSpinBox::focusOutEvent(event);
 }
 
@@ -64,6 +103,8 @@ void QuantityEdit::wheelEvent(QWheelEvent* event)
     }
     QDoubleSpinBox::wheelEvent(event);
 }
+
+QString QuantityEdit::unitSuffix() const { return unitText().isEmpty() ? QString() : " " + unitText(); }
 
 QString QuantityEdit::unitText() const
 {
@@ -84,7 +125,8 @@ void QuantityEdit::showValue(double v)
 QValidator::State QuantityEdit::validate(QString& text, int&) const
 {
     // Anything may be on its way to an expression; only what reads as a
-    // number is acceptable.
+    // number is acceptable ("=..." is the document's: never a number here).
+    if (text.trimmed().startsWith('=')) return QValidator::Intermediate;
     const ExpressionResult r = evaluateExpression(text.toStdString(), unitText().toStdString());
     return r.value ? QValidator::Acceptable : QValidator::Intermediate;
 }

@@ -18,6 +18,9 @@ public:
 
     /// Shows `v` without emitting valueChanged (a refresh from the document).
     void showValue(double v);
+    /// The expression that drives the value ("" when none): shown as
+    /// "=expression" while the field has the focus, to be edited there.
+    void setExpression(const QString& expression);
 
     QValidator::State validate(QString& text, int& pos) const override;
     double valueFromText(const QString& text) const override;
@@ -26,15 +29,23 @@ public:
 
 protected:
     void wheelEvent(QWheelEvent* event) override;
+    void focusInEvent(QFocusEvent* event) override;
     void keyPressEvent(QKeyEvent* event) override;
     void focusOutEvent(QFocusEvent* event) override;
 
 signals:
     /// The text typed could not be read as a number (the reason).
     void unreadable(const QString& reason);
+    /// "=..." was typed and entered (Enter, or leaving the field): the
+    /// expression, without the '=' and the field's unit.
+    void expressionEntered(const QString& expression);
 
 private:
     QString unitText() const;
+    QString unitSuffix() const; // " mm", " °" or none
+    /// The typed text as an expression ("=..."), or a null string.
+    QString typedExpression() const;
+    QString expression_;
     void reportUnreadableText();
     Unit unit_;
 };
