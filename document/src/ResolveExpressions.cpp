@@ -28,32 +28,29 @@ bool isParameterName(const std::string& s)
     return true;
 }
 
-// A node's numeric fields and what they hold: its type's table and its transform.
-std::optional<Dimension> fieldDimension(const Json& node, const FieldPath& path)
+// What a node's number at `keys` holds (its type's table, its transform):
+// its dimension, and whether it is a count (written back as an integer).
+struct FieldKind {
+    Dimension dimension = Dimension::Plain;
+    bool count = false;
+};
+std::optional<FieldKind> fieldKind(const Json& node, const std::vector<std::string>& keys)
 {
-    if (path.keys.size() == 2 && path.keys[0] == "transform")
-        return path.keys[1] == "translate" ? std::optional(Dimension::Length)
-               : path.keys[1] == "rotate"  ? std::optional(Dimension::Plain)
-                                           : std::nullopt;
-    if (path.keys.size() != 1) return std::nullopt;
+    if (keys.size() == 2 && keys[0] == "transform") {
+        if (keys[1] == "translate") return FieldKind{Dimension::Length, false};
+        if (keys[1] == "rotate") return FieldKind{Dimension::Plain, false};
+        return std::nullopt;
+    }
+    if (keys.size() != 1) return std::nullopt;
     const auto type = node.find("type");
     if (type == node.end() || !type->is_string()) return std::nullopt;
     const std::optional<NodeType> t = nodeTypeFromName(type->get<std::string>());
     if (!t) return std::nullopt;
     for (const FieldSpec& f : nodeTypeSpec(*t).fields)
-        if (f.key == path.keys[0]) return f.unit == FieldUnit::Length ? Dimension::Length : Dimension::Plain;
+        if (f.key == keys[0])
+            return FieldKind{f.unit == FieldUnit::Length ? Dimension::Length : Dimension::Plain,
+                             f.shape == FieldShape::Counts};
     return std::nullopt;
-}
-
-bool isCountField(const Json& node, const std::string& key)
-{
-    const auto type = node.find("type");
-    if (type == node.end() || !type->is_string()) return false;
-    const std::optional<NodeType> t = nodeTypeFromName(type->get<std::string>());
-    if (!t) return false;
-    for (const FieldSpec& f : nodeTypeSpec(*t).fields)
-        if (f.key == key) return f.shape == FieldShape::Counts;
-    return false;
 }
 
 Quantity asField(double v, Dimension d) { return d == Dimension::Length ? Quantity::lengthMm(v) : Quantity{v, 0, false}; }
@@ -176,7 +173,7 @@ private:
                     for (const char* k : {"translate", "rotate"})
                         if (auto v = it->find(k); v != it->end())
                             collectStrings(*n, nodeId, std::string("transform.") + k, *v, 0);
-                } else if (fieldDimension(*n, FieldPath{{it.key()}, {}})) {
+                } else if (fieldKind(*n, {it.key()})) {
                     collectStrings(*n, nodeId, it.key(), it.value(), 0);
                 }
             }
@@ -188,9 +185,8 @@ private:
         if (v.is_string()) {
             const std::string& text = v.get_ref<const std::string&>();
             if (text.rfind(kNonFiniteMarker, 0) == 0) return; // the reader names it
-            const FieldPath fp = *parseFieldPath(path);
-            Site s{nodeId, path, text, &v, *fieldDimension(node, FieldPath{fp.keys, {}}),
-                   fp.keys.size() == 1 && isCountField(node, fp.keys[0])};
+            const FieldKind kind = *fieldKind(node, parseFieldPath(path)->keys);
+            Site s{nodeId, path, text, &v, kind.dimension, kind.count};
             const std::string key = nodeId + "." + path;
             siteOrder_.push_back(key);
             sites_.emplace(key, std::move(s));
@@ -217,13 +213,13 @@ private:
             const auto node = nodes_.find(std::string(id));
             if (node == nodes_.end()) throw ExpressionError("refers to the node '" + std::string(id) + "', which does not exist");
             const std::optional<FieldPath> fp = parseFieldPath(path);
-            const std::optional<Dimension> d = fp ? fieldDimension(*node->second, FieldPath{fp->keys, {}}) : std::nullopt;
-            const Json* v = fp && d ? jsonAt(*node->second, *fp) : nullptr;
+            const std::optional<FieldKind> kind = fp ? fieldKind(*node->second, fp->keys) : std::nullopt;
+            const Json* v = fp && kind ? jsonAt(*node->second, *fp) : nullptr;
             if (!v) throw ExpressionError("refers to '" + std::string(id) + "." + std::string(path) + "', not a number of that node");
             if (const auto s = sites_.find(std::string(id) + "." + std::string(path)); s != sites_.end())
-                return asField(siteValue(s->second), *d);
+                return asField(siteValue(s->second), kind->dimension);
             if (!v->is_number()) throw ExpressionError("refers to '" + std::string(id) + "." + std::string(path) + "', not a number of that node");
-            return asField(v->get<double>(), *d);
+            return asField(v->get<double>(), kind->dimension);
         };
         return r;
     }
