@@ -36,6 +36,8 @@
 #include <QPainter>
 #include <QPushButton>
 #include <QComboBox>
+#include <QCompleter>
+#include <QAbstractItemView>
 #include <QLabel>
 #include <QLineEdit>
 #include <QSettings>
@@ -1723,6 +1725,23 @@ void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependen
     QVERIFY2(props->errorFor("size.z").contains("unknown name 'hieght'"), qPrintable(props->errorFor("size.z")));
     QVERIFY(field(*w, "size.z")->findChild<QLineEdit*>()->text().startsWith("=hieght")); // (the unit may follow)
     QVERIFY(w->session()->document() == before);
+
+    // In the panel, names complete as an expression is typed: the word under the cursor.
+    table->setCurrentCell(2, ParametersPanel::ExpressionColumn);
+    table->editItem(table->item(2, ParametersPanel::ExpressionColumn));
+    QLineEdit* line = nullptr; // the editor just opened (an earlier one may not be deleted yet)
+    for (QLineEdit* e : table->findChildren<QLineEdit*>())
+        if (e->isVisible() && e->findChild<QCompleter*>("nameCompleter")) line = e;
+    QVERIFY(line);
+    line->selectAll();
+    QTest::keyClicks(line, "2 * dep");
+    auto* completer = line->findChild<QCompleter*>("nameCompleter");
+    QVERIFY(completer);
+    QCOMPARE(completer->currentCompletion(), QString("depth"));
+    emit completer->activated(QString("depth"));
+    QCOMPARE(line->text(), QString("2 * depth"));
+    QTest::keyClick(line, Qt::Key_Return);
+    QTRY_COMPARE(w->session()->document().parameters[2].value, 600.0);
 }
 
 QTEST_MAIN(MainWindowTest)

@@ -1,18 +1,50 @@
 #include "ParametersPanel.hpp"
 
 #include "DocumentSession.hpp"
+#include "NameCompleter.hpp"
 #include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/NodeTypes.hpp"
 
+#include <QFocusEvent>
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QLabel>
+#include <QLineEdit>
 #include <QPushButton>
+#include <QStyledItemDelegate>
 #include <QSignalBlocker>
 #include <QTableWidget>
 #include <QVBoxLayout>
 
 namespace kerf::ui {
+
+namespace {
+// The expression column's editor completes parameter names as they are typed.
+class ExpressionDelegate : public QStyledItemDelegate {
+public:
+    ExpressionDelegate(DocumentSession* session, QObject* parent) : QStyledItemDelegate(parent), session_(session) {}
+    QWidget* createEditor(QWidget* parent, const QStyleOptionViewItem& option, const QModelIndex& index) const override
+    {
+        QWidget* editor = QStyledItemDelegate::createEditor(parent, option, index);
+        if (auto* line = qobject_cast<QLineEdit*>(editor))
+            new NameCompleter(line, [s = session_] { return parameterNames(s->document()); }, false);
+        return editor;
+    }
+
+protected:
+    // The names' popup takes the focus for a moment: that is not leaving the
+    // cell (the delegate would commit the half-typed expression).
+    bool eventFilter(QObject* editor, QEvent* event) override
+    {
+        if (event->type() == QEvent::FocusOut && static_cast<QFocusEvent*>(event)->reason() == Qt::PopupFocusReason)
+            return false;
+        return QStyledItemDelegate::eventFilter(editor, event);
+    }
+
+private:
+    DocumentSession* session_;
+};
+} // namespace
 
 ParametersPanel::ParametersPanel(DocumentSession* session, QWidget* parent) : QWidget(parent), session_(session)
 {
@@ -35,6 +67,7 @@ ParametersPanel::ParametersPanel(DocumentSession* session, QWidget* parent) : QW
     table_->setSelectionMode(QAbstractItemView::SingleSelection);
     table_->setEditTriggers(QAbstractItemView::DoubleClicked | QAbstractItemView::EditKeyPressed |
                             QAbstractItemView::AnyKeyPressed);
+    table_->setItemDelegateForColumn(ExpressionColumn, new ExpressionDelegate(session_, table_));
     layout->addWidget(table_, 1);
     auto* buttons = new QHBoxLayout;
     add_ = new QPushButton(tr("Add"), this);

@@ -84,6 +84,12 @@ void QuantityEdit::keyPressEvent(QKeyEvent* event)
 
 void QuantityEdit::focusOutEvent(QFocusEvent* event)
 {
+    // A popup (the names' completer, a context menu) is not leaving the
+    // field: the spin box would read the unfinished text and put the value back.
+    if (event->reason() == Qt::PopupFocusReason) {
+        event->accept();
+        return;
+    }
     if (lineEdit()->isModified()) {
         if (const QString e = typedExpression(); !e.isNull()) {
             lineEdit()->setModified(false);

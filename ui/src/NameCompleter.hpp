@@ -1,0 +1,52 @@
+#pragma once
+// Completes the document's parameter names while an expression is typed:
+// the word under the cursor ("=thi" offers "thickness"), not the whole
+// text, so it works in the middle of "depth - 2*thi". For the Parameters
+// panel's expressions. (Not yet in the property fields: inside a spin box
+// the popup's focus changes put the value back over the typed text.)
+
+#include <QObject>
+#include <QStringList>
+
+#include <functional>
+
+class QCompleter;
+class QLineEdit;
+class QStringListModel;
+
+namespace kerf {
+struct Document;
+}
+
+namespace kerf::ui {
+
+/// The document's parameter names, in its order.
+QStringList parameterNames(const Document& doc);
+
+class NameCompleter : public QObject {
+    Q_OBJECT
+public:
+    /// `names` is asked each time (the parameters change); with
+    /// `onlyAfterEquals` it completes only text that starts with '='.
+    NameCompleter(QLineEdit* edit, std::function<QStringList()> names, bool onlyAfterEquals);
+
+    QCompleter* completer() const { return completer_; }
+
+protected:
+    bool eventFilter(QObject* watched, QEvent* event) override;
+
+private:
+    void offer();
+    void insert(const QString& name);
+    /// Where the word under the cursor starts (the cursor itself when there is none).
+    int wordStart() const;
+
+    QLineEdit* edit_;
+    std::function<QStringList()> names_;
+    bool onlyAfterEquals_;
+    QCompleter* completer_;
+    QStringListModel* model_;
+    bool justCompleted_ = false; // the Return that chose a name is not also the Return that commits
+};
+
+} // namespace kerf::ui
