@@ -1658,6 +1658,12 @@ void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependen
     w->session()->undoStack()->undo();
     QCOMPARE(panelThickness(), 18.0);
     QCOMPARE(table->item(0, ParametersPanel::ExpressionColumn)->text(), QString("18mm"));
+    // Redo puts 3/4in back, in the table and the part; undo again for what follows.
+    w->session()->undoStack()->redo();
+    QCOMPARE(panelThickness(), 19.05);
+    QCOMPARE(table->item(0, ParametersPanel::ExpressionColumn)->text(), QString("3/4in"));
+    w->session()->undoStack()->undo();
+    QCOMPARE(panelThickness(), 18.0);
 
     // A bad expression is refused under the table; nothing changes.
     table->item(0, ParametersPanel::ExpressionColumn)->setText("thickness + 1");
