@@ -141,5 +141,42 @@ TEST(TriangleClearance, ZeroClearanceIsTheCrossingTest)
     EXPECT_GT(crossing, 100); // the cases include crossing pairs
 }
 
+// The quick rejections (a plane, or an edge within one triangle's plane,
+// with the other beyond it by the margin) never let a pair through that
+// the distances refuse: random pairs in one plane (a flat face's
+// neighbours, where every pair passes the plane test), nearly in one plane,
+// and anywhere, against the crossing test and the six edge-triangle
+// distances alone.
+TEST(TriangleClearance, QuickRejectionsAgreeWithTheDistances)
+{
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), c(0.0, 0.4), tilt(-1e-3, 1e-3);
+    const std::array<std::uint32_t, 3> A{0, 1, 2}, B{3, 4, 5};
+    auto reference = [&](const glm::dvec3* a, const glm::dvec3* b, double clearance) {
+        if (trianglesCross(A, a, B, b)) return true;
+        for (int i = 0; i < 3; ++i)
+            if (segmentTriangleDistance(a[i], a[(i + 1) % 3], b[0], b[1], b[2]) < clearance ||
+                segmentTriangleDistance(b[i], b[(i + 1) % 3], a[0], a[1], a[2]) < clearance)
+                return true;
+        return false;
+    };
+    int refused = 0, clear = 0;
+    for (int trial = 0; trial < 30000; ++trial) {
+        const int kind = trial % 3; // in one plane, nearly, anywhere
+        glm::dvec3 a[3], b[3];
+        for (int k = 0; k < 3; ++k) {
+            a[k] = glm::dvec3(u(rng), u(rng), kind == 2 ? u(rng) : 0.0);
+            b[k] = glm::dvec3(u(rng) + 1.0, u(rng), kind == 2 ? u(rng) : kind == 1 ? tilt(rng) : 0.0);
+        }
+        const double clearance = c(rng);
+        const bool expected = reference(a, b, clearance);
+        refused += expected;
+        clear += !expected;
+        ASSERT_EQ(trianglesTooClose(A, a, B, b, clearance), expected) << trial << " clearance " << clearance;
+    }
+    EXPECT_GT(refused, 3000);
+    EXPECT_GT(clear, 3000);
+}
+
 } // namespace
 } // namespace kerf::mesher

@@ -253,6 +253,7 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     simplify.minHeight = 4.0 * float32Spacing(tape.bounds());
     simplify.clearance = simplify.minHeight;
     simplify.cube = 64.0 * stats.cellSize;
+    simplify.regionSize = 8.0 * stats.cellSize;
     simplify.placement = 0.25 * options.tolerance;
     simplify.tolerance = options.tolerance;
     simplify.microLength = 4.0 * stats.edgeMargin;
@@ -266,6 +267,7 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     refineSettings.minHeight = simplify.minHeight;
     refineSettings.clearance = simplify.clearance;
     refineSettings.maxTriangles = std::max<std::size_t>(16 * mesh.triangles.size(), 1 << 20);
+    refineSettings.regionSize = 8.0 * stats.cellSize;
     RefineStats refine;
     if (!refineToTolerance(mesh, normals, tape, refineSettings, arena, refine, work)) return std::nullopt;
     stats.refineSeconds = secondsSince(t0);

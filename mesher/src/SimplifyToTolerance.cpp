@@ -87,7 +87,7 @@ std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, 
     limits.placement = settings.placement;
     limits.tolerance = settings.tolerance;
     limits.clearance = settings.clearance;
-    SurfaceQueries field(tape, origin, settings.placement);
+    SurfaceQueries field(tape, origin, settings.placement, settings.regionSize);
 
     std::uint64_t collapses = 0;
     if (settings.microLength > 0.0 && hasEdgeShorterThan(work, settings.microLength)) {

@@ -29,6 +29,7 @@ struct SimplifySettings {
     double rmsDistance = 0.0; // mm: the limit on a vertex's root mean squared distance to its planes
     double minHeight = 0.0;   // mm: no triangle becomes lower than this (EdgeCollapse.hpp)
     double cube = 0.0;        // mm: edge of the cubes simplified in parallel
+    double regionSize = 0.0;  // mm: queries evaluate tapes simplified for cubes this big around them (RegionTapes.hpp)
     double placement = 0.0;   // mm: a vertex moved onto a sharp edge must lie this close to the surface
     double clearance = 0.0;   // mm: new triangles keep this far from others (TriangleClearance.hpp)
     double tolerance = 0.0;   // mm: every new triangle's samples lie this close to the surface (0: unchecked)

@@ -6,13 +6,16 @@
 
 namespace kerf::mesher {
 
-SurfaceQueries::SurfaceQueries(const Tape& tape, const glm::dvec3& offset, double creaseTolerance)
-    : tape_(&tape), offset_(offset), creaseTolerance_(creaseTolerance)
+SurfaceQueries::SurfaceQueries(const Tape& tape, const glm::dvec3& offset, double creaseTolerance, double regionSize)
+    : tape_(&tape), regionSize_(regionSize), regions_(std::make_unique<RegionTapes>(tape, regionSize)), offset_(offset),
+      creaseTolerance_(creaseTolerance)
 {
 }
 
-SurfaceQueries::SurfaceQueries(std::shared_ptr<const Tape> owned, const glm::dvec3& offset, double creaseTolerance)
-    : owned_(std::move(owned)), tape_(owned_.get()), offset_(offset), creaseTolerance_(creaseTolerance)
+SurfaceQueries::SurfaceQueries(std::shared_ptr<const Tape> owned, const glm::dvec3& offset, double creaseTolerance,
+                               double regionSize)
+    : owned_(std::move(owned)), tape_(owned_.get()), regionSize_(regionSize),
+      regions_(std::make_unique<RegionTapes>(*tape_, regionSize)), offset_(offset), creaseTolerance_(creaseTolerance)
 {
 }
 
@@ -22,27 +25,36 @@ SurfaceQueries SurfaceQueries::region(const glm::dvec3& lo, const glm::dvec3& hi
     IntervalEvaluator intervals;
     const glm::dvec3 shift = offset_ - tape_->origin();
     intervals.simplify(*tape_, Aabb{lo + shift, hi + shift}, *simplified);
-    return SurfaceQueries(std::move(simplified), offset_, creaseTolerance_);
+    return SurfaceQueries(std::move(simplified), offset_, creaseTolerance_, regionSize_);
 }
 
 void SurfaceQueries::field(const glm::dvec3* p, std::size_t n, double* out)
 {
+    if (n == 0) return;
+    glm::dvec3 lo(p[0]), hi(p[0]);
+    for (std::size_t i = 1; i < n; ++i) {
+        lo = glm::min(lo, p[i]);
+        hi = glm::max(hi, p[i]);
+    }
+    const Tape& tape = regions_->near(0.5 * (lo + hi) + offset_, 0.5 * glm::length(hi - lo));
     x_.resize(n);
     y_.resize(n);
     z_.resize(n);
-    const glm::dvec3 shift = offset_ - tape_->origin();
+    const glm::dvec3 shift = offset_ - tape.origin();
     for (std::size_t i = 0; i < n; ++i) {
         x_[i] = p[i].x + shift.x;
         y_[i] = p[i].y + shift.y;
         z_[i] = p[i].z + shift.z;
     }
-    points_.evaluate(*tape_, x_.data(), y_.data(), z_.data(), n, out);
+    points_.evaluate(tape, x_.data(), y_.data(), z_.data(), n, out);
 }
 
 std::optional<glm::dvec3> SurfaceQueries::snapToCrease(const glm::dvec3& x, const glm::dvec3& nA, const glm::dvec3& nB,
                                                        double scale)
 {
-    const auto p = mesher::snapToCrease(*tape_, gradients_, x + offset_, nA, nB, scale, creaseTolerance_);
+    // The crease search stays within a few `scale` of x.
+    const Tape& tape = regions_->near(x + offset_, 4.0 * scale);
+    const auto p = mesher::snapToCrease(tape, gradients_, x + offset_, nA, nB, scale, creaseTolerance_);
     if (!p) return std::nullopt;
     return *p - offset_;
 }

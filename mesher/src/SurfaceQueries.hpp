@@ -6,9 +6,13 @@
 // Speed: a tape simplified for a region is far shorter than the part's (a
 // chair's 42 instructions become one or two near most of its surface), and
 // equal to it inside the region. region() makes one for a box, for the work
-// done inside it (a cube of the partitioned simplification).
+// done inside it (a cube of the partitioned simplification); within that,
+// each query evaluates a tape simplified for a small cube around its
+// points (RegionTapes.hpp), when `regionSize` is given.
 //
 // Not thread-safe: one per thread (each holds its evaluators).
+
+#include "RegionTapes.hpp"
 
 #include "kerf/evaluator/PointEvaluator.hpp"
 #include "kerf/evaluator/Tape.hpp"
@@ -25,7 +29,7 @@ class SurfaceQueries {
 public:
     /// `tape` must outlive this; `offset` is added to a point to make it a
     /// world point.
-    SurfaceQueries(const Tape& tape, const glm::dvec3& offset, double creaseTolerance);
+    SurfaceQueries(const Tape& tape, const glm::dvec3& offset, double creaseTolerance, double regionSize = 0.0);
 
     /// The same queries with the tape simplified for the box [lo, hi] (mesh
     /// coordinates): valid for points inside it.
@@ -45,10 +49,13 @@ public:
                                            double scale);
 
 private:
-    SurfaceQueries(std::shared_ptr<const Tape> owned, const glm::dvec3& offset, double creaseTolerance);
+    SurfaceQueries(std::shared_ptr<const Tape> owned, const glm::dvec3& offset, double creaseTolerance,
+                   double regionSize);
 
     std::shared_ptr<const Tape> owned_; // a region's tape
     const Tape* tape_;
+    double regionSize_;
+    std::unique_ptr<RegionTapes> regions_; // (a pointer: SurfaceQueries moves)
     glm::dvec3 offset_;
     double creaseTolerance_;
     PointEvaluator<double> points_;

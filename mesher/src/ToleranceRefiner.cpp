@@ -2,6 +2,7 @@
 
 #include "CreaseSnap.hpp"
 #include "CrossingGuard.hpp"
+#include "RegionTapes.hpp"
 #include "TriangleTree.hpp"
 #include "TriangleSamples.hpp"
 #include "kerf/mesher/SelfIntersections.hpp"
@@ -115,8 +116,8 @@ private:
 class Splitter {
 public:
     Splitter(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape, double tolerance, double minHeight,
-             double clearance)
-        : mesh_(mesh), normals_(normals), tape_(tape), tolerance_(tolerance), minHeight_(minHeight),
+             double clearance, double regionSize)
+        : mesh_(mesh), normals_(normals), regions_(tape, regionSize), tolerance_(tolerance), minHeight_(minHeight),
           clearance_(clearance)
     {
         halfedges_.reserve(3 * mesh.triangles.size() * 2);
@@ -206,8 +207,11 @@ public:
             const double longest1 = std::max({glm::length(pu - pw), glm::length(px - pu), glm::length(pw - px)});
             const double longest2 = std::max({glm::length(pv - px), glm::length(pw - pv), glm::length(px - pw)});
             if (!(glm::length(n1) > minHeight_ * longest1 && glm::length(n2) > minHeight_ * longest2)) continue;
-            const double old = std::max(sampledError(pu, pv, pw), sampledError(pv, pu, px));
-            const double now = std::max(sampledError(pw, pu, px), sampledError(px, pv, pw));
+            const glm::dvec3 mid = 0.5 * (pu + pv);
+            const Tape& tape = regions_.near(mid, std::max({glm::length(pu - mid), glm::length(pw - mid),
+                                                            glm::length(px - mid)}));
+            const double old = std::max(sampledError(tape, pu, pv, pw), sampledError(tape, pv, pu, px));
+            const double now = std::max(sampledError(tape, pw, pu, px), sampledError(tape, px, pv, pw));
             if (!(now < old)) continue;
             if (wouldCross(std::array<Tri, 2>{Tri{w, u, x}, Tri{x, v, w}}, nullptr, t1, t2)) continue;
             remove(t1);
@@ -228,13 +232,13 @@ public:
     std::uint64_t flips = 0;
 
 private:
-    double sampledError(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c)
+    double sampledError(const Tape& tape, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c)
     {
         samples_.clear();
         appendTriangleSamples(a, b, c, samples_);
         double worst = 0.0;
         for (const glm::dvec3& p : samples_)
-            worst = std::max(worst, std::abs(field(p)));
+            worst = std::max(worst, std::abs(field(tape, p)));
         return worst;
     }
 
@@ -303,19 +307,20 @@ private:
 
     // p moved onto the surface (projectOntoSurface, CreaseSnap.hpp), and its
     // normal; false when the steps do not settle within `reach`.
-    bool project(glm::dvec3& p, double reach, glm::dvec3* normal = nullptr, const glm::dvec3& expected = glm::dvec3(0.0))
+    bool project(const Tape& tape, glm::dvec3& p, double reach, glm::dvec3* normal = nullptr,
+                 const glm::dvec3& expected = glm::dvec3(0.0))
     {
-        const auto s = projectOntoSurface(tape_, gradients_, p, reach, 1e-4 * tolerance_, expected);
+        const auto s = projectOntoSurface(tape, gradients_, p, reach, 1e-4 * tolerance_, expected);
         if (!s) return false;
         p = s->p;
         if (normal) *normal = s->n;
         return true;
     }
 
-    double field(const glm::dvec3& p)
+    double field(const Tape& tape, const glm::dvec3& p)
     {
-        const glm::dvec3 q = p - tape_.origin();
-        return points_.evaluate(tape_, q.x, q.y, q.z);
+        const glm::dvec3 q = p - tape.origin();
+        return points_.evaluate(tape, q.x, q.y, q.z);
     }
 
     // The new vertex of edge (u, v) between triangles (u, v, w) and (v, u, x),
@@ -333,9 +338,11 @@ private:
         std::array<std::pair<glm::dvec3, glm::dvec3>, 3> candidates; // (position, normal)
         int count = 0;
         const glm::dvec3 e = (pv - pu) / length;
+        // Every query below stays within about two edge lengths of the midpoint.
+        const Tape& tape = regions_.near(mid, 4.0 * length);
         auto creasePoint = [&](const glm::dvec3&, const glm::dvec3& g1, const glm::dvec3&,
                                const glm::dvec3& g2) -> std::optional<glm::dvec3> {
-            const auto c = snapToCrease(tape_, gradients_, mid, g1, g2, length, 0.25 * tolerance_);
+            const auto c = snapToCrease(tape, gradients_, mid, g1, g2, length, 0.25 * tolerance_);
             if (!c || !(glm::length(*c - mid) < length)) return std::nullopt;
             return c;
         };
@@ -350,11 +357,11 @@ private:
             auto across = [&](const glm::dvec3& apex) { return glm::normalize(apex - (pu + e * glm::dot(apex - pu, e))); };
             glm::dvec3 q1 = mid + 0.25 * length * across(pw), q2 = mid + 0.25 * length * across(px);
             glm::dvec3 g1, g2;
-            if (project(q1, length, &g1, n1) && project(q2, length, &g2, n2))
+            if (project(tape, q1, length, &g1, n1) && project(tape, q2, length, &g2, n2))
                 if (const auto c = creasePoint(q1, g1, q2, g2)) candidates[std::size_t(count++)] = {*c, glm::dvec3(0.0)};
         }
         glm::dvec3 p = mid, n(0.0);
-        if (project(p, length, &n, glm::normalize(n1 + n2))) candidates[std::size_t(count++)] = {p, n};
+        if (project(tape, p, length, &n, glm::normalize(n1 + n2))) candidates[std::size_t(count++)] = {p, n};
         // Each new triangle must turn its parent's way and keep a height.
         auto fits = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& parent) {
             const glm::dvec3 cr = glm::cross(b - a, c - a);
@@ -377,7 +384,7 @@ private:
 private:
     Mesh& mesh_;
     std::vector<glm::dvec3>& normals_;
-    const Tape& tape_;
+    RegionTapes regions_;
     double tolerance_;
     double minHeight_;
     double clearance_;
@@ -401,9 +408,10 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
         dirty[t] = t;
     std::vector<double> worst(mesh.triangles.size(), 0.0);
     tbb::enumerable_thread_specific<Sampler> samplers;
-    Splitter splitter(mesh, normals, tape, tolerance, settings.minHeight, settings.clearance);
+    Splitter splitter(mesh, normals, tape, tolerance, settings.minHeight, settings.clearance, settings.regionSize);
     std::vector<std::uint8_t> splitThisRound;
     std::vector<std::uint32_t> stuck;
+    std::vector<std::uint8_t> touched; // vertices of this round's changed triangles
     constexpr std::size_t kChunk = 256;
     for (stats.rounds = 0; !dirty.empty(); ++stats.rounds) {
         if (work.cancelled()) return false;
@@ -437,10 +445,19 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
         if (changed.empty()) break; // nothing could be split
         // A triangle that waited for a neighbour's split is judged again
         // (it may have been changed by that split, or not), and so is one
-        // that could not be split, while splits around it go on: a
-        // neighbour's new vertex can make its split possible.
+        // that could not be split when a split or flip touched one of its
+        // corners this round: a neighbour's new vertex can make its split
+        // possible. One left alone by this round stays as it is (trying it
+        // again would find the same; it counts as over the tolerance).
+        touched.assign(mesh.vertices.size(), 0);
+        for (const std::uint32_t t : changed)
+            for (const std::uint32_t v : mesh.triangles[t])
+                touched[v] = 1;
         changed.insert(changed.end(), busy.begin(), busy.end());
-        changed.insert(changed.end(), stuck.begin(), stuck.end());
+        for (const std::uint32_t t : stuck) {
+            const Tri& tri = mesh.triangles[t];
+            if (touched[tri[0]] || touched[tri[1]] || touched[tri[2]]) changed.push_back(t);
+        }
         stuck.clear();
         std::sort(changed.begin(), changed.end());
         changed.erase(std::unique(changed.begin(), changed.end()), changed.end());

@@ -52,6 +52,9 @@ struct RefineSettings {
     double minHeight = 0.0; // mm: no new triangle lower than this (EdgeCollapse.hpp)
     double clearance = 0.0; // mm: new triangles keep this far from others (TriangleClearance.hpp)
     int maxRounds = 40;
+    /// The splits evaluate tapes simplified for cubes of this size (mm)
+    /// around them (RegionTapes.hpp); 0: the whole part's tape.
+    double regionSize = 0.0;
     /// A safety limit: refinement stops once the mesh has this many
     /// triangles (what is left over the tolerance is then reported).
     std::size_t maxTriangles = std::size_t(1) << 26;
