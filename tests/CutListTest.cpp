@@ -172,6 +172,10 @@ TEST(CutList, CsvQuotesAndUsesCrLf)
     EXPECT_EQ(cutListCsv(rows), "Part,Id,Quantity,Length (mm),Width (mm),Thickness (mm)\r\n"
                                 "\"Side, left\",side,2,720.00,300.00,18.00\r\n"
                                 "\"Floor \"\"plane\"\"\",floor,1,unbounded,unbounded,unbounded\r\n");
+    // Lengths shown in inches: decimal inches, the unit in the header.
+    EXPECT_EQ(cutListCsv(rows, LengthUnit::Inches), "Part,Id,Quantity,Length (in),Width (in),Thickness (in)\r\n"
+                                                    "\"Side, left\",side,2,28.3465,11.8112,0.7087\r\n"
+                                                    "\"Floor \"\"plane\"\"\",floor,1,unbounded,unbounded,unbounded\r\n");
 }
 
 TEST(CutList, BundledChairListsItsParts)

@@ -306,6 +306,11 @@ TEST(MoveSnap, GridStepsAreRoundAndAFewPixelsWide)
     EXPECT_EQ(gridStepFor(0.01), 0.1);
     EXPECT_EQ(gridStepFor(3.0), 50.0);
     EXPECT_EQ(gridStepFor(0.0), 1.0);
+    // In inches: halvings of the inch, then inches and feet.
+    EXPECT_DOUBLE_EQ(gridStepFor(0.1, LengthUnit::Inches), 25.4 / 32); // 1/64" would be 4 px
+    EXPECT_DOUBLE_EQ(gridStepFor(0.5, LengthUnit::Inches), 25.4 / 8);
+    EXPECT_DOUBLE_EQ(gridStepFor(5.0, LengthUnit::Inches), 25.4 * 6);
+    EXPECT_DOUBLE_EQ(gridStepFor(100.0, LengthUnit::Inches), 304.8 * 2);
 }
 
 TEST(MoveSnap, AlignsWithANeighbourWithinReachElseRoundsToTheGrid)
@@ -325,6 +330,10 @@ TEST(MoveSnap, AlignsWithANeighbourWithinReachElseRoundsToTheGrid)
     EXPECT_FALSE(std::signbit(s.delta));
     // No grid and nothing near: the move as dragged.
     EXPECT_EQ(snapAxisMove(hole, 0, 3.3, holes, 0.1, 0.0).delta, 3.3);
+    // Lengths shown in inches: a grid of sixteenths, named so.
+    s = snapAxisMove(hole, 2, 12.4, holes, 0.8, 25.4 / 16, LengthUnit::Inches);
+    EXPECT_DOUBLE_EQ(s.delta, 8 * 25.4 / 16);
+    EXPECT_EQ(s.reason, "on the 1/16\" grid");
 }
 
 } // namespace

@@ -77,7 +77,10 @@ TEST(Expression, LengthsCarryTheirUnits)
     EXPECT_DOUBLE_EQ(value("3/4"), 0.75); // without a unit, a plain division
     EXPECT_DOUBLE_EQ(value("11 3/4in"), 298.45); // a whole number and a fraction
     EXPECT_DOUBLE_EQ(value("2 + 11 3/4in"), 300.45);
-    EXPECT_NE(refusal("11 3/4").find("where an operator or the end was expected"), std::string::npos);
+    EXPECT_DOUBLE_EQ(value("11 3/4"), 11.75); // without a unit, a bare mixed number
+    EXPECT_TRUE(eval("11 3/4").bare);
+    EXPECT_NE(refusal("11 3/0").find("divides by zero"), std::string::npos);
+    EXPECT_NE(refusal("11 3").find("where an operator or the end was expected"), std::string::npos);
     EXPECT_EQ(eval("18mm").length, 1);
     EXPECT_FALSE(eval("18mm").bare);
     EXPECT_TRUE(eval("18").bare);
@@ -88,6 +91,36 @@ TEST(Expression, LengthsCarryTheirUnits)
     EXPECT_TRUE(eval("t + 2").fits(true));
     EXPECT_FALSE(eval("t * t").fits(true));
     EXPECT_FALSE(eval("t").fits(false));
+}
+
+// A field shown in inches: a bare number that meets a length is inches
+// there; one that scales a length stays a factor.
+TEST(Expression, BareNumbersMeetingLengthsTakeTheResolversUnit)
+{
+    expr::Resolver inches;
+    inches.name = [](std::string_view) -> Quantity { throw expr::ExpressionError("no names"); };
+    inches.field = [](std::string_view, std::string_view) -> Quantity { throw expr::ExpressionError("no fields"); };
+    inches.bareLengthMm = 25.4;
+    auto in = [&](const char* text) { return expr::evaluate(text, inches); };
+    EXPECT_DOUBLE_EQ(in("3/4in + 1/8").value, 19.05 + 3.175);
+    EXPECT_DOUBLE_EQ(in("1/8 + 3/4in").value, 3.175 + 19.05);
+    EXPECT_DOUBLE_EQ(in("3/4in - 1/4").value, 12.7);
+    EXPECT_DOUBLE_EQ(in("2 * 3/4in").value, 38.1);
+    EXPECT_DOUBLE_EQ(in("min(1, 3/4in)").value, 19.05);
+    EXPECT_DOUBLE_EQ(in("max(1, 3/4in)").value, 25.4);
+    EXPECT_DOUBLE_EQ(in("18mm + 0").value, 18.0);
+    EXPECT_TRUE(in("11 3/4 + 1/4").bare); // all bare: the caller says what it is
+    EXPECT_DOUBLE_EQ(in("11 3/4 + 1/4").value, 12.0);
+    EXPECT_DOUBLE_EQ(value("t + 2"), 20.0); // documents: bare numbers meeting lengths are millimetres
+
+    // What a field shown in inches warns of before storing an expression.
+    EXPECT_TRUE(expr::addsBareNumbersToLengths("depth - 2"));
+    EXPECT_TRUE(expr::addsBareNumbersToLengths("max(seat.size[0], 300)"));
+    EXPECT_TRUE(expr::addsBareNumbersToLengths("1 1/2 + board"));
+    EXPECT_FALSE(expr::addsBareNumbersToLengths("2 * depth"));
+    EXPECT_FALSE(expr::addsBareNumbersToLengths("depth / 2 - 3/4in"));
+    EXPECT_FALSE(expr::addsBareNumbersToLengths("depth - 2mm"));
+    EXPECT_FALSE(expr::addsBareNumbersToLengths("depth - (")); // does not parse: said elsewhere
 }
 
 TEST(Expression, NamesAndReferencesToOtherNodesFields)

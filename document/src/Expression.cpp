@@ -3,6 +3,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <functional>
 #include <cstdlib>
 #include <numbers>
 #include <optional>
@@ -76,14 +77,23 @@ private:
         return false;
     }
 
-    static Quantity combineAdditive(const Quantity& a, const Quantity& b, double value, const char* verb)
+    // A bare number meeting a length is a length in the resolver's unit
+    // for bare lengths (millimetres unless a field is shown in inches).
+    double asLength(const Quantity& bare, const Quantity& other) const
     {
-        if (a.bare && b.bare) return {value, 0, true};
-        if (a.bare) return {value, b.length, false};
-        if (b.bare) return {value, a.length, false};
+        return other.length == 1 && resolver_ ? bare.value * resolver_->bareLengthMm : bare.value;
+    }
+
+    /// a (op) b for +, -, min and max: the same dimension on both sides.
+    template <typename Op>
+    Quantity combineAdditive(const Quantity& a, const Quantity& b, Op op, const char* verb) const
+    {
+        if (a.bare && b.bare) return {op(a.value, b.value), 0, true};
+        if (a.bare) return {op(asLength(a, b), b.value), b.length, false};
+        if (b.bare) return {op(a.value, asLength(b, a)), a.length, false};
         if (a.length != b.length)
             throw ExpressionError(std::string("a unit mismatch: ") + verb + " " + describe(b) + " and " + describe(a));
-        return {value, a.length, false};
+        return {op(a.value, b.value), a.length, false};
     }
 
     Quantity sum()
@@ -92,10 +102,10 @@ private:
         for (;;) {
             if (eat('+')) {
                 const Quantity r = product();
-                q = combineAdditive(q, r, q.value + r.value, "adds");
+                q = combineAdditive(q, r, std::plus<>(), "adds");
             } else if (eat('-')) {
                 const Quantity r = product();
-                q = combineAdditive(q, r, q.value - r.value, "subtracts");
+                q = combineAdditive(q, r, std::minus<>(), "subtracts");
             } else {
                 return q;
             }
@@ -190,11 +200,12 @@ private:
             while (at_ < s_.size() && s_[at_] == ' ') ++at_;
             if (const std::optional<double> b = numberHere(); b && at_ < s_.size() && s_[at_] == '/') {
                 ++at_;
-                if (const std::optional<double> c = numberHere())
-                    if (const std::optional<double> scale = unitHere()) {
-                        if (*c == 0.0) fail("divides by zero");
-                        return Quantity::lengthMm((a + *b / *c) * *scale);
-                    }
+                if (const std::optional<double> c = numberHere()) {
+                    if (*c == 0.0) fail("divides by zero");
+                    if (const std::optional<double> scale = unitHere()) return Quantity::lengthMm((a + *b / *c) * *scale);
+                    // "11 3/4" without a unit: a bare number, in the unit of what it meets.
+                    return Quantity::number(a + *b / *c);
+                }
             }
             at_ = afterA;
         }
@@ -232,8 +243,9 @@ private:
             if (args.size() < 2) fail(f + " takes two or more arguments");
             Quantity q = args[0];
             for (std::size_t i = 1; i < args.size(); ++i)
-                q = combineAdditive(q, args[i], f == "min" ? std::min(q.value, args[i].value) : std::max(q.value, args[i].value),
-                                    "compares");
+                q = combineAdditive(
+                    q, args[i], [&](double x, double y) { return f == "min" ? std::min(x, y) : std::max(x, y); },
+                    "compares");
             return q;
         }
         if (f == "abs") return {std::fabs(one().value), args[0].length, args[0].bare};
@@ -335,6 +347,22 @@ Uses uses(std::string_view text)
     Parser p(text, nullptr);
     p.parse();
     return p.uses;
+}
+
+bool addsBareNumbersToLengths(std::string_view text)
+{
+    // Evaluated twice, a bare number meeting a length worth 1 mm and then
+    // 2 mm: only a number that meets a length changes the result.
+    Resolver r;
+    r.name = [](std::string_view) { return Quantity::lengthMm(1.0); };
+    r.field = [](std::string_view, std::string_view) { return Quantity::lengthMm(1.0); };
+    try {
+        const double once = evaluate(text, r).value;
+        r.bareLengthMm = 2.0;
+        return evaluate(text, r).value != once;
+    } catch (const ExpressionError&) {
+        return false;
+    }
 }
 
 std::string renameName(std::string_view text, std::string_view from, std::string_view to)

@@ -20,10 +20,17 @@ std::string stepText(double step)
 
 } // namespace
 
-double gridStepFor(double mmPerPixel)
+double gridStepFor(double mmPerPixel, LengthUnit unit)
 {
     constexpr double kMinPixels = 6.0;
-    if (!(mmPerPixel > 0.0) || !std::isfinite(mmPerPixel)) return 1.0;
+    if (!(mmPerPixel > 0.0) || !std::isfinite(mmPerPixel)) return unit == LengthUnit::Inches ? 25.4 / 16 : 1.0;
+    if (unit == LengthUnit::Inches) {
+        // A tape measure's steps: halvings of the inch, then inches, a foot, feet.
+        for (double inches : {1.0 / 64, 1.0 / 32, 1.0 / 16, 1.0 / 8, 1.0 / 4, 1.0 / 2, 1.0, 6.0})
+            if (inches * 25.4 / mmPerPixel >= kMinPixels) return inches * 25.4;
+        for (double feet = 1.0;; feet *= 2.0)
+            if (feet * 304.8 / mmPerPixel >= kMinPixels || feet >= 1e5) return feet * 304.8;
+    }
     for (double decade = 0.01;; decade *= 10.0)
         for (double m : {1.0, 5.0}) {
             const double step = m * decade;
@@ -32,7 +39,7 @@ double gridStepFor(double mmPerPixel)
 }
 
 AxisSnap snapAxisMove(const Aabb& moving, int axis, double rawDelta, const std::vector<SnapTarget>& targets,
-                      double reach, double gridStep)
+                      double reach, double gridStep, LengthUnit unit)
 {
     AxisSnap best;
     double bestGap = reach;
@@ -63,7 +70,8 @@ AxisSnap snapAxisMove(const Aabb& moving, int axis, double rawDelta, const std::
     if (gridStep > 0.0) {
         best.delta = std::round(rawDelta / gridStep) * gridStep;
         if (best.delta == 0.0) best.delta = 0.0; // no "-0"
-        best.reason = "on the " + stepText(gridStep) + " mm grid";
+        best.reason = "on the " + (unit == LengthUnit::Inches ? lengthReadout(gridStep, unit) : stepText(gridStep) + " mm") +
+                      " grid";
     } else {
         best.delta = rawDelta;
     }

@@ -169,15 +169,23 @@ std::vector<CutListRow> cutList(const Document& doc, double tolerance)
     return std::move(c.rows);
 }
 
-std::string cutListCsv(const std::vector<CutListRow>& rows)
+std::string cutListCsv(const std::vector<CutListRow>& rows, LengthUnit unit)
 {
-    std::string out = "Part,Id,Quantity,Length (mm),Width (mm),Thickness (mm)\r\n";
+    const bool inches = unit == LengthUnit::Inches;
+    auto length = [&](double mm) {
+        if (!inches) return millimetres(mm);
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%.4f", mm / 25.4);
+        return std::string(buf);
+    };
+    std::string out = inches ? "Part,Id,Quantity,Length (in),Width (in),Thickness (in)\r\n"
+                             : "Part,Id,Quantity,Length (mm),Width (mm),Thickness (mm)\r\n";
     for (const auto& r : rows) {
         out += csvField(r.name) + "," + csvField(r.nodeId) + "," + std::to_string(r.quantity) + ",";
         if (r.unbounded)
             out += "unbounded,unbounded,unbounded\r\n";
         else
-            out += millimetres(r.length) + "," + millimetres(r.width) + "," + millimetres(r.thickness) + "\r\n";
+            out += length(r.length) + "," + length(r.width) + "," + length(r.thickness) + "\r\n";
     }
     return out;
 }

@@ -310,6 +310,7 @@ private slots:
     void theBoundingBoxOfTheSelectionIsMeasuredAndDrawn();
     void aTurnedProfileIsEditedInItsPointTable();
     void theThicknessChangedInTheParametersPanelCarriesEveryDependentFeature();
+    void lengthsShownInInchesAreTypedInInchesAndTheDocumentKeepsMillimetres();
 
 private:
     QTemporaryDir recovery_, files_;
@@ -1557,6 +1558,20 @@ void MainWindowTest::theGizmoMovesAHoleBySnappedOrTypedDistancesInOneUndoStep()
     QCOMPARE(z(), 143.5);
     QVERIFY(v->view().camera(100, 100, Aabb{glm::dvec3(-1), glm::dvec3(1)}).eye() != eye);
     saveScreenshot(*w, "move-gizmo");
+
+    // Lengths shown in inches: a typed distance is inches, fractions too.
+    action(w.get(), "action.lengths.in")->trigger();
+    const MoveGizmo g4 = *v->moveGizmo();
+    const glm::dvec3 grip4 = g4.origin + 0.7 * g4.armLength * glm::dvec3(0, 0, 1);
+    surface.press(surface.at(grip4));
+    surface.move(surface.at(grip4 + glm::dvec3(0, 0, 7.0)));
+    surface.keys("1 1/2");
+    QVERIFY2(w->lastMessage().contains("typed: 1 1/2\", Enter"), qPrintable(w->lastMessage()));
+    surface.key(Qt::Key_Return);
+    surface.release(surface.at(grip4 + glm::dvec3(0, 0, 7.0)));
+    QCOMPARE(z(), 143.5 + 38.1);
+    QVERIFY2(undo->undoText().contains("1 1/2\" along Z"), qPrintable(undo->undoText()));
+    action(w.get(), "action.lengths.mm")->trigger();
 }
 
 void MainWindowTest::aSelectedHoleShowsItsToolBodyAsAGhost()
@@ -1744,10 +1759,103 @@ void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependen
     auto* completer = line->findChild<QCompleter*>("nameCompleter");
     QVERIFY(completer);
     QCOMPARE(completer->currentCompletion(), QString("depth"));
-    emit completer->activated(QString("depth"));
+    QVERIFY(completer->popup()->isVisible());
+    QTest::keyClick(completer->popup(), Qt::Key_Return); // picks the name, commits nothing
     QCOMPARE(line->text(), QString("2 * depth"));
+    QVERIFY(!completer->popup()->isVisible());
+    QCOMPARE(w->session()->document().parameters[2].value, 1800.0);
     QTest::keyClick(line, Qt::Key_Return);
     QTRY_COMPARE(w->session()->document().parameters[2].value, 600.0);
+
+    // And in a property field after '=': the Return that picks the name leaves
+    // the typed text as it is (a spin box would put its number back), the next commits.
+    QuantityEdit* sizeX2 = field(*w, "size.x");
+    QApplication::sendEvent(sizeX2, &focusIn);
+    sizeX2->selectAll();
+    QTest::keyClicks(sizeX2, "=boa");
+    auto* fieldCompleter = sizeX2->findChild<QCompleter*>("nameCompleter");
+    QVERIFY(fieldCompleter);
+    QVERIFY(fieldCompleter->popup()->isVisible());
+    QCOMPARE(fieldCompleter->currentCompletion(), QString("board"));
+    QTest::keyClick(fieldCompleter->popup(), Qt::Key_Return);
+    QVERIFY2(sizeX2->findChild<QLineEdit*>()->text().startsWith("=board"), qPrintable(sizeX2->findChild<QLineEdit*>()->text()));
+    QCOMPARE(props->expressionFor("size.x"), QString()); // not yet committed
+    QTest::keyClicks(sizeX2, " + 1");
+    QTest::keyClick(sizeX2, Qt::Key_Return);
+    QCOMPARE(props->expressionFor("size.x"), QString("board + 1"));
+    QCOMPARE(panelThickness(), 19.0);
+    QCOMPARE(props->errorFor("size.x"), QString());
+    // A number is not a name: "=18" offers nothing.
+    sizeX2->selectAll();
+    QTest::keyClicks(sizeX2, "=18");
+    QVERIFY(!fieldCompleter->popup()->isVisible());
+}
+
+// View > Lengths In > Inches and Fractions: every length field, readout and
+// table speaks inches; numbers typed without a unit are inches; the
+// document keeps millimetres, and an expression whose bare number would be
+// millimetres is refused with the reason before it is stored.
+void MainWindowTest::lengthsShownInInchesAreTypedInInchesAndTheDocumentKeepsMillimetres()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side-parametric.kerf"));
+    auto panelSize = [&] { return w->session()->document().root.find("panel")->as<BoxParams>().size; };
+    auto text = [&](const QString& key) { return field(*w, key)->findChild<QLineEdit*>()->text(); };
+    action(w.get(), "action.lengths.mm")->trigger(); // (the choice is remembered: an earlier run may have left inches)
+    w->selectNodes({"panel"});
+    QCOMPARE(text("size.x"), QString("18 mm"));
+    action(w.get(), "action.lengths.in")->trigger();
+    QVERIFY(action(w.get(), "action.lengths.in")->isChecked());
+    QVERIFY(!action(w.get(), "action.lengths.mm")->isChecked());
+    QCOMPARE(text("size.x"), QString("0.708661\"")); // 18 mm is no whole 64th: exact decimals to edit
+    auto* table = w->findChild<QTableWidget*>("parameters.table");
+    QVERIFY(table);
+    QCOMPARE(table->item(0, ParametersPanel::ValueColumn)->text(), QString("≈ 45/64\"")); // a readout says it rounds
+
+    // The stock is 3/4 inch: the parameter, the driven field and the table agree.
+    table->item(0, ParametersPanel::ExpressionColumn)->setText("3/4in");
+    QCOMPARE(panelSize().x, 19.05);
+    QTRY_COMPARE(text("size.x"), QString("3/4\"")); // (the editor refreshes once the part is resolved)
+    QCOMPARE(table->item(0, ParametersPanel::ValueColumn)->text(), QString("3/4\""));
+
+    // A mixed number without a unit is inches here; the document stores millimetres.
+    typeInto(field(*w, "size.y"), "11 3/4");
+    QCOMPARE(panelSize().y, 298.45);
+    QCOMPARE(text("size.y"), QString("11 3/4\""));
+    QCOMPARE(w->propertyEditor()->errorFor("size.y"), QString());
+    typeInto(field(*w, "size.y"), "300mm"); // millimetres still read as such
+    QCOMPARE(panelSize().y, 300.0);
+
+    // "=height - 2" would subtract 2 mm: said, not stored.
+    const Document before = w->session()->document();
+    typeInto(field(*w, "size.z"), "=height - 2");
+    QVERIFY2(w->propertyEditor()->errorFor("size.z").contains("a number without a unit is in millimetres"),
+             qPrintable(w->propertyEditor()->errorFor("size.z")));
+    QVERIFY(w->session()->document() == before);
+    typeInto(field(*w, "size.z"), "=height - 2in");
+    QCOMPARE(panelSize().z, 1800.0 - 50.8);
+    QCOMPARE(w->propertyEditor()->expressionFor("size.z"), QString("height - 2in"));
+    QCOMPARE(w->propertyEditor()->errorFor("size.z"), QString());
+
+    // Readouts: the bounding box and the cut list in inches and 64ths.
+    w->selectNodes({});
+    action(w.get(), "action.boundingBox")->trigger();
+    QTRY_VERIFY_WITH_TIMEOUT(w->measureText().startsWith("Bounding box: 3/4\" x ≈ 11 13/16\" x ≈ 68 55/64\""), 30000);
+    action(w.get(), "action.cutList")->trigger();
+    auto* cut = w->findChild<CutListDialog*>("cutListDialog");
+    QVERIFY(cut);
+    QTRY_VERIFY_WITH_TIMEOUT(cut->ready(), 30000);
+    auto* cutTable = cut->findChild<QTableWidget*>("cutlist.table");
+    QCOMPARE(cutTable->horizontalHeaderItem(4)->text(), QString("Thickness (in)"));
+    QCOMPARE(cutTable->item(0, 4)->text(), QString("3/4\""));
+    saveScreenshot(*w, "app-lengths-in-inches");
+    cut->close();
+
+    // Back to millimetres: the same document, shown as before.
+    action(w.get(), "action.lengths.mm")->trigger();
+    w->selectNodes({"panel"});
+    QCOMPARE(text("size.x"), QString("19.05 mm"));
+    QCOMPARE(table->item(0, ParametersPanel::ValueColumn)->text(), QString("19.05 mm"));
 }
 
 QTEST_MAIN(MainWindowTest)

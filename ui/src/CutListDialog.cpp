@@ -1,5 +1,7 @@
 #include "CutListDialog.hpp"
 
+#include "LengthDisplay.hpp"
+
 #include "kerf/document/AtomicFile.hpp"
 
 #include <QDialogButtonBox>
@@ -23,7 +25,10 @@ CutListDialog::CutListDialog(const Document& doc, QString partName, QWidget* par
     auto* layout = new QVBoxLayout(this);
     table_ = new QTableWidget(0, 5, this);
     table_->setObjectName("cutlist.table");
-    table_->setHorizontalHeaderLabels({tr("Part"), tr("Qty"), tr("Length (mm)"), tr("Width (mm)"), tr("Thickness (mm)")});
+    const bool inches = LengthDisplay::instance().unit() == LengthUnit::Inches;
+    const QString unit = inches ? tr("in") : tr("mm");
+    table_->setHorizontalHeaderLabels({tr("Part"), tr("Qty"), tr("Length (%1)").arg(unit), tr("Width (%1)").arg(unit),
+                                       tr("Thickness (%1)").arg(unit)});
     table_->horizontalHeader()->setSectionResizeMode(0, QHeaderView::Stretch);
     table_->setEditTriggers(QAbstractItemView::NoEditTriggers);
     table_->setSortingEnabled(false);
@@ -68,7 +73,10 @@ void CutListDialog::showRows(std::vector<CutListRow> rows)
         table_->setItem(r, 1, cell(QString::number(row.quantity), true));
         for (int c = 0; c < 3; ++c) {
             const double v = c == 0 ? row.length : c == 1 ? row.width : row.thickness;
-            table_->setItem(r, 2 + c, cell(row.unbounded ? tr("unbounded") : QString::number(v, 'f', 2), true));
+            // Inches to the nearest 64th, "≈" where that rounds: what a tape measure reads.
+            const QString shown = LengthDisplay::instance().unit() == LengthUnit::Inches ? LengthDisplay::instance().readout(v)
+                                                                                       : QString::number(v, 'f', 2);
+            table_->setItem(r, 2 + c, cell(row.unbounded ? tr("unbounded") : shown, true));
         }
         worst = std::max(worst, row.uncertainty);
     }
@@ -84,7 +92,7 @@ void CutListDialog::showRows(std::vector<CutListRow> rows)
 bool CutListDialog::exportCsv(const QString& file)
 {
     try {
-        writeFileAtomically(file.toStdString(), cutListCsv(rows_));
+        writeFileAtomically(file.toStdString(), cutListCsv(rows_, LengthDisplay::instance().unit()));
         status_->setText(tr("Wrote %1").arg(file));
         return true;
     } catch (const std::exception& e) {

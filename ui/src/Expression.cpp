@@ -21,9 +21,25 @@ bool endsWith(const std::string& s, std::string_view tail)
     return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
 
+ExpressionResult evaluate(std::string_view text, std::string_view unit, bool wantLength, LengthUnit bareLength);
+
 } // namespace
 
 ExpressionResult evaluateExpression(std::string_view text, std::string_view unit)
+{
+    return evaluate(text, unit, unit == "mm", LengthUnit::Millimetres);
+}
+
+ExpressionResult evaluateLength(std::string_view text, LengthUnit shown)
+{
+    // The field's "mm" may trail the number shown; in inches a typed "mm"
+    // is a unit the language reads ("300mm" stays 300 millimetres).
+    return evaluate(text, shown == LengthUnit::Millimetres ? "mm" : "", true, shown);
+}
+
+namespace {
+
+ExpressionResult evaluate(std::string_view text, std::string_view unit, bool wantLength, LengthUnit bareLength)
 {
     ExpressionResult r;
     std::string expr = trimmed(text);
@@ -57,15 +73,17 @@ ExpressionResult evaluateExpression(std::string_view text, std::string_view unit
         none.field = [](std::string_view id, std::string_view path) -> expr::Quantity {
             throw expr::ExpressionError("'" + std::string(id) + "." + std::string(path) + "' is not a number");
         };
+        none.bareLengthMm = bareLengthToMm(1.0, bareLength); // "3/4in + 1/8" in a field shown in inches
         const expr::Quantity q = expr::evaluate(expr, none);
-        const bool wantLength = unit == "mm";
         if (!q.fits(wantLength))
             throw expr::ExpressionError(wantLength ? "it is not a length" : "a length does not belong here");
-        r.value = q.value;
+        r.value = wantLength && q.bare ? bareLengthToMm(q.value, bareLength) : q.value;
     } catch (const expr::ExpressionError& e) {
         r.error = "cannot read '" + expr + "' as a number: " + e.what();
     }
     return r;
 }
+
+} // namespace
 
 } // namespace kerf::ui

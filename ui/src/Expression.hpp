@@ -7,6 +7,8 @@
 // trailing unit that matches the field ("mm", "°", "deg") is accepted and
 // ignored. Qt-free.
 
+#include "kerf/document/LengthFormat.hpp"
+
 #include <optional>
 #include <string>
 #include <string_view>
@@ -20,5 +22,10 @@ struct ExpressionResult {
 
 /// Evaluates `text`; `unit` (e.g. "mm") may follow the expression.
 ExpressionResult evaluateExpression(std::string_view text, std::string_view unit = {});
+
+/// Evaluates `text` for a length field whose lengths are shown in `shown`:
+/// the result in millimetres; a number without a unit is in `shown` ("12"
+/// is 12 inches when lengths are shown in inches); "mm" may follow.
+ExpressionResult evaluateLength(std::string_view text, LengthUnit shown);
 
 } // namespace kerf::ui

@@ -6,6 +6,7 @@
 
 #include "CutListDialog.hpp"
 #include "ExportDialog.hpp"
+#include "LengthDisplay.hpp"
 #include "MainWindow.hpp"
 #include "MeasureTool.hpp"
 #include "MoveTool.hpp"
@@ -15,6 +16,7 @@
 #include "kerf/viewport/qt/ViewportWidget.hpp"
 
 #include <QAction>
+#include <QActionGroup>
 #include <QDir>
 #include <QDockWidget>
 #include <QFileDialog>
@@ -242,6 +244,21 @@ void MainWindow::buildViewMenu()
         voxelizer_->submit(session_->document());
     });
     view->addActions({refineForView_, budget});
+    view->addSeparator();
+    // How lengths are shown and typed (the document stays in millimetres).
+    QMenu* lengths = view->addMenu(tr("&Lengths In"));
+    auto* lengthUnits = new QActionGroup(this);
+    for (const auto& [unit, label, name] :
+         {std::tuple{LengthUnit::Millimetres, tr("&Millimetres"), "action.lengths.mm"},
+          std::tuple{LengthUnit::Inches, tr("&Inches and Fractions"), "action.lengths.in"}}) {
+        QAction* a = newAction(label, name);
+        a->setCheckable(true);
+        a->setChecked(LengthDisplay::instance().unit() == unit);
+        a->setActionGroup(lengthUnits);
+        const LengthUnit chosen = unit;
+        connect(a, &QAction::triggered, this, [chosen] { LengthDisplay::instance().setUnit(chosen); });
+        lengths->addAction(a);
+    }
     view->addSeparator(); // the docks' toggles follow (buildDocks)
 }
 

@@ -1,5 +1,7 @@
 #include "MeasureTool.hpp"
 
+#include "LengthDisplay.hpp"
+
 #include "DocumentSession.hpp"
 #include "NodeText.hpp"
 #include "kerf/document/NodePlacement.hpp"
@@ -19,12 +21,15 @@ namespace kerf::ui {
 
 namespace {
 
-// Two decimals, and no "-0.00" for a difference that rounds to nothing.
-QString millimetres(double v) { return QString::number(std::abs(v) < 0.005 ? 0.0 : v, 'f', 2); }
+// In the user's unit ("32.00 mm", "1 1/4\""), no "-0.00" for a difference
+// that rounds to nothing; in lists the millimetres are said once at the end.
+QString length(double mm) { return LengthDisplay::instance().readout(mm); }
+QString number(double mm) { return LengthDisplay::instance().bare(mm); }
+QString unit() { return LengthDisplay::instance().suffix(); }
 
 QString pointText(const glm::dvec3& p)
 {
-    return QStringLiteral("(%1, %2, %3)").arg(millimetres(p.x), millimetres(p.y), millimetres(p.z));
+    return QStringLiteral("(%1, %2, %3)%4").arg(number(p.x), number(p.y), number(p.z), unit());
 }
 
 QString snapText(SnapKind kind)
@@ -90,16 +95,16 @@ void MeasureTool::click(const qt::ViewportPick& pick)
     viewport_->setMarkers(at);
     const Point& a = points_.front();
     if (points_.size() == 1) {
-        panel_->setText(tr("Point 1: %1 %2 mm\nClick the second point.").arg(snapText(a.kind), pointText(a.at)));
+        panel_->setText(tr("Point 1: %1 %2\nClick the second point.").arg(snapText(a.kind), pointText(a.at)));
         return;
     }
     const Point& b = points_.back();
     const glm::dvec3 d = b.at - a.at;
-    const QString distance = millimetres(glm::length(d));
-    panel_->setText(tr("Distance: %1 mm\nΔX %2   ΔY %3   ΔZ %4 mm\nfrom %5 %6\nto %7 %8")
-                        .arg(distance, millimetres(d.x), millimetres(d.y), millimetres(d.z), snapText(a.kind),
+    const QString distance = length(glm::length(d));
+    panel_->setText(tr("Distance: %1\nΔX %2   ΔY %3   ΔZ %4%5\nfrom %6 %7\nto %8 %9")
+                        .arg(distance, number(d.x), number(d.y), number(d.z), unit(), snapText(a.kind),
                              pointText(a.at), snapText(b.kind), pointText(b.at)));
-    viewport_->setDimension(std::make_pair(a.at, b.at), tr("%1 mm").arg(distance));
+    viewport_->setDimension(std::make_pair(a.at, b.at), distance);
 }
 
 void MeasureTool::showBoundingBox(const std::vector<std::string>& nodeIds)
@@ -137,12 +142,12 @@ void MeasureTool::showBoundingBox(const std::vector<std::string>& nodeIds)
         }
         const Aabb& b = *r.box;
         const glm::dvec3 s = b.size();
-        const QString size = tr("%1 x %2 x %3 mm").arg(millimetres(s.x), millimetres(s.y), millimetres(s.z));
+        const QString size = tr("%1 x %2 x %3%4").arg(number(s.x), number(s.y), number(s.z), unit());
         panel_->setText((what.isEmpty() ? tr("Bounding box: %1").arg(size)
                                         : tr("Bounding box of %1: %2").arg(what, size)) +
                         tr("\nX %1 … %2\nY %3 … %4\nZ %5 … %6")
-                            .arg(millimetres(b.min.x), millimetres(b.max.x), millimetres(b.min.y), millimetres(b.max.y),
-                                 millimetres(b.min.z), millimetres(b.max.z)));
+                            .arg(number(b.min.x), number(b.max.x), number(b.min.y), number(b.max.y), number(b.min.z),
+                                 number(b.max.z)));
         viewport_->setBoxShown(b, size);
     });
     watcher->setFuture(QtConcurrent::run([tapes = std::move(tapes)]() -> BoxResult {

@@ -1,12 +1,14 @@
 #include "MoveTool.hpp"
 
+#include "Expression.hpp"
+#include "LengthDisplay.hpp"
+
 #include "DocumentSession.hpp"
 #include "NodeText.hpp"
 #include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/NodePlacement.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 
-#include <QLocale>
 #include <QRegularExpression>
 
 #include <glm/geometric.hpp>
@@ -22,7 +24,12 @@ constexpr double kAlignPixels = 8.0;
 
 const char* const kAxisName[3] = {"X", "Y", "Z"};
 
-QString distanceText(double mm) { return QString::number(mm, 'f', 2).remove(QRegularExpression("\\.?0+$")); }
+// "32 mm", "-48.5 mm"; in inches "1 1/4\"" or "≈ 1 17/64\"".
+QString distanceText(double mm)
+{
+    if (LengthDisplay::instance().unit() == LengthUnit::Inches) return LengthDisplay::instance().readout(mm);
+    return QString::number(mm, 'f', 2).remove(QRegularExpression("\\.?0+$")) + " mm";
+}
 
 } // namespace
 
@@ -88,21 +95,23 @@ void MoveTool::dragged(const qt::GizmoDrag& drag)
     const int axis = gizmoAxisIndex(drag.handle);
     if (axis < 0) return;
     const double reach = kAlignPixels * drag.millimetresPerPixel;
-    const double step = drag.free ? 0.0 : gridStepFor(drag.millimetresPerPixel);
+    const LengthUnit unit = LengthDisplay::instance().unit();
+    const double step = drag.free ? 0.0 : gridStepFor(drag.millimetresPerPixel, unit);
     glm::dvec3 delta(0.0);
     QString how;
     if (!isPlaneHandle(drag.handle)) {
         const double raw = drag.displacement[axis];
         if (!drag.typed.isEmpty()) {
-            bool ok = false;
-            const double typed = drag.typed == "-" ? 0.0 : QLocale::c().toDouble(drag.typed, &ok);
-            delta[axis] = ok ? typed : 0.0;
-            how = tr("typed: %1 mm, Enter to finish").arg(drag.typed);
+            // In the unit shown: "48.5" is millimetres or inches, "1 1/2" an inch and a half.
+            const std::optional<double> typed = evaluateLength(drag.typed.toStdString(), unit).value;
+            delta[axis] = typed.value_or(0.0);
+            const QString mark = unit == LengthUnit::Inches ? QStringLiteral("\"") : QStringLiteral(" mm");
+            how = tr("typed: %1%2, Enter to finish").arg(drag.typed, mark);
         } else if (drag.free) {
             delta[axis] = raw;
             how = tr("no snapping");
         } else {
-            const AxisSnap s = snapAxisMove(startBounds_, axis, raw, targets_, reach, step);
+            const AxisSnap s = snapAxisMove(startBounds_, axis, raw, targets_, reach, step, unit);
             delta[axis] = s.delta;
             how = QString::fromStdString(s.reason);
         }
@@ -111,7 +120,7 @@ void MoveTool::dragged(const qt::GizmoDrag& drag)
         for (int a = 0; a < 3; ++a) {
             if (a == axis) continue;
             const AxisSnap s = drag.free ? AxisSnap{drag.displacement[a], {}}
-                                         : snapAxisMove(startBounds_, a, drag.displacement[a], targets_, reach, step);
+                                         : snapAxisMove(startBounds_, a, drag.displacement[a], targets_, reach, step, unit);
             delta[a] = s.delta;
             if (!s.reason.empty()) reasons << QString("%1 %2").arg(kAxisName[a], QString::fromStdString(s.reason));
         }
@@ -121,12 +130,12 @@ void MoveTool::dragged(const qt::GizmoDrag& drag)
     if (!node) return;
     QString where;
     if (!isPlaneHandle(drag.handle)) {
-        where = tr("%1 mm along %2").arg(distanceText(delta[axis]), kAxisName[axis]);
+        where = tr("%1 along %2").arg(distanceText(delta[axis]), kAxisName[axis]);
     } else {
         QStringList parts;
         for (int a = 0; a < 3; ++a)
             if (a != axis) parts << QString("%1 %2").arg(kAxisName[a], distanceText(delta[a]));
-        where = tr("by %1 mm").arg(parts.join(", "));
+        where = tr("by %1").arg(parts.join(", "));
     }
     const QString text = tr("Move %1 %2").arg(featureName(*node), where);
     QString error;

@@ -32,18 +32,23 @@ NameCompleter::NameCompleter(QLineEdit* edit, std::function<QStringList()> names
     completer_->setCompletionMode(QCompleter::PopupCompletion);
     connect(edit_, &QLineEdit::textEdited, this, &NameCompleter::offer);
     connect(completer_, qOverload<const QString&>(&QCompleter::activated), this, &NameCompleter::insert);
-    edit_->installEventFilter(this);
+    completer_->popup()->installEventFilter(this); // after QCompleter's filter, so it runs first
 }
 
 bool NameCompleter::eventFilter(QObject* watched, QEvent* event)
 {
-    // QCompleter passes the Return that picked a name on to the field; there
-    // it would commit the expression half typed. The next Return commits.
-    if (watched == edit_ && event->type() == QEvent::KeyPress) {
+    // The Return that picks a name must not also reach the field: QCompleter
+    // passes it on by a direct event() call, where the field would commit
+    // the expression half typed (a spin box would even put its number back
+    // first). This filter sits on the popup in front of QCompleter's own.
+    if (watched == completer_->popup() && event->type() == QEvent::KeyPress) {
         const int key = static_cast<QKeyEvent*>(event)->key();
-        const bool eat = justCompleted_ && (key == Qt::Key_Return || key == Qt::Key_Enter);
-        justCompleted_ = false;
-        if (eat) return true;
+        const QModelIndex chosen = completer_->popup()->currentIndex();
+        if ((key == Qt::Key_Return || key == Qt::Key_Enter) && chosen.isValid()) {
+            completer_->popup()->hide();
+            insert(chosen.data().toString());
+            return true;
+        }
     }
     return QObject::eventFilter(watched, event);
 }
@@ -89,7 +94,6 @@ void NameCompleter::insert(const QString& name)
     edit_->setText(text);
     edit_->setCursorPosition(start + int(name.size()));
     edit_->setModified(true);
-    justCompleted_ = true;
 }
 
 } // namespace kerf::ui

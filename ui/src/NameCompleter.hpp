@@ -2,8 +2,7 @@
 // Completes the document's parameter names while an expression is typed:
 // the word under the cursor ("=thi" offers "thickness"), not the whole
 // text, so it works in the middle of "depth - 2*thi". For the Parameters
-// panel's expressions. (Not yet in the property fields: inside a spin box
-// the popup's focus changes put the value back over the typed text.)
+// panel's expressions and the property fields' "=...".
 
 #include <QObject>
 #include <QStringList>
@@ -46,7 +45,6 @@ private:
     bool onlyAfterEquals_;
     QCompleter* completer_;
     QStringListModel* model_;
-    bool justCompleted_ = false; // the Return that chose a name is not also the Return that commits
 };
 
 } // namespace kerf::ui

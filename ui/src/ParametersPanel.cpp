@@ -1,6 +1,7 @@
 #include "ParametersPanel.hpp"
 
 #include "DocumentSession.hpp"
+#include "LengthDisplay.hpp"
 #include "NameCompleter.hpp"
 #include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/NodeTypes.hpp"
@@ -91,6 +92,7 @@ ParametersPanel::ParametersPanel(DocumentSession* session, QWidget* parent) : QW
     connect(remove_, &QPushButton::clicked, this, &ParametersPanel::removeSelected);
     connect(table_, &QTableWidget::itemChanged, this, &ParametersPanel::onItemChanged);
     connect(session_, &DocumentSession::documentChanged, this, &ParametersPanel::refresh);
+    connect(&LengthDisplay::instance(), &LengthDisplay::changed, this, &ParametersPanel::refresh);
     refresh();
 }
 
@@ -116,7 +118,9 @@ void ParametersPanel::refresh()
         };
         set(NameColumn, QString::fromStdString(p.name), true);
         set(ExpressionColumn, QString::fromStdString(p.expression), true);
-        set(ValueColumn, QString::fromStdString(formatFieldNumber(p.value)) + unit, false);
+        const bool inches = p.unit == "length" && LengthDisplay::instance().unit() == LengthUnit::Inches;
+        set(ValueColumn, inches ? LengthDisplay::instance().readout(p.value) : QString::fromStdString(formatFieldNumber(p.value)) + unit,
+            false);
         set(CommentColumn, QString::fromStdString(p.comment.value_or("")), true);
         table_->item(r, ExpressionColumn)->setToolTip(QString::fromStdString(p.expression));
         table_->item(r, CommentColumn)->setToolTip(QString::fromStdString(p.comment.value_or("")));

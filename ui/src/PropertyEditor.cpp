@@ -1,7 +1,11 @@
 #include "PropertyEditor.hpp"
 
 #include "NodeText.hpp"
+#include "Expression.hpp"
+#include "LengthDisplay.hpp"
+#include "NameCompleter.hpp"
 #include "QuantityEdit.hpp"
+#include "kerf/document/Expression.hpp"
 #include "kerf/document/DocumentEdits.hpp"
 #include "UndoKeysToWindow.hpp"
 
@@ -31,7 +35,7 @@ namespace kerf::ui {
 
 namespace {
 
-constexpr int kMm = int(QuantityEdit::Unit::Millimetres);
+constexpr int kLength = int(QuantityEdit::Unit::Length);
 constexpr int kDeg = int(QuantityEdit::Unit::Degrees);
 constexpr int kPlain = int(QuantityEdit::Unit::None);
 const char* kAxes[3] = {"x", "y", "z"};
@@ -55,6 +59,18 @@ void setNormalComponent(glm::dvec3& n, int axis, double v)
     if (len > 0.0 && std::isfinite(len)) n /= len;
 }
 
+// A profile point's coordinate as shown and typed: a length in the user's unit.
+QString profileText(double mm)
+{
+    return QString::fromStdString(lengthForEditing(mm, LengthDisplay::instance().unit()));
+}
+
+std::optional<double> profileValue(const QTableWidgetItem* item)
+{
+    if (!item) return std::nullopt;
+    return evaluateLength(item->text().toStdString(), LengthDisplay::instance().unit()).value;
+}
+
 } // namespace
 
 PropertyEditor::PropertyEditor(DocumentSession* session, QWidget* parent) : QWidget(parent), session_(session)
@@ -73,6 +89,7 @@ PropertyEditor::PropertyEditor(DocumentSession* session, QWidget* parent) : QWid
         if (!n || n->type != shownType_) rebuild();
         else refresh();
     });
+    connect(&LengthDisplay::instance(), &LengthDisplay::changed, this, &PropertyEditor::rebuild); // headers too
     rebuild();
 }
 
@@ -190,6 +207,8 @@ void PropertyEditor::addQuantity(const QString& label, const QString& key, int u
     auto* edit = new QuantityEdit(QuantityEdit::Unit(unit), row);
     edit->setObjectName("field." + key);
     edit->setDecimals(decimals);
+    // "=thi" offers "thickness": the names an expression can use.
+    edit->completeNames([s = session_] { return parameterNames(s->document()); });
     auto* error = errorLabel(row);
     error->setObjectName("error." + key);
     v->addWidget(edit);
@@ -214,6 +233,15 @@ void PropertyEditor::commitExpression(std::size_t index, const QString& expressi
     const std::string text = expression.toStdString();
     QString field = fields_[index].label;
     if (field.size() > 1 && field[1].isLower()) field[0] = field[0].toLower();
+    // "=depth - 2" stored in the document subtracts 2 mm: said before it
+    // happens to someone who sees inches.
+    if (fields_[index].edit->unit() == QuantityEdit::Unit::Length &&
+        LengthDisplay::instance().unit() == LengthUnit::Inches && expr::addsBareNumbersToLengths(text)) {
+        showError(fields_[index].error,
+                  tr("In an expression a number without a unit is in millimetres, the document's unit: "
+                     "write the unit (2in, 1/8in, 3mm)."));
+        return;
+    }
     // The document evaluates it (and refuses it, under the field, with its reason).
     applyToNode(tr("Set %1 of %2 to =%3").arg(field, featureName(*n), expression),
                 [&](Node& m) { m.expressions[path] = text; }, fields_[index].error);
@@ -311,7 +339,7 @@ void PropertyEditor::rebuild()
     connect(clear, &QPushButton::clicked, this,
             [this] { applyToNode(tr("Inherit colour"), [](Node& x) { x.color.reset(); }, generalError_); });
 
-    addVector(tr("Position"), "translate", kMm, [](const Node& m) { return m.transform.translate; },
+    addVector(tr("Position"), "translate", kLength, [](const Node& m) { return m.transform.translate; },
               [](Node& m, int a, double v) { m.transform.translate[a] = v; });
     addVector(tr("Rotation"), "rotate", kDeg, [](const Node& m) { return m.transform.rotate; },
               [](Node& m, int a, double v) { m.transform.rotate[a] = v; });
@@ -320,7 +348,7 @@ void PropertyEditor::rebuild()
     for (const FieldSpec& f : nodeTypeSpec(n->type).fields) {
         const QString label = QCoreApplication::translate("NodeTypes", std::string(f.label).c_str());
         const QString key = QString::fromUtf8(f.key.data(), qsizetype(f.key.size()));
-        const int unit = f.unit == FieldUnit::Length ? kMm : f.unit == FieldUnit::Angle ? kDeg : kPlain;
+        const int unit = f.unit == FieldUnit::Length ? kLength : f.unit == FieldUnit::Angle ? kDeg : kPlain;
         const FieldSpec* spec = &f; // the table lives as long as the program
         const int firstRow = form_->rowCount();
         switch (f.shape) {
@@ -362,7 +390,8 @@ void PropertyEditor::addProfileTable(const FieldSpec& field)
     profile_->setObjectName("field." + QString::fromUtf8(field.key.data(), qsizetype(field.key.size())));
     const QString a = QString::fromUtf8(field.pointAxes[0].data(), qsizetype(field.pointAxes[0].size())).toUpper();
     const QString b = QString::fromUtf8(field.pointAxes[1].data(), qsizetype(field.pointAxes[1].size())).toUpper();
-    profile_->setHorizontalHeaderLabels({tr("%1 (mm)").arg(a), tr("%1 (mm)").arg(b)});
+    const QString unit = LengthDisplay::instance().unit() == LengthUnit::Inches ? tr("in") : tr("mm");
+    profile_->setHorizontalHeaderLabels({tr("%1 (%2)").arg(a, unit), tr("%1 (%2)").arg(b, unit)});
     profile_->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
     profile_->setMinimumHeight(140);
     form_->addRow(QCoreApplication::translate("NodeTypes", std::string(field.label).c_str()), profile_);
@@ -386,13 +415,13 @@ void PropertyEditor::addProfileTable(const FieldSpec& field)
         const int n = profile_->rowCount();
         if (n < 2) return;
         const int next = (r + 1) % n;
-        auto cell = [&](int row, int col) { return profile_->item(row, col)->text().toDouble(); };
+        auto cell = [&](int row, int col) { return profileValue(profile_->item(row, col)).value_or(0.0); };
         const double x = 0.5 * (cell(r, 0) + cell(next, 0)), y = 0.5 * (cell(r, 1) + cell(next, 1));
         {
             const QSignalBlocker block(profile_);
             profile_->insertRow(r + 1);
-            profile_->setItem(r + 1, 0, new QTableWidgetItem(QString::number(x)));
-            profile_->setItem(r + 1, 1, new QTableWidgetItem(QString::number(y)));
+            profile_->setItem(r + 1, 0, new QTableWidgetItem(profileText(x)));
+            profile_->setItem(r + 1, 1, new QTableWidgetItem(profileText(y)));
         }
         commitProfile();
     });
@@ -411,15 +440,14 @@ void PropertyEditor::commitProfile()
 {
     std::vector<glm::dvec2> points;
     for (int r = 0; r < profile_->rowCount(); ++r) {
-        bool okx = false, oky = false;
-        const double x = profile_->item(r, 0) ? profile_->item(r, 0)->text().toDouble(&okx) : 0.0;
-        const double y = profile_->item(r, 1) ? profile_->item(r, 1)->text().toDouble(&oky) : 0.0;
-        if (!okx || !oky) {
+        const std::optional<double> x = profileValue(profile_->item(r, 0));
+        const std::optional<double> y = profileValue(profile_->item(r, 1));
+        if (!x || !y) {
             showError(profileError_, tr("point %1: not a number").arg(r + 1));
             refresh();
             return;
         }
-        points.emplace_back(x, y);
+        points.emplace_back(*x, *y);
     }
     const FieldSpec* field = profileField_;
     if (!applyToNode(tr("Edit profile"), [&](Node& m) { field->pointsIn(m) = points; }, profileError_))
@@ -494,8 +522,8 @@ void PropertyEditor::refresh()
         const QSignalBlocker block(profile_);
         profile_->setRowCount(int(pts.size()));
         for (int r = 0; r < int(pts.size()); ++r) {
-            profile_->setItem(r, 0, new QTableWidgetItem(QString::number(pts[std::size_t(r)].x, 'g', 12)));
-            profile_->setItem(r, 1, new QTableWidgetItem(QString::number(pts[std::size_t(r)].y, 'g', 12)));
+            profile_->setItem(r, 0, new QTableWidgetItem(profileText(pts[std::size_t(r)].x)));
+            profile_->setItem(r, 1, new QTableWidgetItem(profileText(pts[std::size_t(r)].y)));
         }
     }
     refreshing_ = false;

@@ -1,6 +1,7 @@
 #include "QuantityEdit.hpp"
 
-#include "Expression.hpp"
+#include "LengthDisplay.hpp"
+#include "NameCompleter.hpp"
 #include "UndoKeysToWindow.hpp"
 
 #include <QLineEdit>
@@ -18,10 +19,14 @@ QuantityEdit::QuantityEdit(Unit unit, QWidget* parent) : QDoubleSpinBox(parent),
     // allowed, and says why.
     setRange(-1e9, 1e9);
     setDecimals(6);
-    setSingleStep(unit == Unit::Degrees ? 1.0 : 1.0);
+    setSingleStep(1.0);
     setKeyboardTracking(false); // typed text commits on Enter or leaving the field
     setAccelerated(true);
     setSuffix(unitSuffix());
+    if (unit_ == Unit::Length) {
+        followLengthDisplay();
+        connect(&LengthDisplay::instance(), &LengthDisplay::changed, this, &QuantityEdit::followLengthDisplay);
+    }
     setCorrectionMode(QAbstractSpinBox::CorrectToPreviousValue);
     connect(lineEdit(), &QLineEdit::editingFinished, this, [this] {
         lineEdit()->setModified(false); // committed: Ctrl+Z now undoes the edit (UndoKeysToWindow)
@@ -51,6 +56,11 @@ void QuantityEdit::setExpression(const QString& expression)
         lineEdit()->setText(expression_.isEmpty() ? textFromValue(value()) + suffix() : "=" + expression_);
 }
 
+void QuantityEdit::completeNames(std::function<QStringList()> names)
+{
+    new NameCompleter(lineEdit(), std::move(names), /*onlyAfterEquals=*/true);
+}
+
 void QuantityEdit::focusInEvent(QFocusEvent* event)
 {
     QDoubleSpinBox::focusInEvent(event);
@@ -60,10 +70,29 @@ void QuantityEdit::focusInEvent(QFocusEvent* event)
     }
 }
 
+bool QuantityEdit::inInches() const
+{
+    return unit_ == Unit::Length && LengthDisplay::instance().unit() == LengthUnit::Inches;
+}
+
+void QuantityEdit::followLengthDisplay()
+{
+    // A sixteenth of an inch per arrow step in inches, a millimetre otherwise.
+    setSingleStep(inInches() ? 25.4 / 16.0 : 1.0);
+    setSuffix(unitSuffix()); // and the text again, in the unit now shown
+    if (!hasFocus() || !lineEdit()->isModified()) showValue(value());
+}
+
+ExpressionResult QuantityEdit::evaluate(const QString& text) const
+{
+    if (unit_ == Unit::Length) return evaluateLength(text.toStdString(), LengthDisplay::instance().unit());
+    return evaluateExpression(text.toStdString(), unitText().toStdString());
+}
+
 void QuantityEdit::reportUnreadableText()
 {
     const QString text = lineEdit()->text();
-    const ExpressionResult r = evaluateExpression(text.toStdString(), unitText().toStdString());
+    const ExpressionResult r = evaluate(text);
     if (!r.value) emit unreadable(QString::fromStdString(r.error)); // names the text ("cannot read 'twelve' ...")
 }
 
@@ -115,6 +144,7 @@ QString QuantityEdit::unitSuffix() const { return unitText().isEmpty() ? QString
 QString QuantityEdit::unitText() const
 {
     switch (unit_) {
+    case Unit::Length: return inInches() ? QString() : QStringLiteral("mm"); // inches: '"' is part of the number's text
     case Unit::Millimetres: return QStringLiteral("mm");
     case Unit::Degrees: return QStringLiteral("°");
     case Unit::None: return {};
@@ -133,26 +163,16 @@ QValidator::State QuantityEdit::validate(QString& text, int&) const
     // Anything may be on its way to an expression; only what reads as a
     // number is acceptable ("=..." is the document's: never a number here).
     if (text.trimmed().startsWith('=')) return QValidator::Intermediate;
-    const ExpressionResult r = evaluateExpression(text.toStdString(), unitText().toStdString());
-    return r.value ? QValidator::Acceptable : QValidator::Intermediate;
+    return evaluate(text).value ? QValidator::Acceptable : QValidator::Intermediate;
 }
 
-double QuantityEdit::valueFromText(const QString& text) const
-{
-    const ExpressionResult r = evaluateExpression(text.toStdString(), unitText().toStdString());
-    return r.value.value_or(value());
-}
+double QuantityEdit::valueFromText(const QString& text) const { return evaluate(text).value.value_or(value()); }
 
 QString QuantityEdit::textFromValue(double v) const
 {
-    // Up to six decimals, without trailing zeros: 18, 2.5, 0.001.
-    QString s = QString::number(v, 'f', 6);
-    if (s.contains('.')) {
-        while (s.endsWith('0')) s.chop(1);
-        if (s.endsWith('.')) s.chop(1);
-    }
-    if (s == "-0") s = "0";
-    return s;
+    // Up to six decimals, without trailing zeros: 18, 2.5, 0.001; in inches
+    // 11 3/4" or 0.708661" (LengthFormat.hpp: read back as the same length).
+    return QString::fromStdString(lengthForEditing(v, inInches() ? LengthUnit::Inches : LengthUnit::Millimetres));
 }
 
 void QuantityEdit::fixup(QString& input) const { input = textFromValue(value()) + suffix(); }

@@ -1,26 +1,36 @@
 #pragma once
-// A numeric field with a unit ("mm", "°" or none) that takes arithmetic
-// ("18*2", "450 - 2*18"), steps with the arrows and (once clicked into) the
-// wheel, and reports
+// A numeric field with a unit ("mm", inches, "°" or none) that takes
+// arithmetic ("18*2", "450 - 2*18", "11 3/4"), steps with the arrows and
+// (once clicked into) the wheel, and reports
 // text it cannot read instead of silently dropping it. A spin box, so a
 // value dragged with the arrows or the wheel arrives as a stream of
 // valueChanged() (merged into one undo step by the editor).
 
+#include "Expression.hpp"
+
 #include <QDoubleSpinBox>
+#include <QStringList>
+
+#include <functional>
 
 namespace kerf::ui {
 
 class QuantityEdit : public QDoubleSpinBox {
     Q_OBJECT
 public:
-    enum class Unit { Millimetres, Degrees, None };
+    /// Length: a length of the part, shown in the user's unit (LengthDisplay);
+    /// Millimetres: an accuracy (feature size, tolerance), always in millimetres.
+    enum class Unit { Length, Millimetres, Degrees, None };
     explicit QuantityEdit(Unit unit, QWidget* parent = nullptr);
+    Unit unit() const { return unit_; }
 
     /// Shows `v` without emitting valueChanged (a refresh from the document).
     void showValue(double v);
     /// The expression that drives the value ("" when none): shown as
     /// "=expression" while the field has the focus, to be edited there.
     void setExpression(const QString& expression);
+    /// Offers `names` (asked each time) as an expression is typed after '='.
+    void completeNames(std::function<QStringList()> names);
 
     QValidator::State validate(QString& text, int& pos) const override;
     double valueFromText(const QString& text) const override;
@@ -41,6 +51,11 @@ signals:
     void expressionEntered(const QString& expression);
 
 private:
+    /// Lengths shown in inches in this field.
+    bool inInches() const;
+    /// Unit, step and text for the length unit now shown.
+    void followLengthDisplay();
+    ExpressionResult evaluate(const QString& text) const;
     QString unitText() const;
     QString unitSuffix() const; // " mm", " °" or none
     /// The typed text as an expression ("=..."), or a null string.

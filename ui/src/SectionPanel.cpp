@@ -30,7 +30,7 @@ SectionPanel::SectionPanel(std::function<Aabb()> partBounds, QWidget* parent)
     slider_->setObjectName("section.slider");
     slider_->setRange(0, kSliderSteps);
     slider_->setValue(kSliderSteps / 2);
-    offset_ = new QuantityEdit(QuantityEdit::Unit::Millimetres, this);
+    offset_ = new QuantityEdit(QuantityEdit::Unit::Length, this);
     offset_->setObjectName("section.offset");
     flip_ = new QCheckBox(tr("Keep the other side"), this);
     flip_->setObjectName("section.flip");

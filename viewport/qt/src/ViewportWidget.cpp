@@ -633,7 +633,8 @@ void ViewportWidget::onWheel(QWheelEvent* e)
 void ViewportWidget::onKey(QKeyEvent* e)
 {
     if (drag_ == Drag::Gizmo) {
-        // A distance typed during the drag: digits, a point, a sign.
+        // A distance typed during the drag: digits, a point, a sign; a space
+        // and a slash for fractions of an inch ("1 1/2").
         const QString t = e->text();
         if (e->key() == Qt::Key_Escape) {
             endGizmoDrag(true);
@@ -642,7 +643,8 @@ void ViewportWidget::onKey(QKeyEvent* e)
         } else if (e->key() == Qt::Key_Backspace) {
             gizmoDrag_.typed.chop(1);
             emit gizmoDragged(gizmoDrag_);
-        } else if (t.size() == 1 && (t[0].isDigit() || t == "." || t == "-" || t == ",")) {
+        } else if (t.size() == 1 && (t[0].isDigit() || t == "." || t == "-" || t == "," || t == "/" ||
+                                     (t == " " && !gizmoDrag_.typed.isEmpty()))) {
             gizmoDrag_.typed += t == "," ? QString(".") : t;
             emit gizmoDragged(gizmoDrag_);
         } else {

@@ -10,7 +10,7 @@
 //   unary   := '-' unary | '+' unary | atom
 //   atom    := literal | name | reference | function '(' sum (',' sum)* ')' | '(' sum ')'
 //   literal := number [unit] | number '/' number unit      ("3/4in" is three quarters of an inch)
-//            | integer ' ' number '/' number unit           ("11 3/4in")
+//            | integer ' ' number '/' number [unit]         ("11 3/4in"; "11 3/4" is bare)
 //   unit    := mm | cm | m | in | " | ft | '
 //   reference := node-id '.' key ('.' key)* ('[' integer ']')*   ("seat.size[0]", "leg.transform.translate[2]")
 //   function: min, max (two or more), abs, sqrt, sin, cos, tan (degrees), round, floor, ceil
@@ -51,6 +51,10 @@ struct Resolver {
     std::function<Quantity(std::string_view name)> name;
     /// `nodeId`, then the path inside it ("size[0]", "transform.translate[2]").
     std::function<Quantity(std::string_view nodeId, std::string_view path)> field;
+    /// The millimetres a bare number stands for where it meets a length
+    /// ("thickness + 2"): 1 in documents; 25.4 in a field whose lengths are
+    /// shown in inches, where "2" means two inches.
+    double bareLengthMm = 1.0;
 };
 
 /// A refusal, with a sentence for people ("unknown name 'thikness'").
@@ -71,6 +75,13 @@ struct Uses {
     std::vector<std::string> references; // "seat.size[0]"
 };
 Uses uses(std::string_view text);
+
+/// Whether `text` adds (subtracts, compares) a number written without a
+/// unit to a length, taking every name and reference for a length
+/// ("depth - 2": yes; "2 * depth", "depth - 2mm": no). In a document such a
+/// number is millimetres, which a person who sees inches may not mean.
+/// False for text that does not evaluate.
+bool addsBareNumbersToLengths(std::string_view text);
 
 /// `text` with every use of the name `from` spelt `to` (a parameter
 /// renamed); everything else as it was written.

@@ -22,6 +22,7 @@
 // width >= thickness.
 
 #include "kerf/document/Document.hpp"
+#include "kerf/document/LengthFormat.hpp"
 
 #include <string>
 #include <vector>
@@ -44,7 +45,9 @@ struct CutListRow {
 std::vector<CutListRow> cutList(const Document& doc, double tolerance = 1e-2);
 
 /// The rows as CSV (RFC 4180: quoted where needed, CRLF line ends), with a
-/// header: Part,Id,Quantity,Length (mm),Width (mm),Thickness (mm).
-std::string cutListCsv(const std::vector<CutListRow>& rows);
+/// header: Part,Id,Quantity,Length (mm),Width (mm),Thickness (mm); in
+/// inches "Length (in)", ... with decimal inches to a ten-thousandth (what
+/// a spreadsheet or a cutting optimizer reads).
+std::string cutListCsv(const std::vector<CutListRow>& rows, LengthUnit unit = LengthUnit::Millimetres);
 
 } // namespace kerf
