@@ -80,6 +80,13 @@ struct FileCase {
     std::string root;
     double featureSize;
     double volume; // mm^3, closed form; 0 where there is none
+    /// Whether the simplified export keeps every triangle within the
+    /// tolerance. Not yet where a sharp edge lies on lattice lines (faces
+    /// on lattice planes, bodies touching there, a tool flush with a face):
+    /// the marching cubes cut the edge off, and the simplification and the
+    /// refinement leave some of that cut (issue 13, open; the exporter says
+    /// so, and these cases check that what it says is what the file holds).
+    bool holdsTolerance = true;
 };
 void PrintTo(const FileCase& c, std::ostream* os) { *os << c.name; }
 
@@ -93,25 +100,38 @@ std::vector<FileCase> fileCases()
         {"touching_faces", R"({"id":"u","type":"union","children":[
             {"id":"a","type":"box","size":[40,20,18],"transform":{"translate":[-20,0,0]}},
             {"id":"b","type":"box","size":[40,20,18],"transform":{"translate":[20,0,0]}}]})",
-         1.0, 80.0 * 20.0 * 18.0},
+         1.0, 80.0 * 20.0 * 18.0, false},
         {"touching_edges", R"({"id":"u","type":"union","children":[
             {"id":"a","type":"box","size":[20,20,18],"transform":{"translate":[-10,-10,0]}},
             {"id":"b","type":"box","size":[20,20,18],"transform":{"translate":[10,10,0]}}]})",
-         1.0, 0.0},
+         1.0, 0.0, false},
         {"flush_tool", R"({"id":"d","type":"difference","children":[
             {"id":"b","type":"box","size":[60,40,18]},
             {"id":"t","type":"box","size":[20,40,6],"transform":{"translate":[0,0,6]}}]})",
-         1.0, 60.0 * 40.0 * 18.0 - 20.0 * 40.0 * 6.0},
+         1.0, 60.0 * 40.0 * 18.0 - 20.0 * 40.0 * 6.0, false},
         {"lattice_faces", R"({"id":"b","type":"box","size":[40,30,20]})", 0.5, 40.0 * 30.0 * 20.0},
-        {"lattice_faces_coarse", R"({"id":"b","type":"box","size":[40,30,20]})", 2.0, 40.0 * 30.0 * 20.0},
+        {"lattice_faces_coarse", R"({"id":"b","type":"box","size":[40,30,20]})", 2.0, 40.0 * 30.0 * 20.0, false},
         {"thin_wall", R"({"id":"s","type":"shell","thickness":1.5,"children":[
             {"id":"b","type":"box","size":[40,30,20],"round":3}]})",
          1.0, 0.0},
         {"blend", R"({"id":"u","type":"union","blend":4,"children":[
             {"id":"a","type":"box","size":[40,20,18]},
             {"id":"c","type":"cylinder","radius":6,"height":40,"transform":{"translate":[0,0,20]}}]})",
-         1.0, 0.0},
+         1.0, 0.0, false},
         {"sphere", R"({"id":"s","type":"sphere","radius":10})", 1.0, 4.0 / 3.0 * 3.14159265358979 * 1000.0},
+        // A board whose six faces and twelve edges lie on lattice planes
+        // and lines: the marching cubes cut its edges off by up to 0.29 mm,
+        // the simplification grows the cuts into fans from a vertex off the
+        // edge, and no split mends those (11 triangles up to 0.17 mm off at
+        // 0.01 mm, where the same board off the lattice keeps to it).
+        {"board_on_lattice", R"({"id":"b","type":"box","size":[18,100,100],"transform":{"translate":[0,50,50]}})",
+         1.0, 18.0 * 100.0 * 100.0, false},
+        // A shelf-pin hole whose rim lies on the face's lattice plane and
+        // whose sides touch lattice planes (y = 28 and 33).
+        {"pin_hole_on_lattice", R"({"id":"d","type":"difference","children":[
+            {"id":"b","type":"box","size":[18,60,100],"transform":{"translate":[0,30,50]}},
+            {"id":"h","type":"cylinder","radius":2.5,"height":13,"transform":{"translate":[3.5,30.5,50],"rotate":[0,90,0]}}]})",
+         1.0, 18.0 * 60.0 * 100.0 - 3.14159265358979 * 6.25 * 12.0, false},
     };
     // The plate with holes at the origin and 100 m away.
     const char* plate = R"({"id":"d","type":"difference","transform":{"translate":[%s]},"children":[
@@ -180,7 +200,12 @@ TEST_P(ExportedFile, ReadsBackAsTheClosedSolidInEveryFormat)
             for (const glm::dvec3& w : {glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1),
                                         glm::dvec3(1, 1, 1) / 3.0, glm::dvec3(0.5, 0.5, 0), glm::dvec3(0, 0.5, 0.5),
                                         glm::dvec3(0.5, 0, 0.5), glm::dvec3(4, 1, 1) / 6.0,
-                                        glm::dvec3(1, 4, 1) / 6.0, glm::dvec3(1, 1, 4) / 6.0}) {
+                                        glm::dvec3(1, 4, 1) / 6.0, glm::dvec3(1, 1, 4) / 6.0,
+                                        // the quarters of the edges: with the above, every point the
+                                        // exporter samples (TriangleSamples.hpp)
+                                        glm::dvec3(3, 1, 0) / 4.0, glm::dvec3(1, 3, 0) / 4.0,
+                                        glm::dvec3(0, 3, 1) / 4.0, glm::dvec3(0, 1, 3) / 4.0,
+                                        glm::dvec3(1, 0, 3) / 4.0, glm::dvec3(3, 0, 1) / 4.0}) {
                 const glm::dvec3 p = w.x * a + w.y * b + w.z * d - tape.origin();
                 worst = std::max(worst, std::abs(eval.evaluate(tape, p.x, p.y, p.z)));
             }
@@ -194,6 +219,18 @@ TEST_P(ExportedFile, ReadsBackAsTheClosedSolidInEveryFormat)
         } else {
             std::printf("%s: not held to the tolerance (%llu triangles over, as reported)\n", what.c_str(),
                         (unsigned long long)stats.trianglesOverTolerance);
+        }
+        // Only where a cell hides detail (the wall of one cell), or a sharp
+        // edge lies on lattice lines (holdsTolerance), may the refinement
+        // leave triangles over the tolerance. The worst the
+        // exporter reports is in the file (sampled at every point the
+        // exporter samples and more), not a figure of a mesh before its
+        // last pass.
+        if (c.holdsTolerance && stats.hiddenDetailCells == 0) {
+            EXPECT_EQ(stats.trianglesOverTolerance, 0u) << what;
+        }
+        if (exported.simplificationDefects.empty()) {
+            EXPECT_GE(worst + 2.0 * report.spacing, stats.worstSample) << what;
         }
         if (c.volume > 0.0 && claimed) {
             EXPECT_NEAR(r.volume, c.volume, kTolerance * r.area) << what;

@@ -234,12 +234,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
                 << "move the part nearer the origin\n";
         if (stats.hiddenDetailCells > 0) err << "kerf export: warning: " << describeHiddenDetail(stats) << "\n";
         if (stats.trianglesOverTolerance > 0)
-            err << "kerf export: warning: " << grouped(stats.trianglesOverTolerance)
-                << " triangles stay up to " << significant(stats.worstSample, 2)
-                << " mm from the exact surface, beyond the tolerance of " << mm(tolerance)
-                << " mm: detail finer than the " << mm(stats.cellSize)
-                << " mm cells (a gap, a groove, a rounded edge) is not resolved; --feature-size "
-                << mm(finerFeatureSize(stats)) << " resolves more of it\n";
+            err << "kerf export: warning: " << describeTrianglesOverTolerance(stats, tolerance) << "\n";
 
         if (json) {
             nlohmann::ordered_json j;
@@ -267,7 +262,11 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             j["area_mm2"] = report.area;
             j["simplified"] = fallback.empty();
             if (!fallback.empty()) j["simplification_defects"] = fallback;
-            if (fallback.empty() && tolerance > 0.0) j["worst_sample_mm"] = stats.worstSample;
+            if (fallback.empty() && tolerance > 0.0) {
+                j["worst_sample_mm"] = stats.worstSample;
+                if (stats.trianglesOverTolerance > 0)
+                    j["worst_sample_at_mm"] = {stats.worstSampleAt.x, stats.worstSampleAt.y, stats.worstSampleAt.z};
+            }
             j["triangles_over_tolerance"] = stats.trianglesOverTolerance;
             if (stats.hiddenDetailCells > 0)
                 j["hidden_detail"] = {{"kind", stats.hiddenDetailIsMaterial ? "material" : "gap"},

@@ -275,11 +275,20 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     stats.creaseSplits = refine.creaseSplits;
     stats.worstSample = refine.worstSample;
     stats.trianglesOverTolerance = refine.trianglesOverTolerance;
+    stats.worstSampleAt = refine.worstAt;
     work.report(0.9);
     t0 = Clock::now();
     simplify.microLength = 0.0;
-    if (refine.splits > 0) stats.collapses += simplifyToTolerance(mesh, normals, tape, simplify, arena, work);
-    if (work.cancelled()) return std::nullopt;
+    if (refine.splits > 0) {
+        stats.collapses += simplifyToTolerance(mesh, normals, tape, simplify, arena, work);
+        if (work.cancelled()) return std::nullopt;
+        // The simplification may reshape a triangle left over the tolerance
+        // (never beyond the worst it replaces): report the mesh as it is.
+        const ToleranceCheck left = checkTolerance(mesh, tape, options.tolerance, arena);
+        stats.worstSample = left.worstSample;
+        stats.trianglesOverTolerance = left.trianglesOverTolerance;
+        stats.worstSampleAt = left.worstAt;
+    }
     stats.simplifySeconds += secondsSince(t0);
     work.report(1.0);
     return finish(std::move(mesh));
@@ -328,6 +337,24 @@ std::string describeHiddenDetail(const MeshStats& stats)
            grouped(stats.hiddenDetailCells) + (stats.hiddenDetailCells == 1 ? " cell hides" : " cells hide") +
            " detail like it): " + (material ? "it is missing from the mesh or in pieces" : "it is closed in the mesh") +
            "; a feature size of " + shortNumber(finerFeatureSize(stats)) + " mm resolves it";
+}
+
+std::string describeTrianglesOverTolerance(const MeshStats& stats, double tolerance)
+{
+    if (stats.trianglesOverTolerance == 0) return {};
+    const glm::dvec3& p = stats.worstSampleAt;
+    std::string s = grouped(stats.trianglesOverTolerance) +
+                    (stats.trianglesOverTolerance == 1 ? " triangle stays " : " triangles stay ") + "up to " +
+                    shortNumber(stats.worstSample) + " mm from the exact surface, beyond the tolerance of " +
+                    shortNumber(tolerance) + " mm (the worst at (" + shortNumber(p.x) + ", " + shortNumber(p.y) +
+                    ", " + shortNumber(p.z) + ") mm): ";
+    if (stats.hiddenDetailCells > 0)
+        return s + "detail finer than the " + shortNumber(stats.cellSize) +
+               " mm cells is not resolved; a feature size of " + shortNumber(finerFeatureSize(stats)) +
+               " mm resolves more of it";
+    return s + "no split of the thin triangles there keeps their neighbours from folding (a sharp or rounded edge "
+               "that the cells' triangles cut across); a feature size of " +
+           shortNumber(finerFeatureSize(stats)) + " mm often leaves fewer";
 }
 
 std::optional<Mesh> meshPart(const Document& doc, const MeshOptions& options, const Progress& work,

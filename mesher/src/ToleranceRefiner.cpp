@@ -112,6 +112,22 @@ private:
     std::vector<double> x_, y_, z_, f_;
 };
 
+// The worst of the triangles' sampled errors, where it is, and how many
+// exceed the tolerance.
+ToleranceCheck worstOf(const Mesh& mesh, const std::vector<double>& worst, double tolerance)
+{
+    ToleranceCheck check;
+    for (std::size_t t = 0; t < worst.size(); ++t) {
+        if (worst[t] > check.worstSample) {
+            check.worstSample = worst[t];
+            const Tri& tri = mesh.triangles[t];
+            check.worstAt = (mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3.0;
+        }
+        if (worst[t] > tolerance) ++check.trianglesOverTolerance;
+    }
+    return check;
+}
+
 // Splits edges and places their new vertices. Sequential.
 class Splitter {
 public:
@@ -463,13 +479,31 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
         changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
         dirty.swap(changed);
     }
-    stats.worstSample = 0.0;
-    stats.trianglesOverTolerance = 0;
-    for (const double w : worst) {
-        stats.worstSample = std::max(stats.worstSample, w);
-        if (w > tolerance) ++stats.trianglesOverTolerance;
-    }
+    const ToleranceCheck left = worstOf(mesh, worst, tolerance);
+    stats.worstSample = left.worstSample;
+    stats.worstAt = left.worstAt;
+    stats.trianglesOverTolerance = left.trianglesOverTolerance;
     return true;
+}
+
+ToleranceCheck checkTolerance(const Mesh& mesh, const Tape& tape, double tolerance, tbb::task_arena& arena)
+{
+    std::vector<std::uint32_t> all(mesh.triangles.size());
+    for (std::uint32_t t = 0; t < all.size(); ++t)
+        all[t] = t;
+    std::vector<Verdict> verdicts(all.size());
+    tbb::enumerable_thread_specific<Sampler> samplers;
+    constexpr std::size_t kChunk = 256;
+    arena.execute([&] {
+        tbb::parallel_for(std::size_t(0), (all.size() + kChunk - 1) / kChunk, [&](std::size_t c) {
+            const std::size_t first = c * kChunk, count = std::min(kChunk, all.size() - first);
+            samplers.local().judge(mesh, tape, tolerance, all.data() + first, count, verdicts.data() + first);
+        });
+    });
+    std::vector<double> worst(all.size());
+    for (std::size_t t = 0; t < all.size(); ++t)
+        worst[t] = verdicts[t].worst;
+    return worstOf(mesh, worst, tolerance);
 }
 
 } // namespace kerf::mesher

@@ -44,6 +44,7 @@ struct RefineStats {
     /// The largest |f| at a sample once done (mm): at most the tolerance
     /// unless the round limit was reached.
     double worstSample = 0.0;
+    glm::dvec3 worstAt{0.0}; // the centroid of the triangle with the worst sample (world mm)
     std::uint64_t trianglesOverTolerance = 0; // left over the tolerance at the round limit
 };
 
@@ -67,5 +68,17 @@ struct RefineSettings {
 /// mesh is then valid but unfinished).
 bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape, const RefineSettings& settings,
                        tbb::task_arena& arena, RefineStats& stats, const Progress& work = {});
+
+/// A mesh's triangles sampled as the refinement samples them: the worst
+/// |f|, the centroid of the triangle it is on, and how many triangles have
+/// a sample beyond the tolerance. What the simplification after the
+/// refinement leaves is measured with it, so that what is reported is the
+/// mesh written.
+struct ToleranceCheck {
+    double worstSample = 0.0;
+    glm::dvec3 worstAt{0.0};
+    std::uint64_t trianglesOverTolerance = 0;
+};
+ToleranceCheck checkTolerance(const Mesh& mesh, const Tape& tape, double tolerance, tbb::task_arena& arena);
 
 } // namespace kerf::mesher

@@ -85,14 +85,11 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
         sentence[0] = char(std::toupper(static_cast<unsigned char>(sentence[0])));
         s += "\n" + QString::fromStdString(sentence) + ".";
     }
-    if (exported.stats.trianglesOverTolerance > 0)
-        s += "\n" + QObject::tr("%1 triangles stay up to %2 mm from the exact surface, beyond the tolerance: detail "
-                                "finer than the %3 mm cells (a gap, a groove, a rounded edge) is not resolved; a "
-                                "feature size of %4 mm resolves more of it.")
-                        .arg(locale.toString(qulonglong(exported.stats.trianglesOverTolerance)))
-                        .arg(exported.stats.worstSample, 0, 'g', 2)
-                        .arg(exported.stats.cellSize)
-                        .arg(finerFeatureSize(exported.stats));
+    if (exported.stats.trianglesOverTolerance > 0) {
+        std::string sentence = describeTrianglesOverTolerance(exported.stats, tolerance);
+        sentence[0] = char(std::toupper(static_cast<unsigned char>(sentence[0])));
+        s += "\n" + QString::fromStdString(sentence) + ".";
+    }
     if (!exported.stats.note.empty()) s += "\n" + QString::fromStdString(exported.stats.note);
     return s;
 }

@@ -106,6 +106,7 @@ struct MeshStats {
     std::uint64_t creaseSplits = 0;       // of which on sharp edges of the part
     double worstSample = 0.0;             // mm: largest |f| at the refinement's samples of the final mesh
     std::uint64_t trianglesOverTolerance = 0; // triangles the refinement could not bring within the tolerance
+    glm::dvec3 worstSampleAt{0.0};        // world mm: the centroid of the triangle with the worst sample
     double simplifySeconds = 0.0;
     double refineSeconds = 0.0;
     std::size_t vertices = 0;
@@ -131,6 +132,16 @@ double finerFeatureSize(const MeshStats& stats);
 /// resolves it; empty when there is none. For `kerf export` and the export
 /// dialog alike.
 std::string describeHiddenDetail(const MeshStats& stats);
+
+/// The triangles left beyond the tolerance (stats.trianglesOverTolerance)
+/// in one sentence for people: how many, how far, where the worst is, why
+/// and what to try. With hidden detail: the detail finer than the cells.
+/// Without: thin triangles across a sharp or rounded edge that no split can
+/// mend without folding a neighbour; a finer feature size often leaves
+/// fewer (rounded edges), but not always (on a plain panel's shelf-pin
+/// holes, whose rims touch lattice planes, 0.5 mm cells left more than
+/// 1 mm cells). Empty when none. For `kerf export` and the export dialog.
+std::string describeTrianglesOverTolerance(const MeshStats& stats, double tolerance);
 
 /// Meshes the document's part. An empty part gives an empty mesh. `work`
 /// hears the fraction done; once it is cancelled the meshing stops soon
