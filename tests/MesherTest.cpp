@@ -28,6 +28,7 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -52,11 +53,13 @@ std::string translated(const std::string& node, const glm::dvec3& t)
     return std::string(buf) + node + "]}";
 }
 
-Mesh meshOf(const Document& doc, double featureSize, MeshStats* stats = nullptr, int threads = 0)
+Mesh meshOf(const Document& doc, double featureSize, MeshStats* stats = nullptr, int threads = 0,
+            std::optional<glm::dvec3> latticeShift = std::nullopt)
 {
     MeshOptions o;
     o.featureSize = featureSize;
     o.threads = threads;
+    if (latticeShift) o.latticeShift = *latticeShift;
     auto mesh = meshPart(doc, o, {}, stats);
     EXPECT_TRUE(mesh.has_value());
     return mesh ? std::move(*mesh) : Mesh{};
@@ -420,7 +423,9 @@ TEST(Mesher, GeneratedPartsAreWatertight)
 }
 
 // Features thinner than a cell, gaps narrower than a cell, surfaces through
-// lattice points: the configurations where naive tables crack.
+// lattice points: the configurations where naive tables crack. Each on the
+// export's lattice and on the lattice centred on the part (latticeShift 0),
+// where round coordinates fall on lattice points.
 TEST(Mesher, ThinFeaturesAndTouchingPartsStayWatertight)
 {
     const char* parts[] = {
@@ -440,11 +445,13 @@ TEST(Mesher, ThinFeaturesAndTouchingPartsStayWatertight)
     };
     std::uint64_t centreVertices = 0;
     for (const char* part : parts) {
-        for (const double h : {1.0, 0.7}) {
+        for (const double h : {1.0, 0.7})
+        for (const glm::dvec3 shift : {MeshOptions{}.latticeShift, glm::dvec3(0.0)}) {
             const Document doc = parse(part);
             MeshStats stats;
-            const Mesh mesh = meshOf(doc, h, &stats);
-            const std::string what = std::string(part).substr(0, 60) + " h " + std::to_string(h);
+            const Mesh mesh = meshOf(doc, h, &stats, 0, shift);
+            const std::string what = std::string(part).substr(0, 60) + " h " + std::to_string(h) +
+                                     (shift == glm::dvec3(0.0) ? " centred" : "");
             expectWatertight(mesh, what);
             EXPECT_LE(worstVertexField(doc, mesh), onSurfaceBound(mesh, h)) << what;
             centreVertices += stats.centreVertices;

@@ -50,6 +50,24 @@ void addSeconds(std::atomic<std::int64_t>& total, Clock::time_point since)
 
 namespace {
 
+// The lattice moved by `shift` cells (MeshOptions::latticeShift), with a
+// tile more where the move would bring the far side of the grid within a
+// cell of the part (the margin GridLayout::choose keeps); an axis where that
+// tile would break the grid's limits stays where it was.
+GridLayout shiftLattice(GridLayout g, const Aabb& part, const glm::dvec3& shift, const GridLimits& limits)
+{
+    if (g.empty()) return g;
+    for (int a = 0; a < 3; ++a) {
+        const double s = shift[a] - std::floor(shift[a]);
+        if (s == 0.0) continue;
+        GridLayout moved = g;
+        moved.origin[a] -= s * g.voxelSize;
+        if (moved.origin[a] + moved.dims[a] * moved.tileSize < part.max[a] + g.voxelSize) ++moved.dims[a];
+        if (moved.tileCount() <= limits.maxTiles || moved.dims[a] == g.dims[a]) g = moved;
+    }
+    return g;
+}
+
 // How cells meet the file's precision and the part's exact zeros (see
 // CellMeshing in TileMesher.hpp and FilePrecision.hpp).
 CellMeshing cellMeshing(const Lattice& lattice, const GridLayout& layout, double tolerance, bool findHidden)
@@ -226,7 +244,9 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     };
     if (tape.empty() || tape.bounds().isEmpty()) return finish({});
     if (!tape.bounds().isBounded()) throw std::runtime_error("the part is unbounded: nothing to mesh");
-    const GridLayout layout = GridLayout::choose(tape.bounds(), options.featureSize, options.limits);
+    const GridLayout layout =
+        shiftLattice(GridLayout::choose(tape.bounds(), options.featureSize, options.limits), tape.bounds(),
+                     options.latticeShift, options.limits);
     if (layout.empty()) return finish({});
     stats.cellSize = layout.voxelSize;
     stats.note = layout.note;

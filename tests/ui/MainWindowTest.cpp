@@ -261,6 +261,13 @@ void saveScreenshot(MainWindow& w, const QString& name)
     shot.save(dir + "/" + name + ".png");
 }
 
+// A dialog or panel as the user sees it, for looking at (KERF_SCREENSHOT_DIR).
+void saveWidgetShot(QWidget& widget, const QString& name)
+{
+    const QString dir = qEnvironmentVariable("KERF_SCREENSHOT_DIR");
+    if (!dir.isEmpty()) widget.grab().save(dir + "/" + name + ".png");
+}
+
 } // namespace
 
 class MainWindowTest : public QObject {
@@ -558,27 +565,29 @@ void MainWindowTest::viewportShowsThePartAndChangesAfterAnEdit()
     }
 }
 
-// A part whose pocket corners the 4 mm cells cut across: the report says
-// which triangles stay beyond the tolerance and the feature size to try,
+// A part the export cannot hold to its tolerance: the report says how many
+// triangles stay beyond it, where the worst is and the feature size to try,
 // never "every triangle within", and the dialog grows to show it whole.
 void MainWindowTest::exportDialogNamesWhatTheToleranceMissed()
 {
-    const QString doc = files_.path() + "/pockets.kerf";
+    // Two boards touching along an edge: where their edges meet, 1 mm cells
+    // leave triangles beyond 0.1 mm that no split mends (issue 13, open;
+    // when that is mended this scenario needs another part that misses).
+    const QString doc = files_.path() + "/touching.kerf";
     {
         QFile f(doc);
         QVERIFY(f.open(QIODevice::WriteOnly));
-        f.write(R"({"format":"kerf","version":1,"root":{"id":"d","type":"difference","children":[
-            {"id":"b","type":"box","size":[300,200,28],"round":8,"transform":{"translate":[0,0,14]}},
-            {"id":"m","type":"mirror","normal":[1,0,0],"offset":0,"children":[
-                {"id":"p","type":"box","size":[40,40,19],"transform":{"translate":[110,60,8.5]}}]}]}})");
+        f.write(R"({"format":"kerf","version":1,"root":{"id":"u","type":"union","children":[
+            {"id":"a","type":"box","size":[20,20,18],"transform":{"translate":[-10,-10,0]}},
+            {"id":"b","type":"box","size":[20,20,18],"transform":{"translate":[10,10,0]}}]}})");
     }
     auto w = makeWindow(recovery_.path());
     QVERIFY(w->openFile(doc.toStdString()));
     action(w.get(), "action.export")->trigger();
     auto* dialog = w->findChild<ExportDialog*>("exportDialog");
     QVERIFY(dialog);
-    dialog->findChild<QLineEdit*>("export.path")->setText(files_.path() + "/pockets.stl");
-    dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(4.0);
+    dialog->findChild<QLineEdit*>("export.path")->setText(files_.path() + "/touching.stl");
+    dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(1.0);
     dialog->findChild<QCheckBox*>("export.simplify")->setChecked(true);
     dialog->findChild<QuantityEdit*>("export.tolerance")->setValue(0.1);
     QSignalSpy done(dialog, &ExportDialog::finished);
@@ -587,11 +596,12 @@ void MainWindowTest::exportDialogNamesWhatTheToleranceMissed()
     const QString message = dialog->outcome().message;
     QVERIFY2(dialog->outcome().written, qPrintable(message));
     QVERIFY2(dialog->outcome().simplified, qPrintable(message));
-    QVERIFY2(message.contains("beyond the tolerance"), qPrintable(message));
-    QVERIFY2(message.contains("feature size of 2 mm"), qPrintable(message));
+    QVERIFY2(message.contains("beyond the tolerance of 0.1 mm (the worst at ("), qPrintable(message));
+    QVERIFY2(message.contains("feature size of 0.5 mm"), qPrintable(message));
     QVERIFY2(!message.contains("Every triangle within"), qPrintable(message));
     auto* result = dialog->findChild<QLabel*>("export.result");
     QTRY_VERIFY2(result->height() >= result->heightForWidth(result->width()), qPrintable(message));
+    saveWidgetShot(*dialog, "export-dialog-tolerance-missed");
 }
 
 void MainWindowTest::exportDialogSaysWhereDetailHidesBetweenTheCells()

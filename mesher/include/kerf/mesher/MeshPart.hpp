@@ -64,6 +64,17 @@ struct MeshOptions {
     /// Look for detail thinner than a cell between the cells' corners
     /// (MeshStats::hiddenDetailCells). Off only to measure what it costs.
     bool findHiddenDetail = true;
+    /// Where the lattice sits, in cells: its planes are moved by this
+    /// fraction of a cell from where the grid centred on the part would put
+    /// them. A part drawn in round millimetres has its faces and edges on
+    /// the planes and lines of a centred lattice of round cells, where the
+    /// field is exactly zero at cell corners: the mesh stays closed there
+    /// (EdgeRoots.hpp) but its sharp edges come out cut off by up to 0.29 of
+    /// a cell and the simplified mesh left up to 0.22 mm over a 0.01 mm
+    /// tolerance (a board 18 x 100 x 100 at 1 mm cells). The default is
+    /// irrational in every axis, so that no round coordinate lies on a
+    /// plane; 0 keeps the centred lattice (tests of the zero corners).
+    glm::dvec3 latticeShift{0.20710678118654752, 0.36602540378443865, 0.11803398874989485};
     GridLimits limits;
     /// Testing only: keeps a voxelizer seed (global cell coordinates) when it
     /// returns true. Dropping seeds must not change the mesh of a connected

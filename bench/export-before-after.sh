@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Two builds of kerf against each other on the export to a tolerance, run
+# alternately (before, after, before, after) so that the shared machine's
+# drift falls on both: per part, feature size and tolerance, the triangles,
+# the triangles left over the tolerance and the worst sample (as kerf
+# export --json reports them for the file written) and the faster of the
+# two times of each build. Every run is a real `kerf export`.
+#
+#   bash bench/export-before-after.sh BEFORE_KERF AFTER_KERF [PART:FEATURE:TOLERANCE ...]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+before=$1 after=$2
+shift 2
+cases=("$@")
+[ ${#cases[@]} -gt 0 ] || cases=(bench/data/plain-panel.kerf:1:0.01 bench/data/board-on-lattice.kerf:1:0.01
+  resources/examples/bookshelf-side.kerf:4:0.01 resources/examples/side-chair.kerf:4:0.01
+  resources/examples/table-top.kerf:4:0.01)
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+run() { # kerf part feature tolerance -> "triangles over worst seconds"
+  "$1" export "$2" -o "$out/part.stl" --feature-size "$3" --tolerance "$4" --json 2>/dev/null |
+    python3 -c 'import json,sys; j=json.load(sys.stdin); print(j["triangles"], j["triangles_over_tolerance"], "%.4f" % j["worst_sample_mm"], "%.2f" % j["seconds"])'
+}
+echo "| part | cells mm | tolerance mm | triangles before → after | over tolerance before → after | worst sample mm before → after | time s before → after |"
+echo "|---|---|---|---|---|---|---|"
+for c in "${cases[@]}"; do
+  IFS=: read -r part feature tolerance <<<"$c"
+  read -r bt bo bw bs1 <<<"$(run "$before" "$part" "$feature" "$tolerance")"
+  read -r at ao aw as1 <<<"$(run "$after" "$part" "$feature" "$tolerance")"
+  read -r _ _ _ bs2 <<<"$(run "$before" "$part" "$feature" "$tolerance")"
+  read -r _ _ _ as2 <<<"$(run "$after" "$part" "$feature" "$tolerance")"
+  bs=$(python3 -c "print(min($bs1, $bs2))") as=$(python3 -c "print(min($as1, $as2))")
+  echo "| $(basename "$part" .kerf) | $feature | $tolerance | $bt → $at | $bo → $ao | $bw → $aw | $bs → $as |"
+done
