@@ -112,6 +112,22 @@ private:
     std::vector<double> x_, y_, z_, f_;
 };
 
+// Samples the given triangles in the arena, a chunk of them per task.
+std::vector<Verdict> judgeAll(const Mesh& mesh, const Tape& tape, double tolerance,
+                              const std::vector<std::uint32_t>& triangles,
+                              tbb::enumerable_thread_specific<Sampler>& samplers, tbb::task_arena& arena)
+{
+    constexpr std::size_t kChunk = 256;
+    std::vector<Verdict> verdicts(triangles.size());
+    arena.execute([&] {
+        tbb::parallel_for(std::size_t(0), (triangles.size() + kChunk - 1) / kChunk, [&](std::size_t c) {
+            const std::size_t first = c * kChunk, count = std::min(kChunk, triangles.size() - first);
+            samplers.local().judge(mesh, tape, tolerance, triangles.data() + first, count, verdicts.data() + first);
+        });
+    });
+    return verdicts;
+}
+
 // The worst of the triangles' sampled errors, where it is, and how many
 // exceed the tolerance.
 ToleranceCheck worstOf(const Mesh& mesh, const std::vector<double>& worst, double tolerance)
@@ -428,16 +444,9 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
     std::vector<std::uint8_t> splitThisRound;
     std::vector<std::uint32_t> stuck;
     std::vector<std::uint8_t> touched; // vertices of this round's changed triangles
-    constexpr std::size_t kChunk = 256;
     for (stats.rounds = 0; !dirty.empty(); ++stats.rounds) {
         if (work.cancelled()) return false;
-        std::vector<Verdict> verdicts(dirty.size());
-        arena.execute([&] {
-            tbb::parallel_for(std::size_t(0), (dirty.size() + kChunk - 1) / kChunk, [&](std::size_t c) {
-                const std::size_t first = c * kChunk, count = std::min(kChunk, dirty.size() - first);
-                samplers.local().judge(mesh, tape, tolerance, dirty.data() + first, count, verdicts.data() + first);
-            });
-        });
+        const std::vector<Verdict> verdicts = judgeAll(mesh, tape, tolerance, dirty, samplers, arena);
         stats.samples += dirty.size() * kTriangleSamples;
         worst.resize(mesh.triangles.size(), 0.0);
         std::vector<std::pair<double, std::uint32_t>> failing; // (-worst, index into dirty)
@@ -491,15 +500,8 @@ ToleranceCheck checkTolerance(const Mesh& mesh, const Tape& tape, double toleran
     std::vector<std::uint32_t> all(mesh.triangles.size());
     for (std::uint32_t t = 0; t < all.size(); ++t)
         all[t] = t;
-    std::vector<Verdict> verdicts(all.size());
     tbb::enumerable_thread_specific<Sampler> samplers;
-    constexpr std::size_t kChunk = 256;
-    arena.execute([&] {
-        tbb::parallel_for(std::size_t(0), (all.size() + kChunk - 1) / kChunk, [&](std::size_t c) {
-            const std::size_t first = c * kChunk, count = std::min(kChunk, all.size() - first);
-            samplers.local().judge(mesh, tape, tolerance, all.data() + first, count, verdicts.data() + first);
-        });
-    });
+    const std::vector<Verdict> verdicts = judgeAll(mesh, tape, tolerance, all, samplers, arena);
     std::vector<double> worst(all.size());
     for (std::size_t t = 0; t < all.size(); ++t)
         worst[t] = verdicts[t].worst;
