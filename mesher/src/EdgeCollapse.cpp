@@ -474,15 +474,6 @@ private:
             if (tri[0] != b && tri[1] != b && tri[2] != b) add(t, a);
             else before = std::max(before, error(t));
         }
-        // The longest edge of the triangles around a and b over the tolerance.
-        double longestOver = 0.0;
-        for (const auto* list : {&trisA_, &trisB_})
-            for (const std::uint32_t t : *list)
-                if (error(t) > limits_.tolerance) {
-                    const Triangle& tri = m_.triangles[t];
-                    longestOver = std::max(
-                        longestOver, longestEdge(m_.positions[tri[0]], m_.positions[tri[1]], m_.positions[tri[2]]));
-                }
         if (moves)
             for (const std::uint32_t t : trisB_) {
                 const Triangle& tri = m_.triangles[t];
@@ -496,6 +487,21 @@ private:
         values_.resize(samples_.size());
         surface_.field(samples_.data(), samples_.size(), values_.data());
         const double allowed = std::max(limits_.tolerance, before);
+        // The longest edge of the triangles around a and b over the
+        // tolerance, found when first needed (few collapses need it).
+        double longestOver = -1.0;
+        auto longestOverTolerance = [&] {
+            if (longestOver >= 0.0) return longestOver;
+            longestOver = 0.0;
+            for (const auto* list : {&trisA_, &trisB_})
+                for (const std::uint32_t t : *list)
+                    if (error(t) > limits_.tolerance) {
+                        const Triangle& tri = m_.triangles[t];
+                        longestOver = std::max(longestOver, longestEdge(m_.positions[tri[0]], m_.positions[tri[1]],
+                                                                        m_.positions[tri[2]]));
+                    }
+            return longestOver;
+        };
         for (std::size_t i = 0; i < pending_.size(); ++i) {
             double worst = 0.0;
             for (std::size_t k = 0; k < kTriangleSamples; ++k) {
@@ -510,7 +516,8 @@ private:
             // mends without folding a neighbour (a board 18 x 100 x 100 at
             // 1 mm cells: 11 triangles 0.22 mm off at 0.01 mm; with this
             // rule none, docs/benchmarks.md).
-            if (worst > limits_.tolerance && !made_[i].smooth && !(made_[i].longest <= longestOver)) return false;
+            if (worst > limits_.tolerance && !made_[i].smooth && !(made_[i].longest <= longestOverTolerance()))
+                return false;
             pending_[i].second = worst;
         }
         return true;
