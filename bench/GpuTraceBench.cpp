@@ -14,7 +14,17 @@
 //
 //   kerf_gpu_bench bench FILE.kerf [kerf bench's options but --plot]
 //
-// The second form runs `kerf bench` itself (the same code, app/TradeBench),
+//   kerf_gpu_bench voxelize [--scene chair|showcase] [--feature-size MM]
+//                           [--repeats N] [--json OUT.json] [--examples DIR]
+//                           [--one-thread-up-to VOXELS]
+//
+// The voxelize form times the GPU voxelizer (vk::GpuVoxelizer) against the
+// CPU voxelizer on every core and on one (one core only up to a populated
+// voxel count, by default 30 million: the chair at 0.1 mm would take minutes),
+// cold (a fresh voxelizer: its pools guessed) and warm (a rebuild of the same
+// part, as after an edit that dirties every tile), all in the same run.
+//
+// The bench form runs `kerf bench` itself (the same code, app/TradeBench),
 // so that the speed/accuracy table can be measured on the GPU machine, which
 // has no Qt; --trace-only leaves out the export measurements.
 
@@ -23,6 +33,7 @@
 #include "kerf/tracer/Camera.hpp"
 #include "kerf/tracer/ExactRefinement.h"
 #include "kerf/viewport/ComputeTracer.hpp"
+#include "kerf/viewport/GpuVoxelizer.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
 
 #include <nlohmann/json.hpp>
@@ -70,10 +81,131 @@ double median(std::vector<double> v)
     return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
+double millisecondsSince(std::chrono::steady_clock::time_point start)
+{
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+int voxelizeBench(const std::vector<std::string>& args)
+{
+    std::string examples = KERF_EXAMPLES_DIR, jsonPath, onlyScene;
+    double onlyFeatureSize = 0.0, oneThreadUpTo = 3e7;
+    int repeats = 5;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        const bool more = i + 1 < args.size();
+        if (a == "--json" && more) jsonPath = args[++i];
+        else if (a == "--examples" && more) examples = args[++i];
+        else if (a == "--scene" && more) onlyScene = args[++i];
+        else if (a == "--feature-size" && more) onlyFeatureSize = std::atof(args[++i].c_str());
+        else if (a == "--repeats" && more) repeats = std::max(1, std::atoi(args[++i].c_str()));
+        else if (a == "--one-thread-up-to" && more) oneThreadUpTo = std::atof(args[++i].c_str());
+        else {
+            std::cerr << "usage: kerf_gpu_bench voxelize [--scene chair|showcase] [--feature-size MM] [--repeats N] "
+                         "[--json OUT.json] [--examples DIR] [--one-thread-up-to VOXELS]\n";
+            return 2;
+        }
+    }
+    vk::Context ctx;
+    std::cout << "device: " << ctx.deviceDescription() << "\n";
+    struct Scene {
+        std::string name;
+        Document doc;
+        std::vector<double> featureSizes;
+    };
+    std::vector<Scene> scenes{{"chair", Document::load(examples + "/side-chair.kerf"), {1.0, 0.5, 0.25, 0.1}},
+                              {"showcase", showcase(), {0.1, 0.01}}};
+    nlohmann::ordered_json results = nlohmann::ordered_json::array();
+    std::printf("%-9s %6s %11s %6s %9s %9s %9s %9s %9s %9s %8s %10s %10s %9s\n", "scene", "fs", "voxels", "host",
+                "gpu cold", "gpu warm", "prepare", "upload", "device", "pool MB", "tries", "cpu all", "cpu 1",
+                "Gvox/s");
+    for (auto& scene : scenes) {
+        if (!onlyScene.empty() && scene.name != onlyScene) continue;
+        const Tape tape = compileTape(scene.doc);
+        if (onlyFeatureSize > 0.0) scene.featureSizes = {onlyFeatureSize};
+        for (const double fs : scene.featureSizes) {
+            const GridLayout layout = GridLayout::choose(tape.bounds(), fs);
+            // GPU, cold: a fresh voxelizer guesses its pools from the surface tiles.
+            vk::GpuVoxelizer fresh(ctx);
+            vk::GpuVoxelizeReport cold;
+            auto t0 = std::chrono::steady_clock::now();
+            std::optional<vk::GpuVoxels> gpu = fresh.build(tape, layout, {}, &cold);
+            const double coldMs = millisecondsSince(t0);
+            if (!gpu) {
+                std::printf("%-9s %6g  GPU build refused: %s\n", scene.name.c_str(), fs, cold.whyNot.c_str());
+                continue;
+            }
+            const std::size_t voxels = gpu->populatedVoxels;
+            gpu.reset();
+            std::vector<double> warmMs, prepareMs, uploadMs, deviceMs;
+            vk::GpuVoxelizeReport warm;
+            for (int r = 0; r < repeats; ++r) {
+                t0 = std::chrono::steady_clock::now();
+                gpu = fresh.build(tape, layout, {}, &warm);
+                warmMs.push_back(millisecondsSince(t0));
+                prepareMs.push_back(warm.prepareMilliseconds);
+                uploadMs.push_back(warm.uploadMilliseconds);
+                deviceMs.push_back(warm.deviceMilliseconds);
+                gpu.reset();
+            }
+            // CPU: every core, then one (the same code, an arena of one thread).
+            std::vector<double> cpuAll, cpuOne;
+            std::size_t cpuVoxels = 0;
+            for (int r = 0; r < std::max(1, repeats / 2); ++r) {
+                t0 = std::chrono::steady_clock::now();
+                const VoxelSnapshot snap = voxelize(tape, layout, {.threads = 0});
+                cpuAll.push_back(millisecondsSince(t0));
+                cpuVoxels = snap.populatedVoxels();
+            }
+            if (double(cpuVoxels) <= oneThreadUpTo) {
+                t0 = std::chrono::steady_clock::now();
+                (void)voxelize(tape, layout, {.threads = 1});
+                cpuOne.push_back(millisecondsSince(t0));
+            }
+            const double gpuWarm = median(warmMs);
+            std::printf("%-9s %6g %11zu %6zu %9.1f %9.1f %9.1f %9.1f %9.1f %9.0f %8d %10.1f %10s %9.2f\n",
+                        scene.name.c_str(), fs, voxels, warm.hostBuiltTiles, coldMs, gpuWarm, median(prepareMs),
+                        median(uploadMs), median(deviceMs), double(warm.poolBytes) / 1e6, cold.attempts, median(cpuAll),
+                        cpuOne.empty() ? "-" : std::to_string(int(cpuOne[0])).c_str(),
+                        double(voxels) / (gpuWarm * 1e-3) / 1e9);
+            std::fflush(stdout);
+            results.push_back({{"scene", scene.name},
+                               {"feature_size", fs},
+                               {"populated_voxels", voxels},
+                               {"cpu_populated_voxels", cpuVoxels},
+                               {"host_built_tiles", warm.hostBuiltTiles},
+                               {"gpu_cold_ms", coldMs},
+                               {"gpu_cold_attempts", cold.attempts},
+                               {"gpu_warm_ms", warmMs},
+                               {"gpu_prepare_ms", prepareMs},
+                               {"gpu_upload_ms", uploadMs},
+                               {"gpu_device_ms", deviceMs},
+                               {"gpu_pool_bytes", warm.poolBytes},
+                               {"cpu_all_threads_ms", cpuAll},
+                               {"cpu_one_thread_ms", cpuOne}});
+        }
+    }
+    if (!jsonPath.empty()) {
+        nlohmann::ordered_json j;
+        j["device"] = ctx.deviceDescription();
+        j["results"] = results;
+        std::ofstream(jsonPath) << j.dump(2) << "\n";
+    }
+    return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv)
 {
+    if (argc > 1 && std::string(argv[1]) == "voxelize") {
+        try {
+            return voxelizeBench(std::vector<std::string>(argv + 2, argv + argc));
+        } catch (const std::exception& e) {
+            std::cerr << "kerf_gpu_bench: " << e.what() << "\n";
+            return 1;
+        }
+    }
     if (argc > 1 && std::string(argv[1]) == "bench")
         return kerf::runBench(std::vector<std::string>(argv + 2, argv + argc), std::cout, std::cerr);
     bool quick = false;

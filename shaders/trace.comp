@@ -9,6 +9,7 @@
 #include "TraceShared.h"
 #include "kerf/tracer/ExactRefinement.h"
 #include "kerf/voxelizer/TileTapeFormat.h"
+#include "voxel_format.glsl"
 
 layout(local_size_x = KERF_TRACE_LOCAL_SIZE, local_size_y = KERF_TRACE_LOCAL_SIZE) in;
 
@@ -25,13 +26,9 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Pa
 
 layout(push_constant) uniform Push { uint64_t params; } pc;
 
-const uint kEmptyTile = 0xFFFFFFFFu;
-const uint kFullTile = 0xFFFFFFFEu;
-const uint kLeafFlag = 0x80000000u;
 const uint kNoFeature = 0xFFFFFFFFu;
 const uint kSectionCap = 0xFFFFFFFEu;
 const float kInf = 1.0 / 0.0;
-const float kDistanceRange = 2.0;
 const int kBisectionSteps = 16;
 
 TraceParams P;
@@ -59,41 +56,6 @@ void hitCap(inout Hit hit)
 }
 
 uint word(uint64_t base, uint index) { return Words(base).w[index]; }
-
-float decodeDistance(uint packed, float voxelMm)
-{
-    const int s = int(packed << 16) >> 16;
-    return max(float(s) / 32767.0, -1.0) * kDistanceRange * voxelMm;
-}
-
-float signNotZero(float v) { return v < 0.0 ? -1.0 : 1.0; }
-
-vec3 decodeNormal(uint packed)
-{
-    const float u = max(float(int(packed << 16) >> 16) / 32767.0, -1.0);
-    const float v = max(float(int(packed) >> 16) / 32767.0, -1.0);
-    vec3 n = vec3(u, v, 1.0 - abs(u) - abs(v));
-    if (n.z < 0.0) {
-        const float pu = n.x, pv = n.y;
-        n.x = (1.0 - abs(pv)) * signNotZero(pu);
-        n.y = (1.0 - abs(pu)) * signNotZero(pv);
-    }
-    return normalize(n);
-}
-
-bool hasChild(uint maskLo, uint maskHi, int c)
-{
-    return c < 32 ? ((maskLo >> c) & 1u) != 0u : ((maskHi >> (c - 32)) & 1u) != 0u;
-}
-
-uint childRank(uint maskLo, uint maskHi, int c)
-{
-    if (c < 32) return uint(bitCount(maskLo & ((1u << c) - 1u)));
-    const uint below = c == 32 ? 0u : maskHi & ((1u << (c - 32)) - 1u);
-    return uint(bitCount(maskLo) + bitCount(below));
-}
-
-int childIndex(int x, int y, int z) { return x | (y << 2) | (z << 4); }
 
 // Trilinear field in the monomial basis and along a ray as a cubic.
 void trilinear(const float d[8], out float k[8])

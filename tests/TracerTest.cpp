@@ -255,6 +255,18 @@ TEST(TracerAgreement, SideChair)
     expectAgreement(tape, buffers, buffers.layout.voxelSize, "right", 200, 150);
 }
 
+TEST(TracerAgreement, AFaceOnALatticePlaneHasNoHoles)
+{
+    // At 1.8 mm the turned leg's pommel top lies on a lattice plane: the
+    // interval of a box just under it was the double field's (a hair below
+    // 0: full), while its corners on the face read exactly 0 in float
+    // (outside), so neither layer of voxels was populated there and rays
+    // went through the face, 26 mm deep (found by the GPU voxelizer's test).
+    const Tape tape = compileTape(Document::load(fs::path(KERF_EXAMPLES_DIR) / "turned-leg.kerf"));
+    const FlatVoxelBuffers buffers = voxels(tape, 1.8);
+    expectAgreement(tape, buffers, buffers.layout.voxelSize, "iso", 120, 240, 0.9);
+}
+
 TEST(TracerAgreement, TilesOfMixedDepths)
 {
     // A grid deep enough to drop a level: then every other tile is built one

@@ -229,8 +229,13 @@ TraceImage ComputeTracer::trace(const Camera& camera, TraceTiming* timing, const
 TraceImage ComputeTracer::trace(const Camera& camera, const ResidentSet& voxels, TraceTiming* timing,
                                 const Section& section, TraceQuality quality)
 {
+    return trace(camera, voxels.valid() ? VoxelAddresses::of(voxels) : this->voxels(), timing, section, quality);
+}
+
+TraceImage ComputeTracer::trace(const Camera& camera, const VoxelAddresses& addr, TraceTiming* timing,
+                                const Section& section, TraceQuality quality)
+{
     const Context& ctx = impl_->ctx;
-    const VoxelAddresses addr = voxels.valid() ? VoxelAddresses::of(voxels) : this->voxels();
     const int w = camera.width(), h = camera.height();
     const std::size_t pixels = std::size_t(w) * std::size_t(h);
     GpuBuffer depth(ctx, pixels * sizeof(float), VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback, "depth");

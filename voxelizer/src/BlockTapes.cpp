@@ -1,6 +1,7 @@
 #include "kerf/voxelizer/BlockTapes.hpp"
 
 #include "kerf/evaluator/IntervalEvaluator.hpp"
+#include "kerf/voxelizer/TileBuilder.hpp"
 
 #include <glm/glm.hpp>
 
@@ -23,7 +24,9 @@ const Tape& BlockTapes::forTile(const glm::ivec3& tile) const
         const glm::ivec3 first = b * blockTiles_;
         const glm::ivec3 last = glm::min(first + blockTiles_, layout_.dims) - 1;
         IntervalEvaluator evaluator;
-        evaluator.simplify(tape_, Aabb{layout_.tileBox(first).min, layout_.tileBox(last).max}, tapes_[i]);
+        // Exact over the block grown by the hair its tiles' boxes grow by.
+        const Aabb block{layout_.tileBox(first).min, layout_.tileBox(last).max};
+        evaluator.simplify(tape_, block.grown(layout_.tileSize * kIntervalBoxHair), tapes_[i]);
     });
     return tapes_[i];
 }

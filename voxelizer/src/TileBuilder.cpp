@@ -45,7 +45,9 @@ public:
         Tape& childTape = s_.levelTapes[std::size_t(level + 1)];
         for (int c = 0; c < 64; ++c) {
             const glm::dvec3 clo = lo + child * glm::dvec3(c & 3, (c >> 2) & 3, c >> 4);
-            const Interval iv = s_.intervals.simplify(tape, Aabb{clo, clo + glm::dvec3(child)}, childTape);
+            // Grown by a hair: the leaves sample float-rounded points (kIntervalBoxHair).
+            const double hair = tileSize_ * kIntervalBoxHair;
+            const Interval iv = s_.intervals.simplify(tape, Aabb{clo - hair, clo + glm::dvec3(child + hair)}, childTape);
             if (iv.lo > 0.0 || iv.hi < 0.0) continue; // provably empty or full
             BuildNode node;
             if (!build(clo, level + 1, node)) continue;
@@ -180,7 +182,7 @@ std::optional<TileData> buildTile(const Tape& tape, const GridLayout& layout, co
                                   TileBuildScratch& scratch, const Progress& work)
 {
     levels = std::clamp(levels, 1, voxel::kMaxLevels);
-    const Aabb box = layout.tileBox(tile);
+    const Aabb box = layout.tileBox(tile).grown(layout.tileSize * kIntervalBoxHair);
     TileData empty;
     empty.levels = levels;
     if (scratch.levelTapes.size() < std::size_t(levels + 1)) scratch.levelTapes.resize(std::size_t(levels + 1));
@@ -193,7 +195,7 @@ std::optional<TileData> buildTile(const Tape& tape, const GridLayout& layout, co
     }
     // From here on, coordinates are relative to the tile's corner: float
     // keeps its precision however far the part is from the world origin.
-    tileTape = tileTape.rebased(box.min);
+    tileTape = tileTape.rebased(layout.tileBox(tile).min);
     BuildNode root;
     try {
         Builder builder(scratch, levels, layout.tileSize, work);

@@ -72,6 +72,9 @@ public:
                      TraceQuality quality = TraceQuality::Voxels);
     TraceImage trace(const Camera& camera, const ResidentSet& voxels, TraceTiming* timing = nullptr,
                      const Section& section = {}, TraceQuality quality = TraceQuality::Voxels);
+    /// Traces voxels wherever they live on the device (a GpuVoxels build, for one).
+    TraceImage trace(const Camera& camera, const VoxelAddresses& voxels, TraceTiming* timing = nullptr,
+                     const Section& section = {}, TraceQuality quality = TraceQuality::Voxels);
 
     /// Milliseconds per frame of `frames` traces of the resident voxels
     /// recorded back to back in one submission (no read-back), timed on the

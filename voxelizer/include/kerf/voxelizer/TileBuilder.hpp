@@ -19,6 +19,17 @@
 
 namespace kerf {
 
+/// Interval boxes (a tile's, a node's children's) grow by this fraction of
+/// the tile edge on every side before they are tested: eight float ulps of
+/// the largest tile-relative coordinate, more than the rounding of a float
+/// sample point and of its float evaluation (the field is 1-Lipschitz). The
+/// interval is the double field's over the box; the leaves sample the float
+/// field at float-rounded points, and a box whose face lies on the surface
+/// was proven full by a 1e-13 while its corners read 0, outside: a hole in
+/// a face on a lattice plane (the turned leg's pommel top at 1.8 mm). The
+/// GPU voxelizer grows its boxes by the same hair.
+inline constexpr double kIntervalBoxHair = 1.0 / 1048576.0;
+
 /// A voxel of a leaf node whose corners agree in sign although one of them
 /// lies within the voxel's half-diagonal of the surface: the field is
 /// 1-Lipschitz, so only such a voxel can hide material or a gap thinner than

@@ -1,0 +1,261 @@
+#version 460
+// The GPU voxelizer (the f-rep-voxel-rendering seed; Keeter 2020): builds
+// the contrees of many surface tiles at once, level by level, into the flat
+// buffers the tracer reads (docs/voxel-format.md). The C++ reference is
+// voxelizer/src/TileBuilder.cpp; GpuVoxelizer.cpp drives the passes.
+//
+// Inner pass: one workgroup per node of the level; thread c tests child c's
+// box with the tile's tape in interval arithmetic (tape.glsl). Children
+// that may hold surface become the node's mask; one atomic claims their
+// node range (contiguous, in mask order, as the format wants) and another
+// their jobs for the next level. Leaf pass: one workgroup per leaf node;
+// the 125 lattice points are evaluated once, voxels whose corners change
+// sign are populated, their corners become vertices (value, exact normal
+// by forward differentiation, deciding feature), each once per leaf.
+//
+// Offsets: a tile's entry has its root node's index as `node` and 0 for
+// the other three bases, so node pointers are relative to the root and
+// every other pointer is absolute: pools are shared by all tiles.
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_GOOGLE_include_directive : require
+
+#include "VoxelizeShared.h"
+#include "voxel_format.glsl"
+
+layout(local_size_x = KERF_VOXELIZE_GROUP) in;
+
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer Words { uint w[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer ParamsRef { VoxelizeParams p; };
+
+layout(push_constant) uniform Push
+{
+    uint64_t params;
+    uint pass;
+    uint level; // inner pass: the level of the nodes processed (0 = the tiles' roots)
+    uint list;  // the job list read (0 or 1); the other one is written
+    uint pad;
+} pc;
+
+VoxelizeParams P;
+
+uint tapeWord(uint t, uint i) { return Words(P.tapes).w[t + i]; }
+
+#include "tape.glsl"
+
+// Lattice coordinate n (in finest voxels) in tile-relative mm, as the CPU
+// computes it: the product with the voxel edge in double, rounded to float
+// once. A float product of the float edge rounds twice, and a face on a
+// lattice plane then lands a hair inside on one side and exactly on the
+// surface on the other. Here the edge is a 40-bit integer mantissa and a
+// power of two: n (< 2^22) times the mantissa is exact in 64 bits, its
+// conversion rounds once, and the power of two is exact.
+float latticeMm(uint n)
+{
+    return ldexp(float(uint64_t(n) * P.voxelMantissa), int(P.sizes.w));
+}
+vec3 latticeMm(uvec3 n) { return vec3(latticeMm(n.x), latticeMm(n.y), latticeMm(n.z)); }
+
+uint64_t jobList(uint which) { return which == 0u ? P.jobs0 : P.jobs1; }
+
+// Claims `count` records of pool `counter` (capacity `capacity`); false
+// (and the pool's overflow bit) when they do not fit: the host retries with
+// larger pools, so nothing is written past the end.
+bool claim(uint counter, uint count, uint capacity, out uint first)
+{
+    first = atomicAdd(Words(P.counters).w[counter], count);
+    if (first + count <= capacity && first + count >= first) return true;
+    atomicOr(Words(P.counters).w[KERF_COUNT_OVERFLOW], 1u << min(counter, KERF_COUNT_JOBS));
+    return false;
+}
+
+shared uint sFlag[125]; // inner: child c may hold surface; leaf: point used (bit 0), its vertex (bits 2..)
+shared uint sPopulated[64];
+shared uint sMaskLo, sMaskHi, sFirstNode, sFirstJob, sFirstData, sFirstVertex, sOk;
+shared float sValue[125];
+
+uint groupIndex() { return gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x; }
+
+void innerPass(uint job)
+{
+    const uint64_t jobs = jobList(pc.list);
+    const uint entry = Words(jobs).w[job * KERF_VOXELIZE_JOB_WORDS];
+    const uint node = Words(jobs).w[job * KERF_VOXELIZE_JOB_WORDS + 1u];
+    const uvec3 lo = uvec3(Words(jobs).w[job * KERF_VOXELIZE_JOB_WORDS + 2u],
+                           Words(jobs).w[job * KERF_VOXELIZE_JOB_WORDS + 3u],
+                           Words(jobs).w[job * KERF_VOXELIZE_JOB_WORDS + 4u]);
+    const uint root = Words(P.entries).w[entry * 8u];
+    const uint tape = Words(P.entries).w[entry * 8u + 5u];
+    const uint childEdge = 1u << (2u * (P.limits.z - pc.level - 1u)); // in finest voxels
+    const uint c = gl_LocalInvocationID.x;
+    const uvec3 clo = lo + childEdge * uvec3(c & 3u, (c >> 2) & 3u, c >> 4);
+    if (c < 64u) {
+        const float margin = P.sizes.z;
+        const vec2 iv = evaluateTileTapeInterval(tape, latticeMm(clo) - margin, latticeMm(clo + childEdge) + margin);
+        // Pruned only when provably empty or full (a NaN interval is kept, as in C++).
+        sFlag[c] = (iv.x > 0.0 || iv.y < 0.0) ? 0u : 1u;
+    }
+    barrier();
+    if (c == 0u) {
+        uint lo32 = 0u, hi32 = 0u;
+        for (uint i = 0u; i < 32u; ++i) {
+            lo32 |= sFlag[i] << i;
+            hi32 |= sFlag[i + 32u] << i;
+        }
+        const uint count = uint(bitCount(lo32) + bitCount(hi32));
+        uint firstNode = 0u, firstJob = 0u;
+        const bool ok = count == 0u ||
+                        (claim(KERF_COUNT_NODES, count, P.capacity.x, firstNode) &&
+                         claim(KERF_COUNT_JOBS + 1u - pc.list, count, P.limits.x, firstJob));
+        if (!ok) lo32 = hi32 = 0u;
+        sMaskLo = lo32;
+        sMaskHi = hi32;
+        sFirstNode = firstNode;
+        sFirstJob = firstJob;
+        Words(P.nodes).w[node * 3u] = count == 0u || !ok ? 0u : firstNode - root;
+        Words(P.nodes).w[node * 3u + 1u] = lo32;
+        Words(P.nodes).w[node * 3u + 2u] = hi32;
+    }
+    barrier();
+    if (c < 64u && hasChild(sMaskLo, sMaskHi, int(c))) {
+        const uint rank = childRank(sMaskLo, sMaskHi, int(c));
+        const uint j = (sFirstJob + rank) * KERF_VOXELIZE_JOB_WORDS;
+        const uint64_t next = jobList(1u - pc.list);
+        Words(next).w[j] = entry;
+        Words(next).w[j + 1u] = sFirstNode + rank;
+        Words(next).w[j + 2u] = clo.x;
+        Words(next).w[j + 3u] = clo.y;
+        Words(next).w[j + 4u] = clo.z;
+    }
+}
+
+uint latticeIndex(uint x, uint y, uint z) { return x + 5u * (y + 5u * z); }
+
+void leafPass(uint job)
+{
+    const uint64_t jobs = jobList(pc.list);
+    const uint entry = Words(jobs).w[job * KERF_VOXELIZE_JOB_WORDS];
+    const uint node = Words(jobs).w[job * KERF_VOXELIZE_JOB_WORDS + 1u];
+    const uvec3 lo = uvec3(Words(jobs).w[job * KERF_VOXELIZE_JOB_WORDS + 2u],
+                           Words(jobs).w[job * KERF_VOXELIZE_JOB_WORDS + 3u],
+                           Words(jobs).w[job * KERF_VOXELIZE_JOB_WORDS + 4u]);
+    const uint tape = Words(P.entries).w[entry * 8u + 5u];
+    const float voxel = P.sizes.x;
+    const uint t = gl_LocalInvocationID.x;
+    const uvec3 l = uvec3(t % 5u, (t / 5u) % 5u, t / 25u);
+    const vec3 at = latticeMm(lo + l);
+    if (t < 125u) {
+        sValue[t] = evaluateTileTape(tape, at);
+        sFlag[t] = 0u;
+    }
+    barrier();
+    // Voxel t: populated when its corners change sign (0 counts as outside);
+    // its corners are marked used (every writer writes the same 1).
+    bool populated = false;
+    if (t < 64u) {
+        const uvec3 v = uvec3(t & 3u, (t >> 2) & 3u, t >> 4);
+        uint inside = 0u;
+        for (uint q = 0u; q < 8u; ++q)
+            inside += sValue[latticeIndex(v.x + (q & 1u), v.y + ((q >> 1) & 1u), v.z + (q >> 2))] < 0.0 ? 1u : 0u;
+        populated = inside != 0u && inside != 8u;
+        if (populated)
+            for (uint q = 0u; q < 8u; ++q) sFlag[latticeIndex(v.x + (q & 1u), v.y + ((q >> 1) & 1u), v.z + (q >> 2))] = 1u;
+    }
+    if (t < 64u) sPopulated[t] = populated ? 1u : 0u;
+    barrier();
+    if (t == 0u) {
+        uint lo32 = 0u, hi32 = 0u;
+        for (uint i = 0u; i < 32u; ++i) {
+            lo32 |= sPopulated[i] << i;
+            hi32 |= sPopulated[i + 32u] << i;
+        }
+        // Vertices are numbered in lattice order; a used point's number goes
+        // in its flag's upper bits.
+        uint used = 0u;
+        for (uint i = 0u; i < 125u; ++i) {
+            if ((sFlag[i] & 1u) != 0u) {
+                sFlag[i] |= used << 2;
+                ++used;
+            }
+        }
+        const uint count = uint(bitCount(lo32) + bitCount(hi32));
+        uint indirection = 0u, firstData = 0u, firstVertex = 0u;
+        const bool ok = count == 0u ||
+                        (claim(KERF_COUNT_LEAF_INDIRECTIONS, 1u, P.capacity.y, indirection) &&
+                         claim(KERF_COUNT_LEAF_DATA, count, P.capacity.z, firstData) &&
+                         claim(KERF_COUNT_VERTICES, used, P.capacity.w, firstVertex));
+        if (!ok) lo32 = hi32 = 0u;
+        sMaskLo = lo32;
+        sMaskHi = hi32;
+        sFirstData = firstData;
+        sFirstVertex = firstVertex;
+        sOk = ok && count != 0u ? 1u : 0u;
+        Words(P.nodes).w[node * 3u] = kLeafFlag | (sOk != 0u ? indirection : 0u);
+        Words(P.nodes).w[node * 3u + 1u] = lo32;
+        Words(P.nodes).w[node * 3u + 2u] = hi32;
+        if (sOk != 0u) {
+            Words(P.leafIndirections).w[indirection * 2u] = firstData;
+            Words(P.leafIndirections).w[indirection * 2u + 1u] = firstVertex;
+            atomicAdd(Words(P.entryVoxels).w[entry], count);
+        }
+    }
+    barrier();
+    if (sOk == 0u) return;
+    if (t < 64u && hasChild(sMaskLo, sMaskHi, int(t))) {
+        const uvec3 v = uvec3(t & 3u, (t >> 2) & 3u, t >> 4);
+        uint packed[2] = uint[2](0u, 0u);
+        for (uint q = 0u; q < 8u; ++q) {
+            const uint corner = sFlag[latticeIndex(v.x + (q & 1u), v.y + ((q >> 1) & 1u), v.z + (q >> 2))] >> 2;
+            packed[q >> 2] |= corner << (8u * (q & 3u));
+        }
+        const uint d = sFirstData + childRank(sMaskLo, sMaskHi, int(t));
+        Words(P.leafData).w[d * 2u] = packed[0];
+        Words(P.leafData).w[d * 2u + 1u] = packed[1];
+    }
+    if (t < 125u && (sFlag[t] & 1u) != 0u) {
+        uint feature;
+        const vec4 dual = evaluateTileTapeGradient(tape, at, feature);
+        vec3 n = dual.yzw;
+        const float len = length(n);
+        n = len > 0.0 && !isinf(len) && !isnan(len) ? n / len : vec3(0.0, 0.0, 1.0);
+        const uint vtx = sFirstVertex + (sFlag[t] >> 2);
+        Words(P.vertices).w[vtx * 2u] = encodeNormal(n);
+        // The stored distance is the value whose sign populated the voxel.
+        Words(P.vertices).w[vtx * 2u + 1u] = encodeDistanceFeature(sValue[t], voxel, feature);
+    }
+}
+
+void main()
+{
+    P = ParamsRef(pc.params).p;
+    if (pc.pass == KERF_PASS_PREPARE) {
+        if (gl_GlobalInvocationID.x != 0u) return;
+        const uint written = KERF_COUNT_JOBS + 1u - pc.list;
+        const uint count = min(Words(P.counters).w[written], P.limits.x);
+        const uint row = P.limits.w;
+        Words(P.indirect).w[0] = min(count, row);
+        Words(P.indirect).w[1] = (count + row - 1u) / row;
+        Words(P.indirect).w[2] = 1u;
+        Words(P.counters).w[KERF_COUNT_JOBS + pc.list] = 0u; // consumed: the level after next writes it
+        return;
+    }
+    if (pc.pass == KERF_PASS_FINISH) {
+        const uint entry = gl_GlobalInvocationID.x;
+        if (entry >= P.limits.y) return;
+        const uint tile = Words(P.entryTiles).w[entry];
+        if (Words(P.entryVoxels).w[entry] != 0u) {
+            Words(P.tiles).w[tile] = entry;
+            return;
+        }
+        // Ambiguous to intervals but nothing populated: which side is it on?
+        const uint tape = Words(P.entries).w[entry * 8u + 5u];
+        const float c = 0.5 * P.sizes.y;
+        Words(P.tiles).w[tile] = evaluateTileTape(tape, vec3(c)) < 0.0 ? kFullTile : kEmptyTile;
+        return;
+    }
+    const uint job = groupIndex();
+    const uint count = Words(P.counters).w[KERF_COUNT_JOBS + pc.list];
+    if (job >= min(count, P.limits.x)) return; // uniform over the group
+    if (pc.pass == KERF_PASS_INNER) innerPass(job);
+    else leafPass(job);
+}

@@ -1,0 +1,366 @@
+// The GPU voxelizer (shaders/voxelize.comp, vk::GpuVoxelizer) held to the
+// CPU voxelizer, its reference: the same populated voxels with the same
+// corner distances and normals, on every bundled example and on generated
+// parts at several feature sizes; the same picture when the compute tracer
+// reads the GPU's buffers where they were built; pools that overflow grow
+// and the build is retried; a budget too small is refused in words; and the
+// validation layers stay quiet (lavapipe here).
+
+#include "kerf/document/Document.hpp"
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/tracer/ReferenceTracer.hpp"
+#include "kerf/viewport/ComputeTracer.hpp"
+#include "kerf/viewport/GpuVoxelizer.hpp"
+#include "kerf/viewport/VulkanError.hpp"
+#include "kerf/voxelizer/TileTape.hpp"
+#include "kerf/voxelizer/Voxelize.hpp"
+#include "support/RandomShapes.hpp"
+
+#include <gtest/gtest.h>
+
+#include <glm/glm.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <set>
+
+namespace kerf {
+namespace {
+
+// A populated voxel as a reader of the flat buffers sees it, whatever the
+// order its records were written in.
+struct VoxelRead {
+    std::array<float, 8> distance{};
+    std::array<glm::vec3, 8> normal{};
+    std::array<std::uint32_t, 8> feature{};
+    std::array<glm::vec3, 8> at{};          // the corners, tile-relative mm, as the voxelizers compute them
+    const std::uint32_t* tape = nullptr;   // the tile's exact tape, when it has one
+};
+using VoxelKey = std::pair<long, glm::u64>; // tile, then x | y << 21 | z << 42 in voxels
+
+std::map<VoxelKey, VoxelRead> readVoxels(const FlatVoxelBuffers& b, int& tilesWithEntries)
+{
+    std::map<VoxelKey, VoxelRead> out;
+    tilesWithEntries = 0;
+    for (long t = 0; t < long(b.tiles.size()); ++t) {
+        const std::uint32_t w = b.tiles[std::size_t(t)];
+        if (w == voxel::kEmptyTile || w == voxel::kFullTile) continue;
+        ++tilesWithEntries;
+        const TileEntry& e = b.entries.at(w);
+        const double voxelEdge = b.layout.tileSize / std::pow(4.0, int(e.levels));
+        const float voxelMm = float(voxelEdge);
+        // (node, depth, minimum corner in voxels)
+        std::vector<std::tuple<std::uint32_t, int, glm::u64vec3>> stack{{e.node, 0, glm::u64vec3(0)}};
+        while (!stack.empty()) {
+            const auto [index, depth, lo] = stack.back();
+            stack.pop_back();
+            const voxel::Node& n = b.nodes.at(index);
+            const std::uint64_t mask = n.mask();
+            const glm::u64 childEdge = glm::u64(1) << (2 * (int(e.levels) - depth - 1));
+            for (int c = 0; c < 64; ++c) {
+                if (!(mask >> c & 1)) continue;
+                const std::uint32_t rank = std::uint32_t(std::popcount(mask & ((std::uint64_t(1) << c) - 1)));
+                const glm::u64vec3 clo = lo + childEdge * glm::u64vec3(c & 3, (c >> 2) & 3, c >> 4);
+                if (!n.isLeaf()) {
+                    stack.emplace_back(e.node + n.pointer() + rank, depth + 1, clo);
+                    continue;
+                }
+                const voxel::LeafIndirection& li = b.leafIndirections.at(e.leafIndirection + n.pointer());
+                const voxel::LeafData& ld = b.leafData.at(e.leafData + li.leafData + rank);
+                VoxelRead v;
+                for (int q = 0; q < 8; ++q) {
+                    const voxel::Vertex& x = b.vertices.at(e.vertex + li.vertex + ld.corner[std::size_t(q)]);
+                    v.distance[std::size_t(q)] = voxel::decodeDistance(x.distanceFeature, voxelMm);
+                    v.normal[std::size_t(q)] = voxel::decodeNormal(x.normal);
+                    v.feature[std::size_t(q)] = voxel::decodeFeature(x.distanceFeature);
+                    // Tile-relative mm as both voxelizers compute them: in double, rounded once.
+                    v.at[std::size_t(q)] =
+                        glm::vec3(glm::dvec3(clo + glm::u64vec3(q & 1, (q >> 1) & 1, q >> 2)) * voxelEdge);
+                }
+                if (e.tape != voxel::kNoTape) v.tape = b.tapes.data() + e.tape;
+                out.emplace(VoxelKey{t, clo.x | clo.y << 21 | clo.z << 42}, v);
+            }
+        }
+    }
+    return out;
+}
+
+struct VoxelComparison {
+    std::size_t cpu = 0, gpu = 0, both = 0;
+    std::size_t onlyOneSideNearZero = 0; // in one only, with a corner within a hair of the surface
+    std::size_t onlyOneSideElsewhere = 0;
+    std::size_t distanceOff = 0, normalOff = 0;
+    std::size_t normalTies = 0; // the GPU's normal is its tape's exact gradient; the CPU broke a tie the other way
+    std::size_t gpuCorners = 0, gpuCornersNotItsTape = 0; // GPU corners against its own tape, evaluated in C++
+    float worstDistance = 0.0f;
+    std::set<long> tilesWithHairDifferences; // tiles holding voxels populated on one side only
+};
+
+bool hasCornerNearZero(const VoxelRead& v, float hair)
+{
+    for (float d : v.distance)
+        if (std::fabs(d) <= hair) return true;
+    return false;
+}
+
+VoxelComparison compareVoxels(const FlatVoxelBuffers& cpu, const FlatVoxelBuffers& gpu, double voxelMm)
+{
+    int cpuTiles = 0, gpuTiles = 0;
+    const auto a = readVoxels(cpu, cpuTiles), b = readVoxels(gpu, gpuTiles);
+    VoxelComparison c;
+    c.cpu = a.size();
+    c.gpu = b.size();
+    // Three quanta of the stored distance: the two sides may round a corner's
+    // value differently in its last bits (fused multiply-adds).
+    const float quantum = float(2.0 * voxelMm / 32767.0);
+    const float hair = 4.0f * quantum;
+    const float cosTolerance = std::cos(glm::radians(0.5f));
+    for (const auto& [key, v] : a) {
+        const auto it = b.find(key);
+        if (it == b.end()) {
+            ++(hasCornerNearZero(v, hair) ? c.onlyOneSideNearZero : c.onlyOneSideElsewhere);
+            c.tilesWithHairDifferences.insert(key.first);
+            continue;
+        }
+        ++c.both;
+        bool distanceOff = false, normalOff = false;
+        for (std::size_t q = 0; q < 8; ++q) {
+            const float dd = std::fabs(v.distance[q] - it->second.distance[q]);
+            c.worstDistance = std::max(c.worstDistance, dd);
+            distanceOff |= dd > 3.0f * quantum;
+            // A corner on the surface may take either face's gradient; so may
+            // one on a tie between two faces (inside a box, on its diagonal
+            // planes), where the CPU's gradient evaluator and the tile tape's
+            // break ties their own way: a GPU normal that differs from the
+            // CPU's must then be its tape's exact gradient there.
+            if (std::fabs(v.distance[q]) <= hair || glm::dot(v.normal[q], it->second.normal[q]) >= cosTolerance)
+                continue;
+            bool tie = false;
+            if (it->second.tape) {
+                std::uint32_t feature = 0;
+                const glm::vec4 g = voxel::evaluateTileTapeGradient(it->second.tape, it->second.at[q], feature);
+                tie = glm::dot(glm::normalize(glm::vec3(g.y, g.z, g.w)), it->second.normal[q]) >= cosTolerance;
+            }
+            if (tie) ++c.normalTies;
+            else normalOff = true;
+        }
+        c.distanceOff += distanceOff;
+        c.normalOff += normalOff;
+    }
+    // Every corner the GPU stored is its tile tape's value there, as the C++
+    // port of the shaders' evaluator computes it (TapeLanguagesTest holds
+    // the two languages to the same bits): the GPU samples the right points
+    // with the right tape, wherever the two voxelizers' evaluators differ in
+    // the last bits.
+    for (const auto& [key, v] : b) {
+        if (!v.tape) continue;
+        for (std::size_t q = 0; q < 8; ++q) {
+            ++c.gpuCorners;
+            const float d = voxel::evaluateTileTape(v.tape, v.at[q]);
+            const std::uint32_t stored = voxel::encodeDistanceFeature(v.distance[q], float(voxelMm), 0) & 0xFFFF;
+            c.gpuCornersNotItsTape += (voxel::encodeDistanceFeature(d, float(voxelMm), 0) & 0xFFFF) != stored;
+        }
+    }
+    for (const auto& [key, v] : b)
+        if (!a.contains(key)) {
+            ++(hasCornerNearZero(v, hair) ? c.onlyOneSideNearZero : c.onlyOneSideElsewhere);
+            c.tilesWithHairDifferences.insert(key.first);
+        }
+    return c;
+}
+
+void expectSameVoxels(const VoxelComparison& c)
+{
+    EXPECT_GT(c.cpu, 0u);
+    EXPECT_EQ(c.onlyOneSideElsewhere, 0u) << "voxels populated on one side only, with no corner near the surface";
+    // A corner on the surface to float precision may fall either way: the
+    // CPU voxelizer evaluates its own simplified tapes, the GPU the tile's,
+    // and they may differ in the last bit. Where a face lies on a lattice
+    // plane that is a whole layer of voxels (the turned leg at 1.8 mm: 27 of
+    // 45,295, each with a corner within a hair of 0).
+    EXPECT_LE(c.onlyOneSideNearZero, c.cpu / 20 + 2);
+    EXPECT_EQ(c.gpuCornersNotItsTape, 0u) << "of " << c.gpuCorners << " corners";
+    EXPECT_LE(c.distanceOff, c.both / 1000 + 2) << "worst distance difference " << c.worstDistance << " mm";
+    // Normals: a corner on a crease may take either face's gradient.
+    EXPECT_LE(c.normalOff, c.both / 200 + 2);
+}
+
+class GpuVoxelizerTest : public ::testing::Test {
+protected:
+    static void SetUpTestSuite()
+    {
+        try {
+            context = std::make_unique<vk::Context>(vk::ContextOptions{.validation = true, .preferCpu = false});
+            voxelizer = std::make_unique<vk::GpuVoxelizer>(*context);
+        } catch (const vk::VulkanError& e) {
+            skipReason = e.what();
+        }
+    }
+    static void TearDownTestSuite()
+    {
+        voxelizer.reset();
+        context.reset();
+    }
+    void SetUp() override
+    {
+        if (!context) GTEST_SKIP() << "no Vulkan device: " << skipReason;
+    }
+    void TearDown() override
+    {
+        if (context)
+            EXPECT_EQ(context->validationErrors(), 0)
+                << (context->validationMessages().empty() ? std::string() : context->validationMessages().front());
+    }
+
+    // Builds `tape` on both sides and compares; returns the GPU's build.
+    vk::GpuVoxels buildBoth(const Tape& tape, const GridLayout& layout, FlatVoxelBuffers& cpu,
+                            const vk::GpuVoxelizeOptions& options = {}, vk::GpuVoxelizeReport* report = nullptr)
+    {
+        vk::GpuVoxelizeReport local;
+        vk::GpuVoxelizeReport& r = report ? *report : local;
+        std::optional<vk::GpuVoxels> gpu = voxelizer->build(tape, layout, options, &r);
+        EXPECT_TRUE(gpu.has_value()) << r.whyNot;
+        if (!gpu) return {};
+        cpu = FlatVoxelBuffers::flatten(voxelize(tape, layout, {.levels = options.levels}));
+        const FlatVoxelBuffers back = gpu->readBack(*context);
+        const double voxelMm = layout.tileSize / std::pow(4.0, gpu->levels);
+        const VoxelComparison c = compareVoxels(cpu, back, voxelMm);
+        const std::string figures = "voxels: cpu " + std::to_string(c.cpu) + ", gpu " + std::to_string(c.gpu) +
+                                    ", both " + std::to_string(c.both) + ", one side near zero " +
+                                    std::to_string(c.onlyOneSideNearZero) + ", distances off " +
+                                    std::to_string(c.distanceOff) + " (worst " + std::to_string(c.worstDistance) +
+                                    " mm), normals off " + std::to_string(c.normalOff) + " (ties " +
+                                    std::to_string(c.normalTies) + "); attempts " +
+                                    std::to_string(r.attempts);
+        std::printf("%s; GPU corners not its tape's value %zu of %zu\n", figures.c_str(), c.gpuCornersNotItsTape,
+                    c.gpuCorners);
+        SCOPED_TRACE(figures);
+        expectSameVoxels(c);
+        EXPECT_EQ(gpu->populatedVoxels, c.gpu) << "every voxel written is reachable from its tile";
+        // Tiles: the same ones empty, full and with surface, but where the
+        // only voxels of a tile are ones populated on one side by a hair.
+        std::size_t differentTiles = 0;
+        for (std::size_t t = 0; t < cpu.tiles.size(); ++t) {
+            const auto kind = [](std::uint32_t w) { return w == voxel::kEmptyTile ? 0 : w == voxel::kFullTile ? 1 : 2; };
+            differentTiles += kind(cpu.tiles[t]) != kind(back.tiles[t]) && !c.tilesWithHairDifferences.contains(long(t));
+        }
+        EXPECT_EQ(differentTiles, 0u);
+        return std::move(*gpu);
+    }
+
+    static inline std::unique_ptr<vk::Context> context;
+    static inline std::unique_ptr<vk::GpuVoxelizer> voxelizer;
+    static inline std::string skipReason;
+};
+
+class EveryExampleOnTheGpu : public GpuVoxelizerTest, public ::testing::WithParamInterface<std::string> {};
+
+TEST_P(EveryExampleOnTheGpu, BuildsTheCpuVoxelsAndTracesTheSamePicture)
+{
+    const Document doc = Document::load(std::filesystem::path(KERF_EXAMPLES_DIR) / (GetParam() + ".kerf"));
+    const Tape tape = compileTape(doc);
+    const double extent = std::max({tape.bounds().size().x, tape.bounds().size().y, tape.bounds().size().z});
+    // Two depths: coarse, and four times finer (lavapipe runs the shaders on two cores).
+    for (const double divisions : {100.0, 400.0}) {
+        SCOPED_TRACE("feature size " + std::to_string(extent / divisions));
+        const GridLayout layout = GridLayout::choose(tape.bounds(), extent / divisions);
+        FlatVoxelBuffers cpu;
+        const vk::GpuVoxels gpu = buildBoth(tape, layout, cpu);
+        if (HasFailure()) return;
+        vk::ComputeTracer tracer(*context);
+        tracer.setVoxels(cpu);
+        for (const TraceQuality quality : {TraceQuality::Voxels, TraceQuality::Exact})
+            for (const char* view : {"iso", "right"}) {
+                SCOPED_TRACE(std::string(view) + " view, " + std::string(traceQualityName(quality)));
+                const Camera camera = Camera::standardView(tape.bounds(), view, 240, 180);
+                const TraceImage fromCpu = tracer.trace(camera, nullptr, {}, quality);
+                const TraceImage fromGpu = tracer.trace(camera, gpu.addresses(1), nullptr, {}, quality);
+                std::size_t hitsDiffer = 0, depthOff = 0, hits = 0;
+                for (std::size_t i = 0; i < fromCpu.depth.size(); ++i) {
+                    hits += fromCpu.hit(i);
+                    if (fromCpu.hit(i) != fromGpu.hit(i)) {
+                        ++hitsDiffer;
+                        continue;
+                    }
+                    if (fromCpu.hit(i) && std::fabs(fromCpu.depth[i] - fromGpu.depth[i]) > 0.01 * layout.voxelSize)
+                        ++depthOff;
+                }
+                EXPECT_GT(hits, 400u);
+                EXPECT_LE(hitsDiffer, fromCpu.depth.size() / 2000);
+                EXPECT_LE(depthOff, hits / 500);
+            }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, EveryExampleOnTheGpu,
+                         ::testing::Values("side-chair", "bookshelf-side", "table-top", "stool", "door-frame",
+                                           "turned-leg"));
+
+TEST_F(GpuVoxelizerTest, GeneratedPartsAtSeveralFeatureSizes)
+{
+    test::RandomShapes r(20261125);
+    for (int part = 0; part < 6; ++part) {
+        const Tape tape = compileTape(test::RandomShapes::document(r.tree(3)));
+        if (tape.bounds().isEmpty()) continue;
+        for (const double feature : {2.0, 0.75, 0.3}) {
+            SCOPED_TRACE("part " + std::to_string(part) + " at " + std::to_string(feature) + " mm");
+            const GridLayout layout = GridLayout::choose(tape.bounds(), feature);
+            FlatVoxelBuffers cpu;
+            buildBoth(tape, layout, cpu);
+            if (HasFailure()) return;
+        }
+    }
+}
+
+TEST_F(GpuVoxelizerTest, PoolsThatOverflowGrowAndTheBuildIsRetried)
+{
+    // A fresh voxelizer guesses its pools from the surface tiles; a sphere
+    // deep in a coarse grid fills far more of each tile than furniture does.
+    vk::GpuVoxelizer fresh(*context);
+    const Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"s","type":"sphere","radius":30}})",
+                                         "sphere.kerf");
+    const Tape tape = compileTape(doc);
+    const GridLayout layout = GridLayout::choose(tape.bounds(), 0.25, {.maxTiles = 8});
+    vk::GpuVoxelizeReport report;
+    std::optional<vk::GpuVoxels> gpu = fresh.build(tape, layout, {}, &report);
+    ASSERT_TRUE(gpu) << report.whyNot;
+    EXPECT_GT(report.attempts, 1) << "the first guess was meant to be too small here";
+    const FlatVoxelBuffers cpu = FlatVoxelBuffers::flatten(voxelize(tape, layout));
+    expectSameVoxels(compareVoxels(cpu, gpu->readBack(*context), layout.voxelSize));
+    // The next build of the same part sizes its pools from this one.
+    ASSERT_TRUE(fresh.build(tape, layout, {}, &report));
+    EXPECT_EQ(report.attempts, 1);
+}
+
+TEST_F(GpuVoxelizerTest, ABudgetTooSmallIsRefusedInWords)
+{
+    const Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"s","type":"sphere","radius":30}})",
+                                         "sphere.kerf");
+    const Tape tape = compileTape(doc);
+    const GridLayout layout = GridLayout::choose(tape.bounds(), 0.5);
+    vk::GpuVoxelizeReport report;
+    EXPECT_FALSE(voxelizer->build(tape, layout, {.memoryBudget = 1 << 20}, &report));
+    EXPECT_NE(report.whyNot.find("device memory"), std::string::npos) << report.whyNot;
+    EXPECT_NE(report.whyNot.find("budget is 1 MB"), std::string::npos) << report.whyNot;
+}
+
+TEST_F(GpuVoxelizerTest, CoarserDepthsAndPartsFarFromTheOrigin)
+{
+    const Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"u","type":"union","children":[
+        {"id":"b","type":"box","size":[18,120,300],"transform":{"translate":[100000,-50000,2000]}},
+        {"id":"c","type":"cylinder","radius":6,"height":40,"transform":{"translate":[100009,-50000,2000]}}]}})",
+                                         "far.kerf");
+    const Tape tape = compileTape(doc);
+    const GridLayout layout = GridLayout::choose(tape.bounds(), 0.5);
+    for (const int levels : {1, 2, layout.levels}) {
+        SCOPED_TRACE("levels " + std::to_string(levels));
+        FlatVoxelBuffers cpu;
+        buildBoth(tape, layout, cpu, {.levels = levels});
+    }
+}
+
+} // namespace
+} // namespace kerf
