@@ -116,9 +116,9 @@ int voxelizeBench(const std::vector<std::string>& args)
     std::vector<Scene> scenes{{"chair", Document::load(examples + "/side-chair.kerf"), {1.0, 0.5, 0.25, 0.1}},
                               {"showcase", showcase(), {0.1, 0.01}}};
     nlohmann::ordered_json results = nlohmann::ordered_json::array();
-    std::printf("%-9s %6s %11s %6s %9s %9s %9s %9s %9s %9s %8s %10s %10s %9s\n", "scene", "fs", "voxels", "host",
-                "gpu cold", "gpu warm", "prepare", "upload", "device", "pool MB", "tries", "cpu all", "cpu 1",
-                "Gvox/s");
+    std::printf("%-9s %6s %11s %5s %9s %9s %8s %8s %8s %9s %8s %7s %10s %10s %8s\n", "scene", "fs", "voxels", "host",
+                "gpu cold", "gpu warm", "prepare", "alloc", "upload", "device", "pool MB", "reruns", "cpu all",
+                "cpu 1", "Gvox/s");
     for (auto& scene : scenes) {
         if (!onlyScene.empty() && scene.name != onlyScene) continue;
         const Tape tape = compileTape(scene.doc);
@@ -137,13 +137,14 @@ int voxelizeBench(const std::vector<std::string>& args)
             }
             const std::size_t voxels = gpu->populatedVoxels;
             gpu.reset();
-            std::vector<double> warmMs, prepareMs, uploadMs, deviceMs;
+            std::vector<double> warmMs, prepareMs, allocateMs, uploadMs, deviceMs;
             vk::GpuVoxelizeReport warm;
             for (int r = 0; r < repeats; ++r) {
                 t0 = std::chrono::steady_clock::now();
                 gpu = fresh.build(tape, layout, {}, &warm);
                 warmMs.push_back(millisecondsSince(t0));
                 prepareMs.push_back(warm.prepareMilliseconds);
+                allocateMs.push_back(warm.allocateMilliseconds);
                 uploadMs.push_back(warm.uploadMilliseconds);
                 deviceMs.push_back(warm.deviceMilliseconds);
                 gpu.reset();
@@ -163,9 +164,10 @@ int voxelizeBench(const std::vector<std::string>& args)
                 cpuOne.push_back(millisecondsSince(t0));
             }
             const double gpuWarm = median(warmMs);
-            std::printf("%-9s %6g %11zu %6zu %9.1f %9.1f %9.1f %9.1f %9.1f %9.0f %8d %10.1f %10s %9.2f\n",
+            std::printf("%-9s %6g %11zu %5zu %9.1f %9.1f %8.1f %8.1f %8.1f %9.1f %8.0f %7d %10.1f %10s %8.2f\n",
                         scene.name.c_str(), fs, voxels, warm.hostBuiltTiles, coldMs, gpuWarm, median(prepareMs),
-                        median(uploadMs), median(deviceMs), double(warm.poolBytes) / 1e6, cold.attempts, median(cpuAll),
+                        median(allocateMs), median(uploadMs), median(deviceMs), double(warm.poolBytes) / 1e6,
+                        cold.levelReruns, median(cpuAll),
                         cpuOne.empty() ? "-" : std::to_string(int(cpuOne[0])).c_str(),
                         double(voxels) / (gpuWarm * 1e-3) / 1e9);
             std::fflush(stdout);
@@ -175,7 +177,9 @@ int voxelizeBench(const std::vector<std::string>& args)
                                {"cpu_populated_voxels", cpuVoxels},
                                {"host_built_tiles", warm.hostBuiltTiles},
                                {"gpu_cold_ms", coldMs},
-                               {"gpu_cold_attempts", cold.attempts},
+                               {"gpu_cold_level_reruns", cold.levelReruns},
+                               {"gpu_warm_level_reruns", warm.levelReruns},
+                               {"gpu_allocate_ms", allocateMs},
                                {"gpu_warm_ms", warmMs},
                                {"gpu_prepare_ms", prepareMs},
                                {"gpu_upload_ms", uploadMs},

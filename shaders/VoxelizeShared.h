@@ -34,14 +34,12 @@ struct vvec4_ {
 #define KERF_COUNT_LEAF_DATA 2
 #define KERF_COUNT_VERTICES 3
 #define KERF_COUNT_JOBS 4 // 4 and 5: the two job lists
-#define KERF_COUNT_OVERFLOW 6 // bit i: the pool of counter i ran out (bit 4: a job list)
 #define KERF_COUNT_WORDS 8
 
 // Passes (push constant `pass`).
 #define KERF_PASS_INNER 0   // one group per node of the level: its 64 children by intervals
 #define KERF_PASS_LEAF 1    // one group per leaf: 125 corners, populated voxels, vertices
-#define KERF_PASS_PREPARE 2 // one thread: the next pass's group count from the job list just written
-#define KERF_PASS_FINISH 3  // one thread per entry: tile word (entry, or empty/full when nothing was populated)
+#define KERF_PASS_FINISH 2  // one thread per entry: tile word (entry, or empty/full when nothing was populated)
 
 struct VoxelizeParams {
     KERF_U64 tapes;            // the tiles' encoded tapes, concatenated
@@ -56,16 +54,16 @@ struct VoxelizeParams {
     KERF_U64 jobs0;            // job lists, KERF_VOXELIZE_JOB_WORDS words each, used in turn by the levels
     KERF_U64 jobs1;
     KERF_U64 counters;         // KERF_COUNT_WORDS words
-    KERF_U64 indirect;         // VkDispatchIndirectCommand for the next pass
     KERF_U64 voxelMantissa;    // the finest voxel edge (mm) = voxelMantissa * 2^sizes.w, exactly to 40 bits
+    KERF_U64 unused;           // (keeps the vectors 16-byte aligned)
     KERF_UVEC4 capacity;       // records the pools hold: nodes, leaf indirections, leaf data, vertices
-    KERF_UVEC4 limits;         // x: jobs per list, y: entries, z: contree levels, w: groups per dispatch row
+    KERF_UVEC4 limits;         // x: jobs list 0 holds, y: entries, z: contree levels, w: jobs list 1 holds
     KERF_VEC4 sizes;           // x: finest voxel edge (mm, float), y: tile edge (mm), z: the interval boxes' margin (mm),
                                // w: the voxel edge's power of two (voxelMantissa)
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(VoxelizeParams) == 14 * 8 + 3 * 16);
+static_assert(sizeof(VoxelizeParams) == 13 * 8 + 8 + 3 * 16);
 } // namespace kerf::gpu
 #endif
 

@@ -57,16 +57,16 @@ float latticeMm(uint n)
 vec3 latticeMm(uvec3 n) { return vec3(latticeMm(n.x), latticeMm(n.y), latticeMm(n.z)); }
 
 uint64_t jobList(uint which) { return which == 0u ? P.jobs0 : P.jobs1; }
+uint jobCapacity(uint which) { return which == 0u ? P.limits.x : P.limits.w; }
 
 // Claims `count` records of pool `counter` (capacity `capacity`); false
-// (and the pool's overflow bit) when they do not fit: the host retries with
-// larger pools, so nothing is written past the end.
+// when they do not fit. The counter counts the claim either way: after the
+// level the host knows exactly what it asked for, grows the pool and runs
+// the level again, so nothing is ever written past a pool's end.
 bool claim(uint counter, uint count, uint capacity, out uint first)
 {
     first = atomicAdd(Words(P.counters).w[counter], count);
-    if (first + count <= capacity && first + count >= first) return true;
-    atomicOr(Words(P.counters).w[KERF_COUNT_OVERFLOW], 1u << min(counter, KERF_COUNT_JOBS));
-    return false;
+    return first + count <= capacity && first + count >= first;
 }
 
 shared uint sFlag[125]; // inner: child c may hold surface; leaf: point used (bit 0), its vertex (bits 2..)
@@ -104,9 +104,12 @@ void innerPass(uint job)
         }
         const uint count = uint(bitCount(lo32) + bitCount(hi32));
         uint firstNode = 0u, firstJob = 0u;
-        const bool ok = count == 0u ||
-                        (claim(KERF_COUNT_NODES, count, P.capacity.x, firstNode) &&
-                         claim(KERF_COUNT_JOBS + 1u - pc.list, count, P.limits.x, firstJob));
+        bool ok = true;
+        if (count != 0u) { // both claims always made: each counter then says what the level needs
+            const bool nodesFit = claim(KERF_COUNT_NODES, count, P.capacity.x, firstNode);
+            const bool jobsFit = claim(KERF_COUNT_JOBS + 1u - pc.list, count, jobCapacity(1u - pc.list), firstJob);
+            ok = nodesFit && jobsFit;
+        }
         if (!ok) lo32 = hi32 = 0u;
         sMaskLo = lo32;
         sMaskHi = hi32;
@@ -180,10 +183,13 @@ void leafPass(uint job)
         }
         const uint count = uint(bitCount(lo32) + bitCount(hi32));
         uint indirection = 0u, firstData = 0u, firstVertex = 0u;
-        const bool ok = count == 0u ||
-                        (claim(KERF_COUNT_LEAF_INDIRECTIONS, 1u, P.capacity.y, indirection) &&
-                         claim(KERF_COUNT_LEAF_DATA, count, P.capacity.z, firstData) &&
-                         claim(KERF_COUNT_VERTICES, used, P.capacity.w, firstVertex));
+        bool ok = true;
+        if (count != 0u) { // every claim always made: each counter then says what the level needs
+            const bool leafFits = claim(KERF_COUNT_LEAF_INDIRECTIONS, 1u, P.capacity.y, indirection);
+            const bool dataFits = claim(KERF_COUNT_LEAF_DATA, count, P.capacity.z, firstData);
+            const bool verticesFit = claim(KERF_COUNT_VERTICES, used, P.capacity.w, firstVertex);
+            ok = leafFits && dataFits && verticesFit;
+        }
         if (!ok) lo32 = hi32 = 0u;
         sMaskLo = lo32;
         sMaskHi = hi32;
@@ -228,17 +234,6 @@ void leafPass(uint job)
 void main()
 {
     P = ParamsRef(pc.params).p;
-    if (pc.pass == KERF_PASS_PREPARE) {
-        if (gl_GlobalInvocationID.x != 0u) return;
-        const uint written = KERF_COUNT_JOBS + 1u - pc.list;
-        const uint count = min(Words(P.counters).w[written], P.limits.x);
-        const uint row = P.limits.w;
-        Words(P.indirect).w[0] = min(count, row);
-        Words(P.indirect).w[1] = (count + row - 1u) / row;
-        Words(P.indirect).w[2] = 1u;
-        Words(P.counters).w[KERF_COUNT_JOBS + pc.list] = 0u; // consumed: the level after next writes it
-        return;
-    }
     if (pc.pass == KERF_PASS_FINISH) {
         const uint entry = gl_GlobalInvocationID.x;
         if (entry >= P.limits.y) return;
@@ -255,7 +250,7 @@ void main()
     }
     const uint job = groupIndex();
     const uint count = Words(P.counters).w[KERF_COUNT_JOBS + pc.list];
-    if (job >= min(count, P.limits.x)) return; // uniform over the group
+    if (job >= min(count, jobCapacity(pc.list))) return; // uniform over the group
     if (pc.pass == KERF_PASS_INNER) innerPass(job);
     else leafPass(job);
 }

@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <limits>
 
 namespace kerf::vk {
@@ -161,12 +162,6 @@ FlatVoxelBuffers GpuVoxels::readBack(const Context& ctx) const
     return out;
 }
 
-std::size_t GpuVoxelizer::Pools::bytes() const
-{
-    return nodes * sizeof(voxel::Node) + leafIndirections * sizeof(voxel::LeafIndirection) +
-           leafData * sizeof(voxel::LeafData) + vertices * sizeof(voxel::Vertex) + 2 * jobs * kJobBytes;
-}
-
 GpuVoxelizer::GpuVoxelizer(const Context& ctx) : ctx_(ctx)
 {
     VkDevice dev = ctx.device();
@@ -190,25 +185,6 @@ GpuVoxelizer::GpuVoxelizer(const Context& ctx) : ctx_(ctx)
 }
 
 GpuVoxelizer::~GpuVoxelizer() = default;
-
-GpuVoxelizer::Pools GpuVoxelizer::firstGuess(std::size_t surfaceTiles, int levels) const
-{
-    // A plane through a tile of n x n x n voxels populates about n^2 of them;
-    // most surface tiles hold far less (furniture: 5 to 10 %). What the
-    // last build at this depth needed wins over the guess.
-    const double n = std::pow(4.0, levels);
-    const double perTile = voxelsPerTile_[std::size_t(levels)] > 0.0 ? 1.25 * voxelsPerTile_[std::size_t(levels)]
-                                                                       : 0.1 * n * n;
-    const double voxels = std::max(65536.0, perTile * double(surfaceTiles));
-    Pools p;
-    const auto records = [](double v) { return std::size_t(std::min(v, double(kMaxRecords))); };
-    p.leafData = records(voxels);
-    p.vertices = records(3.2 * voxels);                                 // the chair: 2.9 per voxel
-    p.leafIndirections = records(voxels / 4.0);                         // about 16 voxels per leaf
-    p.nodes = records(voxels / 2.0 + double(surfaceTiles));            // leaves, empty leaves and inner nodes
-    p.jobs = std::max<std::size_t>(p.nodes, surfaceTiles);             // the widest level at most
-    return p;
-}
 
 std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout& layout,
                                              const GpuVoxelizeOptions& options, GpuVoxelizeReport* report)
@@ -296,149 +272,169 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
     out.surfaceTiles = host.entries.size();
     constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                             VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    const auto allocateStart = Clock::now();
     out.tiles = GpuBuffer(ctx_, host.tiles.size() * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "tiles");
     out.entries = GpuBuffer(ctx_, host.entries.size() * sizeof(TileEntry), kStorage, GpuBuffer::Kind::DeviceLocal,
                             "entries");
     out.tapes = GpuBuffer(ctx_, host.tapes.size() * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "tapes");
-
-    const std::size_t budget = options.memoryBudget > 0 ? options.memoryBudget : deviceLocalHeapBytes(ctx_) / 2;
-    const std::size_t perBuffer = ctx_.maxAllocationBytes();
-    const std::uint32_t row = std::min<std::uint32_t>(ctx_.properties().limits.maxComputeWorkGroupCount[0], 65535u);
-    const GpuBuffer entryTiles = GpuBuffer(ctx_, surface * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "entry tiles");
-    const GpuBuffer entryVoxels = GpuBuffer(ctx_, surface * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "entry voxels");
+    const GpuBuffer entryTiles(ctx_, surface * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "entry tiles");
+    const GpuBuffer entryVoxels(ctx_, surface * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "entry voxels");
     const GpuBuffer counters(ctx_, KERF_COUNT_WORDS * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "counters");
-    const GpuBuffer indirect(ctx_, 16, kStorage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, GpuBuffer::Kind::DeviceLocal,
-                             "indirect");
     const GpuBuffer params(ctx_, sizeof(gpu::VoxelizeParams), kStorage, GpuBuffer::Kind::DeviceLocal, "params");
     const GpuBuffer countsBack(ctx_, KERF_COUNT_WORDS * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback,
                                "counters read-back");
 
-    Pools pools = firstGuess(surface, levels);
-    for (int attempt = 1;; ++attempt) {
-        r.attempts = attempt;
-        pools.jobs = std::max(pools.jobs, surface);
-        // The host's tiles take the first records of each pool.
-        pools.nodes = std::max(pools.nodes, surface + host.nodes.size() + 1);
-        pools.leafIndirections = std::max(pools.leafIndirections, host.leafIndirections.size() + 1);
-        pools.leafData = std::max(pools.leafData, host.leafData.size() + 1);
-        pools.vertices = std::max(pools.vertices, host.vertices.size() + 1);
-        r.poolBytes = pools.bytes();
-        const std::size_t largest = std::max({pools.nodes * sizeof(voxel::Node), pools.vertices * sizeof(voxel::Vertex),
-                                              pools.leafData * sizeof(voxel::LeafData), pools.jobs * kJobBytes});
-        if (pools.bytes() > budget || largest > perBuffer) {
-            r.whyNot = "the voxels need about " + megabytes(pools.bytes()) + " of device memory (the budget is " +
-                       megabytes(budget) + ", one buffer at most " + megabytes(perBuffer) + ")";
-            return std::nullopt;
+    // The pools. Each level runs in its own submission, and the host reads
+    // the counters after it: a level that asked for more records than a pool
+    // holds (the shaders write nothing past the end, but every claim counts)
+    // has its pools grown to exactly what it asked, their contents kept, and
+    // runs again. So a build needs at most one rerun per level, and what it
+    // holds is known before each level starts.
+    const std::size_t budget = options.memoryBudget > 0 ? options.memoryBudget : deviceLocalHeapBytes(ctx_) / 2;
+    const std::size_t perBuffer = ctx_.maxAllocationBytes();
+    struct Pool {
+        GpuBuffer buffer;
+        std::size_t capacity = 0; // records
+        std::size_t recordBytes = 0;
+        const char* name = "";
+    };
+    Pool nodes{{}, 0, sizeof(voxel::Node), "nodes"}, leafIndirections{{}, 0, sizeof(voxel::LeafIndirection), "leaves"},
+        leafData{{}, 0, sizeof(voxel::LeafData), "voxels"}, vertices{{}, 0, sizeof(voxel::Vertex), "vertices"},
+        jobs[2] = {{{}, 0, kJobBytes, "jobs"}, {{}, 0, kJobBytes, "jobs"}};
+    Pool* const all[] = {&nodes, &leafIndirections, &leafData, &vertices, &jobs[0], &jobs[1]};
+    const auto poolBytes = [&] {
+        std::size_t b = 0;
+        for (const Pool* p : all) b += p->capacity * p->recordBytes;
+        return b;
+    };
+    struct Copy {
+        VkBuffer from, to;
+        std::size_t bytes;
+    };
+    std::vector<Copy> copies;     // contents to carry into grown pools, in the next submission
+    std::vector<GpuBuffer> retired; // pools replaced: kept until that submission has run
+    // Grows `p` to at least `records`, keeping its first `keep` records; false when over the budget.
+    const auto grow = [&](Pool& p, std::size_t records, std::size_t keep) {
+        if (records <= p.capacity) return true;
+        records = std::max<std::size_t>(records, 16);
+        if (records > kMaxRecords || records * p.recordBytes > perBuffer ||
+            poolBytes() + (records - p.capacity) * p.recordBytes > budget) {
+            r.whyNot = "the voxels need more than " + megabytes(poolBytes() + (records - p.capacity) * p.recordBytes) +
+                       " of device memory (the budget is " + megabytes(budget) + ", one buffer at most " +
+                       megabytes(perBuffer) + "; the " + p.name + " alone ask for " +
+                       megabytes(records * p.recordBytes) + ")";
+            return false;
         }
-        out.nodes = GpuBuffer(ctx_, pools.nodes * sizeof(voxel::Node), kStorage, GpuBuffer::Kind::DeviceLocal, "nodes");
-        out.leafIndirections = GpuBuffer(ctx_, pools.leafIndirections * sizeof(voxel::LeafIndirection), kStorage,
-                                         GpuBuffer::Kind::DeviceLocal, "leaf indirections");
-        out.leafData = GpuBuffer(ctx_, pools.leafData * sizeof(voxel::LeafData), kStorage,
-                                 GpuBuffer::Kind::DeviceLocal, "leaf data");
-        out.vertices = GpuBuffer(ctx_, pools.vertices * sizeof(voxel::Vertex), kStorage, GpuBuffer::Kind::DeviceLocal,
-                                 "vertices");
-        const GpuBuffer jobs0(ctx_, pools.jobs * kJobBytes, kStorage, GpuBuffer::Kind::DeviceLocal, "jobs 0");
-        const GpuBuffer jobs1(ctx_, pools.jobs * kJobBytes, kStorage, GpuBuffer::Kind::DeviceLocal, "jobs 1");
+        GpuBuffer bigger(ctx_, records * p.recordBytes, kStorage, GpuBuffer::Kind::DeviceLocal, p.name);
+        if (keep > 0) copies.push_back({p.buffer.buffer(), bigger.buffer(), keep * p.recordBytes});
+        retired.push_back(std::move(p.buffer));
+        p.buffer = std::move(bigger);
+        p.capacity = records;
+        return true;
+    };
+    // The host's tiles take the first records of each pool; the device's
+    // roots are the first nodes.
+    std::uint32_t count[KERF_COUNT_WORDS] = {};
+    count[KERF_COUNT_NODES] = std::uint32_t(surface + host.nodes.size());
+    count[KERF_COUNT_LEAF_INDIRECTIONS] = std::uint32_t(host.leafIndirections.size());
+    count[KERF_COUNT_LEAF_DATA] = std::uint32_t(host.leafData.size());
+    count[KERF_COUNT_VERTICES] = std::uint32_t(host.vertices.size());
+    count[KERF_COUNT_JOBS] = std::uint32_t(surface);
+    // Every level's nodes are about 16 times the last's (a surface, four
+    // times finer each way); the leaves' records follow what the last build
+    // of this depth had per leaf.
+    const double voxelsPerLeaf = voxelsPerLeaf_ > 0.0 ? voxelsPerLeaf_ : 24.0;
+    const double verticesPerVoxel = verticesPerVoxel_ > 0.0 ? verticesPerVoxel_ : 2.6;
+    if (!grow(nodes, count[KERF_COUNT_NODES] + 16 * surface, 0) || !grow(jobs[0], surface, 0) ||
+        !grow(jobs[1], 16 * surface, 0) || !grow(leafIndirections, count[KERF_COUNT_LEAF_INDIRECTIONS] + 1, 0) ||
+        !grow(leafData, count[KERF_COUNT_LEAF_DATA] + 1, 0) || !grow(vertices, count[KERF_COUNT_VERTICES] + 1, 0))
+        return std::nullopt;
+    retired.clear();
 
+    struct Upload {
+        const void* data;
+        std::size_t bytes;
+        VkBuffer to;
+        std::size_t at = 0; // bytes into `to`
+    };
+    const Upload uploads[] = {
+        {host.tiles.data(), host.tiles.size() * 4, out.tiles.buffer()},
+        {host.entries.data(), host.entries.size() * sizeof(TileEntry), out.entries.buffer()},
+        {host.tapes.data(), host.tapes.size() * 4, out.tapes.buffer()},
+        {host.entryTiles.data(), surface * 4, entryTiles.buffer()},
+        {host.roots.data(), host.roots.size() * 4, jobs[0].buffer.buffer()},
+        {host.nodes.data(), host.nodes.size() * sizeof(voxel::Node), nodes.buffer.buffer(), surface * sizeof(voxel::Node)},
+        {host.leafIndirections.data(), host.leafIndirections.size() * sizeof(voxel::LeafIndirection),
+         leafIndirections.buffer.buffer()},
+        {host.leafData.data(), host.leafData.size() * sizeof(voxel::LeafData), leafData.buffer.buffer()},
+        {host.vertices.data(), host.vertices.size() * sizeof(voxel::Vertex), vertices.buffer.buffer()}};
+    std::size_t stagingBytes = 0;
+    for (const Upload& u : uploads) stagingBytes += u.bytes;
+    const GpuBuffer staging(ctx_, stagingBytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GpuBuffer::Kind::HostVisible,
+                            "voxelizer staging");
+    r.allocateMilliseconds = millisecondsSince(allocateStart);
+    const auto uploadStart = Clock::now();
+    {
+        std::size_t at = 0;
+        for (const Upload& u : uploads) {
+            if (u.bytes > 0) std::memcpy(static_cast<char*>(staging.mapped()) + at, u.data, u.bytes);
+            at += u.bytes;
+        }
+    }
+    r.uploadMilliseconds = millisecondsSince(uploadStart);
+
+    const std::uint32_t row = std::min<std::uint32_t>(ctx_.properties().limits.maxComputeWorkGroupCount[0], 65535u);
+    const auto paramsNow = [&] {
         gpu::VoxelizeParams p{};
         p.tapes = out.tapes.address();
         p.entries = out.entries.address();
         p.entryTiles = entryTiles.address();
         p.entryVoxels = entryVoxels.address();
         p.tiles = out.tiles.address();
-        p.nodes = out.nodes.address();
-        p.leafIndirections = out.leafIndirections.address();
-        p.leafData = out.leafData.address();
-        p.vertices = out.vertices.address();
-        p.jobs0 = jobs0.address();
-        p.jobs1 = jobs1.address();
+        p.nodes = nodes.buffer.address();
+        p.leafIndirections = leafIndirections.buffer.address();
+        p.leafData = leafData.buffer.address();
+        p.vertices = vertices.buffer.address();
+        p.jobs0 = jobs[0].buffer.address();
+        p.jobs1 = jobs[1].buffer.address();
         p.counters = counters.address();
-        p.indirect = indirect.address();
-        p.capacity = {std::uint32_t(pools.nodes), std::uint32_t(pools.leafIndirections), std::uint32_t(pools.leafData),
-                      std::uint32_t(pools.vertices)};
-        p.limits = {std::uint32_t(pools.jobs), std::uint32_t(surface), std::uint32_t(levels), row};
+        p.capacity = {std::uint32_t(nodes.capacity), std::uint32_t(leafIndirections.capacity),
+                      std::uint32_t(leafData.capacity), std::uint32_t(vertices.capacity)};
+        p.limits = {std::uint32_t(jobs[0].capacity), std::uint32_t(surface), std::uint32_t(levels),
+                    std::uint32_t(jobs[1].capacity)};
         const double voxelMm = layout.tileSize / std::pow(4.0, levels);
         int exponent = 0;
         const double fraction = std::frexp(voxelMm, &exponent);
         p.voxelMantissa = std::uint64_t(std::llround(std::ldexp(fraction, 40)));
         // The interval boxes grow by a hair so that float corners never cut them short.
-        p.sizes = {float(voxelMm), float(layout.tileSize), float(layout.tileSize * kIntervalBoxHair),
-                   float(exponent - 40)};
-        std::uint32_t count[KERF_COUNT_WORDS] = {};
-        count[KERF_COUNT_NODES] = std::uint32_t(surface + host.nodes.size());
-        count[KERF_COUNT_LEAF_INDIRECTIONS] = std::uint32_t(host.leafIndirections.size());
-        count[KERF_COUNT_LEAF_DATA] = std::uint32_t(host.leafData.size());
-        count[KERF_COUNT_VERTICES] = std::uint32_t(host.vertices.size());
-        count[KERF_COUNT_JOBS] = std::uint32_t(surface);
-        const std::uint32_t firstGroups[4] = {std::min<std::uint32_t>(std::uint32_t(surface), row),
-                                              (std::uint32_t(surface) + row - 1) / row, 1, 0};
-
-        // One staging buffer, one submission: copies, then the passes.
-        struct Upload {
-            const void* data;
-            std::size_t bytes;
-            const GpuBuffer* to;
-            std::size_t at = 0; // bytes into `to`
-        };
-        const Upload uploads[] = {{host.tiles.data(), host.tiles.size() * 4, &out.tiles},
-                                  {host.entries.data(), host.entries.size() * sizeof(TileEntry), &out.entries},
-                                  {host.nodes.data(), host.nodes.size() * sizeof(voxel::Node), &out.nodes,
-                                   surface * sizeof(voxel::Node)},
-                                  {host.leafIndirections.data(),
-                                   host.leafIndirections.size() * sizeof(voxel::LeafIndirection), &out.leafIndirections},
-                                  {host.leafData.data(), host.leafData.size() * sizeof(voxel::LeafData), &out.leafData},
-                                  {host.vertices.data(), host.vertices.size() * sizeof(voxel::Vertex), &out.vertices},
-                                  {host.tapes.data(), host.tapes.size() * 4, &out.tapes},
-                                  {host.entryTiles.data(), surface * 4, &entryTiles},
-                                  {host.roots.data(), host.roots.size() * 4, &jobs0},
-                                  {count, sizeof count, &counters},
-                                  {firstGroups, sizeof firstGroups, &indirect},
-                                  {&p, sizeof p, &params}};
-        const auto uploadStart = Clock::now();
-        std::size_t total = 0;
-        for (const Upload& u : uploads) total += u.bytes;
-        const GpuBuffer staging(ctx_, total, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GpuBuffer::Kind::HostVisible,
-                                "voxelizer staging");
-        {
-            std::size_t at = 0;
-            for (const Upload& u : uploads) {
-                if (u.bytes > 0) std::memcpy(static_cast<char*>(staging.mapped()) + at, u.data, u.bytes);
-                at += u.bytes;
-            }
-        }
-        r.uploadMilliseconds += millisecondsSince(uploadStart);
-
+        p.sizes = {float(voxelMm), float(layout.tileSize), float(layout.tileSize * kIntervalBoxHair), float(exponent - 40)};
+        return p;
+    };
+    // One submission: carried contents, parameters and counters, then `record`, then the counters back.
+    const auto submit = [&](bool first, const std::function<void(VkCommandBuffer)>& record) {
+        const gpu::VoxelizeParams p = paramsNow();
         const auto deviceStart = Clock::now();
         ctx_.submitAndWait([&](VkCommandBuffer cb) {
-            std::size_t at = 0;
-            for (const Upload& u : uploads) {
-                if (u.bytes == 0) continue;
-                const VkBufferCopy region{at, u.at, u.bytes};
-                vkCmdCopyBuffer(cb, staging.buffer(), u.to->buffer(), 1, &region);
-                at += u.bytes;
+            if (first) {
+                std::size_t at = 0;
+                for (const Upload& u : uploads) {
+                    if (u.bytes == 0) continue;
+                    const VkBufferCopy region{at, u.at, u.bytes};
+                    vkCmdCopyBuffer(cb, staging.buffer(), u.to, 1, &region);
+                    at += u.bytes;
+                }
+                vkCmdFillBuffer(cb, entryVoxels.buffer(), 0, VK_WHOLE_SIZE, 0);
             }
-            vkCmdFillBuffer(cb, entryVoxels.buffer(), 0, VK_WHOLE_SIZE, 0);
+            for (const Copy& c : copies) {
+                const VkBufferCopy region{0, 0, c.bytes};
+                vkCmdCopyBuffer(cb, c.from, c.to, 1, &region);
+            }
+            vkCmdUpdateBuffer(cb, params.buffer(), 0, sizeof p, &p);
+            vkCmdUpdateBuffer(cb, counters.buffer(), 0, sizeof count, count);
             computeBarrier(cb);
             vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
-            const auto push = [&](std::uint32_t pass, int level) {
-                const VoxelizePush pc{params.address(), pass, std::uint32_t(level), std::uint32_t(level & 1), 0};
-                vkCmdPushConstants(cb, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
-            };
-            for (int level = 0; level < levels && surface > 0; ++level) {
-                const bool leaf = level == levels - 1;
-                push(leaf ? KERF_PASS_LEAF : KERF_PASS_INNER, level);
-                vkCmdDispatchIndirect(cb, indirect.buffer(), 0);
-                computeBarrier(cb);
-                if (leaf) break;
-                push(KERF_PASS_PREPARE, level);
-                vkCmdDispatch(cb, 1, 1, 1);
-                computeBarrier(cb);
-            }
-            if (surface > 0) {
-                push(KERF_PASS_FINISH, 0);
-                vkCmdDispatch(cb, std::uint32_t((surface + KERF_VOXELIZE_GROUP - 1) / KERF_VOXELIZE_GROUP), 1, 1);
-                computeBarrier(cb);
-            }
+            record(cb);
+            computeBarrier(cb);
             const VkBufferCopy region{0, 0, KERF_COUNT_WORDS * 4};
             vkCmdCopyBuffer(cb, counters.buffer(), countsBack.buffer(), 1, &region);
             VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
@@ -448,47 +444,90 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
                                  nullptr, 0, nullptr);
         });
         r.deviceMilliseconds += millisecondsSince(deviceStart);
+        copies.clear();
+        retired.clear();
+    };
+    const auto push = [&](VkCommandBuffer cb, std::uint32_t pass, int level) {
+        const VoxelizePush pc{params.address(), pass, std::uint32_t(level), std::uint32_t(level & 1), 0};
+        vkCmdPushConstants(cb, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
+    };
 
-        std::uint32_t back[KERF_COUNT_WORDS];
-        std::memcpy(back, countsBack.mapped(), sizeof back);
-        const std::uint32_t overflow = back[KERF_COUNT_OVERFLOW];
-        if (overflow == 0) {
-            out.nodeCount = back[KERF_COUNT_NODES];
-            out.leafCount = back[KERF_COUNT_LEAF_INDIRECTIONS];
-            out.populatedVoxels = back[KERF_COUNT_LEAF_DATA];
-            out.vertexCount = back[KERF_COUNT_VERTICES];
-            if (surface > 0)
-                voxelsPerTile_[std::size_t(levels)] =
-                    double(out.populatedVoxels - host.leafData.size()) / double(surface);
-            return out;
+    bool first = true;
+    for (int level = 0; level < levels && surface > 0; ++level) {
+        const bool leaf = level == levels - 1;
+        const int in = level & 1, next = 1 - in;
+        const std::uint32_t jobsIn = count[KERF_COUNT_JOBS + in];
+        if (jobsIn == 0) break;
+        // What this level will probably ask for.
+        bool fits = true;
+        if (leaf) {
+            const std::size_t voxelsGuess = std::size_t(voxelsPerLeaf * 1.1 * jobsIn);
+            fits = grow(leafIndirections, count[KERF_COUNT_LEAF_INDIRECTIONS] + jobsIn, count[KERF_COUNT_LEAF_INDIRECTIONS]) &&
+                   grow(leafData, count[KERF_COUNT_LEAF_DATA] + voxelsGuess, count[KERF_COUNT_LEAF_DATA]) &&
+                   grow(vertices, count[KERF_COUNT_VERTICES] + std::size_t(verticesPerVoxel * 1.1 * double(voxelsGuess)),
+                        count[KERF_COUNT_VERTICES]);
+        } else {
+            const double ratio = childrenPerNode_[std::size_t(level)] > 0.0 ? 1.1 * childrenPerNode_[std::size_t(level)] : 16.0;
+            const std::size_t children = std::size_t(std::ceil(ratio * double(jobsIn)));
+            fits = grow(nodes, count[KERF_COUNT_NODES] + children, count[KERF_COUNT_NODES]) &&
+                   grow(jobs[next], children, 0);
         }
-        // A pool ran out at some level: the levels below it were cut short,
-        // so their counts say little. Grow what overflowed to what it was
-        // asked for and everything below by the same factor, at least twice.
-        const auto grown = [](std::size_t capacity, std::uint32_t asked) {
-            return std::max<std::size_t>(2 * capacity, std::size_t(1.25 * double(asked)));
-        };
-        double factor = 2.0;
-        if (overflow & (1u << KERF_COUNT_NODES))
-            factor = std::max(factor, 1.25 * double(back[KERF_COUNT_NODES]) / double(pools.nodes));
-        if (overflow & (1u << KERF_COUNT_JOBS)) factor = std::max(factor, 4.0);
-        if (overflow & (1u << KERF_COUNT_LEAF_DATA))
-            factor = std::max(factor, 1.25 * double(back[KERF_COUNT_LEAF_DATA]) / double(pools.leafData));
-        pools.nodes = std::min(kMaxRecords, std::max(grown(pools.nodes, back[KERF_COUNT_NODES]),
-                                                     std::size_t(double(pools.nodes) * factor)));
-        pools.jobs = std::min(kMaxRecords, std::size_t(double(pools.jobs) * factor));
-        pools.leafIndirections =
-            std::min(kMaxRecords, std::max(grown(pools.leafIndirections, back[KERF_COUNT_LEAF_INDIRECTIONS]),
-                                           std::size_t(double(pools.leafIndirections) * factor)));
-        pools.leafData = std::min(kMaxRecords, std::max(grown(pools.leafData, back[KERF_COUNT_LEAF_DATA]),
-                                                        std::size_t(double(pools.leafData) * factor)));
-        pools.vertices = std::min(kMaxRecords, std::max(grown(pools.vertices, back[KERF_COUNT_VERTICES]),
-                                                        std::size_t(double(pools.vertices) * factor)));
-        if (attempt >= 8) {
-            r.whyNot = "the voxel pools kept overflowing after " + std::to_string(attempt) + " attempts";
-            return std::nullopt;
+        if (!fits) return std::nullopt;
+        for (int run = 0;; ++run) {
+            count[KERF_COUNT_JOBS + next] = 0;
+            submit(first, [&](VkCommandBuffer cb) {
+                push(cb, leaf ? KERF_PASS_LEAF : KERF_PASS_INNER, level);
+                vkCmdDispatch(cb, std::min(jobsIn, row), (jobsIn + row - 1) / row, 1);
+            });
+            first = false;
+            std::uint32_t back[KERF_COUNT_WORDS];
+            std::memcpy(back, countsBack.mapped(), sizeof back);
+            // Every claim counted, written or not: these are exactly what the level asked for.
+            const bool ran = back[KERF_COUNT_NODES] <= nodes.capacity &&
+                             back[KERF_COUNT_JOBS + next] <= jobs[next].capacity &&
+                             back[KERF_COUNT_LEAF_INDIRECTIONS] <= leafIndirections.capacity &&
+                             back[KERF_COUNT_LEAF_DATA] <= leafData.capacity &&
+                             back[KERF_COUNT_VERTICES] <= vertices.capacity;
+            if (ran) {
+                if (!leaf) childrenPerNode_[std::size_t(level)] = double(back[KERF_COUNT_JOBS + next]) / double(jobsIn);
+                std::memcpy(count, back, sizeof count);
+                break;
+            }
+            if (run > 0) {
+                r.whyNot = "a level of the voxelization asked for more records on its second run than on its first";
+                return std::nullopt;
+            }
+            ++r.levelReruns;
+            if (!grow(nodes, back[KERF_COUNT_NODES], count[KERF_COUNT_NODES]) ||
+                !grow(jobs[next], back[KERF_COUNT_JOBS + next], 0) ||
+                !grow(leafIndirections, back[KERF_COUNT_LEAF_INDIRECTIONS], count[KERF_COUNT_LEAF_INDIRECTIONS]) ||
+                !grow(leafData, back[KERF_COUNT_LEAF_DATA], count[KERF_COUNT_LEAF_DATA]) ||
+                !grow(vertices, back[KERF_COUNT_VERTICES], count[KERF_COUNT_VERTICES]))
+                return std::nullopt;
         }
     }
+    submit(first, [&](VkCommandBuffer cb) {
+        if (surface == 0) return;
+        push(cb, KERF_PASS_FINISH, 0);
+        vkCmdDispatch(cb, std::uint32_t((surface + KERF_VOXELIZE_GROUP - 1) / KERF_VOXELIZE_GROUP), 1, 1);
+    });
+
+    out.nodes = std::move(nodes.buffer);
+    out.leafIndirections = std::move(leafIndirections.buffer);
+    out.leafData = std::move(leafData.buffer);
+    out.vertices = std::move(vertices.buffer);
+    out.nodeCount = count[KERF_COUNT_NODES];
+    out.leafCount = count[KERF_COUNT_LEAF_INDIRECTIONS];
+    out.populatedVoxels = count[KERF_COUNT_LEAF_DATA];
+    out.vertexCount = count[KERF_COUNT_VERTICES];
+    r.poolBytes = poolBytes();
+    const std::size_t deviceLeaves = out.leafCount - host.leafIndirections.size();
+    const std::size_t deviceVoxels = out.populatedVoxels - host.leafData.size();
+    if (deviceLeaves > 0 && deviceVoxels > 0) {
+        voxelsPerLeaf_ = double(deviceVoxels) / double(deviceLeaves);
+        verticesPerVoxel_ = double(out.vertexCount - host.vertices.size()) / double(deviceVoxels);
+    }
+    return out;
 }
 
 } // namespace kerf::vk

@@ -17,10 +17,13 @@
 // reference and the fallback: build() says why when it cannot build a part
 // here (pools beyond the memory budget).
 //
-// Memory: the pools (nodes, leaves, voxels, vertices, job lists) are sized
-// from the surface tiles and the depth, grown and the build retried when a
-// level overflows them (the shaders never write past a pool's end); their
-// total is checked against the budget before anything is allocated.
+// Memory: one submission per level, and the host reads the counters after
+// each. The pools (nodes, leaves, voxels, vertices, job lists) are sized for
+// the level about to run (the next level's nodes about 16 times this one's;
+// a leaf's voxels and vertices as the last build had them); a level that
+// asks for more (the shaders write nothing past a pool's end, but every
+// claim counts) gets pools of exactly what it asked, contents kept, and runs
+// again. Every pool is checked against the budget before it is made.
 //
 // Threading: one thread at a time. The context must outlive the voxelizer
 // and every GpuVoxels it made.
@@ -64,17 +67,18 @@ struct GpuVoxels {
 
 struct GpuVoxelizeOptions {
     int levels = -1;              // contree depth; -1: the layout's
-    std::size_t memoryBudget = 0; // bytes the pools may take; 0: half the largest allocation the device allows, times 4
+    std::size_t memoryBudget = 0; // bytes the pools may take; 0: half the device-local memory
     int threads = 0;              // host threads preparing tapes; 0: every core
 };
 
 struct GpuVoxelizeReport {
     double prepareMilliseconds = 0.0; // the host's tile tapes and intervals
-    double uploadMilliseconds = 0.0;  // tapes, entries and first jobs to the device
-    double deviceMilliseconds = 0.0;  // the passes, from submission to completion (all attempts)
-    int attempts = 0;                 // 1 unless a pool overflowed
+    double allocateMilliseconds = 0.0; // device buffers made
+    double uploadMilliseconds = 0.0;   // tapes, entries and first jobs into the staging buffer
+    double deviceMilliseconds = 0.0;   // the submissions, from recording to completion (one per level)
+    int levelReruns = 0;               // levels run twice because they asked for more than a pool held
     std::size_t hostBuiltTiles = 0;   // surface tiles whose tape the shaders cannot hold: built by the CPU's builder
-    std::size_t poolBytes = 0;        // what the last attempt allocated
+    std::size_t poolBytes = 0;         // the pools' device memory at the end
     std::string whyNot;               // set when build() returns nothing
 };
 
@@ -90,19 +94,16 @@ public:
                                    GpuVoxelizeReport* report = nullptr);
 
 private:
-    struct Pools {
-        std::size_t nodes = 0, leafIndirections = 0, leafData = 0, vertices = 0, jobs = 0;
-        std::size_t bytes() const;
-    };
-    Pools firstGuess(std::size_t surfaceTiles, int levels) const;
-
     const Context& ctx_;
     ShaderModule module_;
     PipelineLayout layout_;
     Pipeline pipeline_;
-    /// Per surface tile and depth, what the last build needed: a rebuild of
-    /// the same part (an edit) sizes its pools right the first time.
-    std::array<double, 12> voxelsPerTile_{};
+    /// What the last build had per leaf and per node: the next one sizes
+    /// its pools from them (an edit's rebuild then runs every level once).
+    double voxelsPerLeaf_ = 0.0;
+    double verticesPerVoxel_ = 0.0;
+    /// Per level, the children an ambiguous node had in the last build.
+    std::array<double, voxel::kMaxLevels + 1> childrenPerNode_{};
 };
 
 } // namespace kerf::vk
