@@ -16,7 +16,7 @@
 //
 //   kerf_gpu_bench voxelize [--scene chair|showcase] [--feature-size MM]
 //                           [--repeats N] [--json OUT.json] [--examples DIR]
-//                           [--one-thread-up-to VOXELS]
+//                           [--one-thread-up-to VOXELS] [--cpu-threads 1,2,4,8,16]
 //
 // The voxelize form times the GPU voxelizer (vk::GpuVoxelizer) against the
 // CPU voxelizer on every core and on one (one core only up to a populated
@@ -43,6 +43,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -91,6 +92,7 @@ int voxelizeBench(const std::vector<std::string>& args)
     std::string examples = KERF_EXAMPLES_DIR, jsonPath, onlyScene;
     double onlyFeatureSize = 0.0, oneThreadUpTo = 3e7;
     int repeats = 5;
+    std::vector<int> threadSweep;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         const bool more = i + 1 < args.size();
@@ -100,9 +102,13 @@ int voxelizeBench(const std::vector<std::string>& args)
         else if (a == "--feature-size" && more) onlyFeatureSize = std::atof(args[++i].c_str());
         else if (a == "--repeats" && more) repeats = std::max(1, std::atoi(args[++i].c_str()));
         else if (a == "--one-thread-up-to" && more) oneThreadUpTo = std::atof(args[++i].c_str());
+        else if (a == "--cpu-threads" && more) {
+            std::stringstream list(args[++i]);
+            for (std::string t; std::getline(list, t, ',');) threadSweep.push_back(std::max(1, std::atoi(t.c_str())));
+        }
         else {
             std::cerr << "usage: kerf_gpu_bench voxelize [--scene chair|showcase] [--feature-size MM] [--repeats N] "
-                         "[--json OUT.json] [--examples DIR] [--one-thread-up-to VOXELS]\n";
+                         "[--json OUT.json] [--examples DIR] [--one-thread-up-to VOXELS] [--cpu-threads 1,2,4,...]\n";
             return 2;
         }
     }
@@ -136,19 +142,31 @@ int voxelizeBench(const std::vector<std::string>& args)
                 continue;
             }
             const std::size_t voxels = gpu->populatedVoxels;
-            gpu.reset();
-            std::vector<double> warmMs, prepareMs, allocateMs, uploadMs, deviceMs;
+            // Warm: rebuilds of the same part, as an edit that dirties every
+            // tile asks for, while the last build is still on screen; the one
+            // before it is recycled. The GPU's clocks first come up (300 ms of
+            // the same work): a discrete GPU idles down between calls.
+            std::optional<vk::GpuVoxels> previous;
             vk::GpuVoxelizeReport warm;
+            const auto rebuild = [&] {
+                if (previous) fresh.recycle(std::move(*previous));
+                previous = std::move(gpu);
+                gpu = fresh.build(tape, layout, {}, &warm);
+            };
+            const auto warmUp = std::chrono::steady_clock::now();
+            while (millisecondsSince(warmUp) < 300.0) rebuild();
+            std::vector<double> warmMs, prepareMs, allocateMs, uploadMs, deviceMs;
             for (int r = 0; r < repeats; ++r) {
                 t0 = std::chrono::steady_clock::now();
-                gpu = fresh.build(tape, layout, {}, &warm);
+                rebuild();
                 warmMs.push_back(millisecondsSince(t0));
                 prepareMs.push_back(warm.prepareMilliseconds);
                 allocateMs.push_back(warm.allocateMilliseconds);
                 uploadMs.push_back(warm.uploadMilliseconds);
                 deviceMs.push_back(warm.deviceMilliseconds);
-                gpu.reset();
             }
+            gpu.reset();
+            previous.reset();
             // CPU: every core, then one (the same code, an arena of one thread).
             std::vector<double> cpuAll, cpuOne;
             std::size_t cpuVoxels = 0;
@@ -162,6 +180,16 @@ int voxelizeBench(const std::vector<std::string>& args)
                 t0 = std::chrono::steady_clock::now();
                 (void)voxelize(tape, layout, {.threads = 1});
                 cpuOne.push_back(millisecondsSince(t0));
+            }
+            // The CPU path's scaling: the same build on each thread count asked for.
+            nlohmann::ordered_json sweep = nlohmann::ordered_json::object();
+            for (const int threads : threadSweep) {
+                if (threads == 1 && double(cpuVoxels) > oneThreadUpTo) continue;
+                t0 = std::chrono::steady_clock::now();
+                (void)voxelize(tape, layout, {.threads = threads});
+                const double ms = millisecondsSince(t0);
+                sweep[std::to_string(threads)] = ms;
+                std::printf("    cpu %2d threads: %.1f ms\n", threads, ms);
             }
             const double gpuWarm = median(warmMs);
             std::printf("%-9s %6g %11zu %5zu %9.1f %9.1f %8.1f %8.1f %8.1f %9.1f %8.0f %7d %10.1f %10s %8.2f\n",
@@ -186,7 +214,8 @@ int voxelizeBench(const std::vector<std::string>& args)
                                {"gpu_device_ms", deviceMs},
                                {"gpu_pool_bytes", warm.poolBytes},
                                {"cpu_all_threads_ms", cpuAll},
-                               {"cpu_one_thread_ms", cpuOne}});
+                               {"cpu_one_thread_ms", cpuOne},
+                               {"cpu_threads_ms", sweep}});
         }
     }
     if (!jsonPath.empty()) {

@@ -332,8 +332,15 @@ TEST_F(GpuVoxelizerTest, ALevelThatOutgrowsItsPoolsRunsAgainInLargerOnes)
     const FlatVoxelBuffers cpu = FlatVoxelBuffers::flatten(voxelize(tape, layout));
     expectSameVoxels(compareVoxels(cpu, gpu->readBack(*context), layout.voxelSize));
     // The next build of the same part (an edit) sizes its pools from this one.
-    ASSERT_TRUE(fresh.build(tape, layout, {}, &report));
+    std::optional<vk::GpuVoxels> second = fresh.build(tape, layout, {}, &report);
+    ASSERT_TRUE(second);
     EXPECT_EQ(report.levelReruns, 0);
+    // A build made in the pools of a recycled one is the same build.
+    fresh.recycle(std::move(*gpu));
+    std::optional<vk::GpuVoxels> third = fresh.build(tape, layout, {}, &report);
+    ASSERT_TRUE(third);
+    expectSameVoxels(compareVoxels(cpu, third->readBack(*context), layout.voxelSize));
+    EXPECT_EQ(compareVoxels(second->readBack(*context), third->readBack(*context), layout.voxelSize).distanceOff, 0u);
 }
 
 TEST_F(GpuVoxelizerTest, ABudgetTooSmallIsRefusedInWords)

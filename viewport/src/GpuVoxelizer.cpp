@@ -186,6 +186,34 @@ GpuVoxelizer::GpuVoxelizer(const Context& ctx) : ctx_(ctx)
 
 GpuVoxelizer::~GpuVoxelizer() = default;
 
+void GpuVoxelizer::recycle(GpuVoxels&& old)
+{
+    for (GpuBuffer* b : {&old.nodes, &old.leafIndirections, &old.leafData, &old.vertices}) giveSpare(std::move(*b));
+    old = GpuVoxels{};
+}
+
+void GpuVoxelizer::giveSpare(GpuBuffer&& buffer)
+{
+    if (buffer.size() < (std::size_t(1) << 20)) return; // small ones cost little to make
+    spare_.push_back(std::move(buffer));
+    // Keep the largest few: what a rebuild of the same part will ask for.
+    std::sort(spare_.begin(), spare_.end(), [](const GpuBuffer& a, const GpuBuffer& b) { return a.size() > b.size(); });
+    if (spare_.size() > kSpareBuffers) spare_.resize(kSpareBuffers);
+}
+
+GpuBuffer GpuVoxelizer::takeSpare(std::size_t bytes)
+{
+    // The smallest spare that holds `bytes`, unless it is more than twice as large.
+    for (std::size_t i = spare_.size(); i-- > 0;) {
+        if (spare_[i].size() < bytes) continue;
+        if (spare_[i].size() > 2 * bytes + (std::size_t(1) << 20)) return {};
+        GpuBuffer b = std::move(spare_[i]);
+        spare_.erase(spare_.begin() + long(i));
+        return b;
+    }
+    return {};
+}
+
 std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout& layout,
                                              const GpuVoxelizeOptions& options, GpuVoxelizeReport* report)
 {
@@ -313,8 +341,14 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
     };
     std::vector<Copy> copies;     // contents to carry into grown pools, in the next submission
     std::vector<GpuBuffer> retired; // pools replaced: kept until that submission has run
-    // Grows `p` to at least `records`, keeping its first `keep` records; false when over the budget.
-    const auto grow = [&](Pool& p, std::size_t records, std::size_t keep) {
+    // Grows `p` to at least `records`, keeping its first `keep` records; false
+    // when over the budget. A `guess` (what a level will probably ask for) is
+    // cut to what the budget allows instead: only a level's real need refuses.
+    const auto grow = [&](Pool& p, std::size_t records, std::size_t keep, bool guess = false) {
+        if (guess) {
+            const std::size_t room = budget > poolBytes() ? (budget - poolBytes()) / p.recordBytes + p.capacity : 0;
+            records = std::min({records, kMaxRecords, perBuffer / p.recordBytes, room});
+        }
         if (records <= p.capacity) return true;
         records = std::max<std::size_t>(records, 16);
         if (records > kMaxRecords || records * p.recordBytes > perBuffer ||
@@ -325,11 +359,12 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
                        megabytes(records * p.recordBytes) + ")";
             return false;
         }
-        GpuBuffer bigger(ctx_, records * p.recordBytes, kStorage, GpuBuffer::Kind::DeviceLocal, p.name);
+        GpuBuffer bigger = takeSpare(records * p.recordBytes);
+        if (bigger.size() == 0) bigger = GpuBuffer(ctx_, records * p.recordBytes, kStorage, GpuBuffer::Kind::DeviceLocal, p.name);
         if (keep > 0) copies.push_back({p.buffer.buffer(), bigger.buffer(), keep * p.recordBytes});
         retired.push_back(std::move(p.buffer));
         p.buffer = std::move(bigger);
-        p.capacity = records;
+        p.capacity = p.buffer.size() / p.recordBytes;
         return true;
     };
     // The host's tiles take the first records of each pool; the device's
@@ -349,6 +384,7 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         !grow(jobs[1], 16 * surface, 0) || !grow(leafIndirections, count[KERF_COUNT_LEAF_INDIRECTIONS] + 1, 0) ||
         !grow(leafData, count[KERF_COUNT_LEAF_DATA] + 1, 0) || !grow(vertices, count[KERF_COUNT_VERTICES] + 1, 0))
         return std::nullopt;
+    for (GpuBuffer& b : retired) giveSpare(std::move(b));
     retired.clear();
 
     struct Upload {
@@ -445,6 +481,7 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         });
         r.deviceMilliseconds += millisecondsSince(deviceStart);
         copies.clear();
+        for (GpuBuffer& b : retired) giveSpare(std::move(b));
         retired.clear();
     };
     const auto push = [&](VkCommandBuffer cb, std::uint32_t pass, int level) {
@@ -462,15 +499,16 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         bool fits = true;
         if (leaf) {
             const std::size_t voxelsGuess = std::size_t(voxelsPerLeaf * 1.1 * jobsIn);
-            fits = grow(leafIndirections, count[KERF_COUNT_LEAF_INDIRECTIONS] + jobsIn, count[KERF_COUNT_LEAF_INDIRECTIONS]) &&
-                   grow(leafData, count[KERF_COUNT_LEAF_DATA] + voxelsGuess, count[KERF_COUNT_LEAF_DATA]) &&
+            fits = grow(leafIndirections, count[KERF_COUNT_LEAF_INDIRECTIONS] + jobsIn, count[KERF_COUNT_LEAF_INDIRECTIONS],
+                        true) &&
+                   grow(leafData, count[KERF_COUNT_LEAF_DATA] + voxelsGuess, count[KERF_COUNT_LEAF_DATA], true) &&
                    grow(vertices, count[KERF_COUNT_VERTICES] + std::size_t(verticesPerVoxel * 1.1 * double(voxelsGuess)),
-                        count[KERF_COUNT_VERTICES]);
+                        count[KERF_COUNT_VERTICES], true);
         } else {
             const double ratio = childrenPerNode_[std::size_t(level)] > 0.0 ? 1.1 * childrenPerNode_[std::size_t(level)] : 16.0;
             const std::size_t children = std::size_t(std::ceil(ratio * double(jobsIn)));
-            fits = grow(nodes, count[KERF_COUNT_NODES] + children, count[KERF_COUNT_NODES]) &&
-                   grow(jobs[next], children, 0);
+            fits = grow(nodes, count[KERF_COUNT_NODES] + children, count[KERF_COUNT_NODES], true) &&
+                   grow(jobs[next], children, 0, true);
         }
         if (!fits) return std::nullopt;
         for (int run = 0;; ++run) {
@@ -512,6 +550,8 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         vkCmdDispatch(cb, std::uint32_t((surface + KERF_VOXELIZE_GROUP - 1) / KERF_VOXELIZE_GROUP), 1, 1);
     });
 
+    giveSpare(std::move(jobs[0].buffer));
+    giveSpare(std::move(jobs[1].buffer));
     out.nodes = std::move(nodes.buffer);
     out.leafIndirections = std::move(leafIndirections.buffer);
     out.leafData = std::move(leafData.buffer);

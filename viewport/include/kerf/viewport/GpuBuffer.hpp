@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 
 namespace kerf::vk {
 
@@ -17,6 +18,18 @@ public:
     GpuBuffer() = default;
     /// `bytes` may be 0 (a 16-byte buffer is made so that it has an address).
     GpuBuffer(const Context& ctx, std::size_t bytes, VkBufferUsageFlags usage, Kind kind, const char* name);
+    /// A moved-from buffer is empty (size 0, no address), like a default one.
+    GpuBuffer(GpuBuffer&& o) noexcept { *this = std::move(o); }
+    GpuBuffer& operator=(GpuBuffer&& o) noexcept
+    {
+        if (this == &o) return *this;
+        buffer_ = std::move(o.buffer_);
+        memory_ = std::move(o.memory_);
+        address_ = std::exchange(o.address_, 0);
+        size_ = std::exchange(o.size_, 0);
+        mapped_ = std::exchange(o.mapped_, nullptr);
+        return *this;
+    }
 
     VkBuffer buffer() const { return buffer_; }
     VkDeviceAddress address() const { return address_; }

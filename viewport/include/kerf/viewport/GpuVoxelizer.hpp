@@ -40,6 +40,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace kerf::vk {
 
@@ -93,7 +94,15 @@ public:
     std::optional<GpuVoxels> build(const Tape& tape, const GridLayout& layout, const GpuVoxelizeOptions& options = {},
                                    GpuVoxelizeReport* report = nullptr);
 
+    /// Hands back a build nobody reads any more (the one before the one on
+    /// screen): its pools serve the next build instead of new allocations,
+    /// which on a discrete GPU cost about as much as the build itself.
+    void recycle(GpuVoxels&& old);
+
 private:
+    static constexpr std::size_t kSpareBuffers = 8;
+    void giveSpare(GpuBuffer&& buffer);
+    GpuBuffer takeSpare(std::size_t bytes); // an empty buffer when no spare fits
     const Context& ctx_;
     ShaderModule module_;
     PipelineLayout layout_;
@@ -104,6 +113,7 @@ private:
     double verticesPerVoxel_ = 0.0;
     /// Per level, the children an ambiguous node had in the last build.
     std::array<double, voxel::kMaxLevels + 1> childrenPerNode_{};
+    std::vector<GpuBuffer> spare_; // largest first
 };
 
 } // namespace kerf::vk
