@@ -4,6 +4,9 @@
 
 #include <glm/glm.hpp>
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <array>
 #include <bit>
 #include <deque>
@@ -14,6 +17,10 @@ namespace kerf {
 namespace {
 
 struct Cancelled {};
+
+// Tiles at least this deep build their 64 children in parallel when a
+// helper scratch is given (shallower ones are too small to pay for tasks).
+constexpr int kParallelFromLevels = 3;
 
 // A node of the contree while it is built; serialized afterwards so that
 // children end up contiguous (breadth-first).
@@ -41,6 +48,8 @@ public:
         const double child = size / 4.0;
         if (level == levels_ - 1) return buildLeaf(lo, child, level, out);
         if (work_.cancelled()) throw Cancelled{};
+        if (level == 0 && levels_ >= kParallelFromLevels && s_.helper && !s_.quietVoxels)
+            return buildChildrenInParallel(out);
         const Tape& tape = s_.levelTapes[std::size_t(level)];
         Tape& childTape = s_.levelTapes[std::size_t(level + 1)];
         for (int c = 0; c < 64; ++c) {
@@ -58,6 +67,35 @@ public:
     }
 
 private:
+    // A tile's children from different threads: each subtree is independent
+    // (its tape simplified from the tile's, its records its own), and the
+    // children are put back in mask order, so the tile is the serial one.
+    bool buildChildrenInParallel(BuildNode& out)
+    {
+        const Tape tileTape = s_.levelTapes[0]; // a copy: helpers write their own level tapes
+        const double child = tileSize_ / 4.0;
+        std::array<BuildNode, 64> children;
+        std::array<bool, 64> populated{};
+        tbb::this_task_arena::isolate([&] {
+            tbb::parallel_for(0, 64, [&](int c) {
+                TileBuildScratch& h = s_.helper();
+                Builder sub(h, levels_, tileSize_, work_);
+                const glm::dvec3 clo = child * glm::dvec3(c & 3, (c >> 2) & 3, c >> 4);
+                const double hair = tileSize_ * kIntervalBoxHair;
+                const Interval iv =
+                    h.intervals.simplify(tileTape, Aabb{clo - hair, clo + glm::dvec3(child + hair)}, h.levelTapes[1]);
+                if (iv.lo > 0.0 || iv.hi < 0.0) return; // provably empty or full
+                populated[std::size_t(c)] = sub.build(clo, 1, children[std::size_t(c)]);
+            });
+        });
+        for (int c = 0; c < 64; ++c) {
+            if (!populated[std::size_t(c)]) continue;
+            out.mask |= std::uint64_t(1) << c;
+            out.children.push_back(std::move(children[std::size_t(c)]));
+        }
+        return out.mask != 0;
+    }
+
     // Keeps voxel c of the leaf at `lo` as a QuietVoxel if a corner lies
     // within its half-diagonal of the surface (with room for float rounding).
     void noteQuiet(const glm::dvec3& lo, double voxel, int c, const std::array<int, 8>& corner,

@@ -33,6 +33,7 @@ VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const Voxeliz
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<long>(0, layout.tileCount(), 1), [&](const tbb::blocked_range<long>& r) {
             auto& s = scratch.local();
+            s.helper = [&scratch]() -> TileBuildScratch& { return scratch.local(); };
             for (long i = r.begin(); i != r.end(); ++i) {
                 if (stopped) return;
                 const glm::ivec3 t = layout.tileCoord(i);

@@ -296,7 +296,9 @@ void Voxelizer::process(Request request)
             tbb::parallel_for(std::size_t(0), tiles.size(), [&](std::size_t k) {
                 if (aborted.load()) return;
                 const glm::ivec3 tc = layout.tileCoord(tiles[k]);
-                auto t = buildTile(blocks.forTile(tc), layout, tc, levelsOf(tiles[k]), scratch.local(), superseded);
+                TileBuildScratch& s = scratch.local();
+                s.helper = [&scratch]() -> TileBuildScratch& { return scratch.local(); };
+                auto t = buildTile(blocks.forTile(tc), layout, tc, levelsOf(tiles[k]), s, superseded);
                 if (!t) {
                     aborted = true;
                     return;

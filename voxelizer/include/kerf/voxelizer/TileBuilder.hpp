@@ -47,6 +47,13 @@ struct TileBuildScratch {
     std::vector<Tape> levelTapes; // the simplified tape of the node being built at each level
     /// When set, buildTile appends the tile's quiet voxels here.
     std::vector<QuietVoxel>* quietVoxels = nullptr;
+    /// When set (and no quiet voxels are asked for), the subtrees of a
+    /// tile's 64 children are built in parallel, each thread with the
+    /// scratch this returns for it (a oneTBB enumerable_thread_specific's
+    /// local()): a part with a few heavy tiles then uses every core, not one
+    /// per tile. The calling thread waits in an isolated arena, so it never
+    /// picks up another tile that would reuse its own scratch meanwhile.
+    std::function<TileBuildScratch&()> helper;
 };
 
 /// Builds tile `tile` of `layout` from `tape` (a tape in world coordinates,
