@@ -8,6 +8,7 @@
 
 #include "kerf/document/Document.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/tracer/ExactTracer.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
 #include "kerf/viewport/GpuVoxelizer.hpp"
@@ -367,6 +368,93 @@ TEST_F(GpuVoxelizerTest, CoarserDepthsAndPartsFarFromTheOrigin)
         SCOPED_TRACE("levels " + std::to_string(levels));
         FlatVoxelBuffers cpu;
         buildBoth(tape, layout, cpu, {.levels = levels});
+    }
+}
+
+} // namespace
+} // namespace kerf
+
+namespace kerf {
+namespace {
+
+TEST_F(GpuVoxelizerTest, PoolsLargerThanLavapipesStorageBufferRangeWork)
+{
+    // lavapipe caps a storage-buffer binding at 128 MiB; the voxelizer and
+    // the tracer reach their pools by device address, where no such cap
+    // applies. A sphere whose vertex pool alone is larger than that.
+    const Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"s","type":"sphere","radius":58}})",
+                                         "sphere.kerf");
+    const Tape tape = compileTape(doc);
+    const GridLayout layout = GridLayout::choose(tape.bounds(), 0.1);
+    vk::GpuVoxelizeReport report;
+    std::optional<vk::GpuVoxels> gpu = voxelizer->build(tape, layout, {}, &report);
+    ASSERT_TRUE(gpu) << report.whyNot;
+    constexpr std::size_t kLavapipeRange = std::size_t(128) << 20;
+    EXPECT_GT(gpu->vertices.size(), kLavapipeRange);
+    EXPECT_GT(gpu->vertexCount * sizeof(voxel::Vertex), kLavapipeRange) << "the records in use, not only the pool";
+    std::printf("%zu voxels, %zu vertices; device %.0f ms\n", gpu->populatedVoxels, gpu->vertexCount,
+                report.deviceMilliseconds);
+    // The same voxels as the CPU's (counted: the voxel-by-voxel comparison is
+    // the other tests' business, and costs a minute at this size here).
+    EXPECT_EQ(gpu->populatedVoxels, voxelize(tape, layout).populatedVoxels());
+    // And the tracer reads them where they are: the sphere's silhouette and depth.
+    vk::ComputeTracer tracer(*context);
+    const Camera camera = Camera::standardView(tape.bounds(), "front", 160, 120);
+    const TraceImage image = tracer.trace(camera, gpu->addresses(1));
+    const TraceImage exact = traceExact(tape, camera, 1e-3);
+    std::size_t hits = 0, agree = 0;
+    for (std::size_t i = 0; i < image.depth.size(); ++i) {
+        if (!exact.hit(i)) continue;
+        ++hits;
+        agree += image.hit(i) && std::fabs(image.depth[i] - exact.depth[i]) < 2.0 * layout.voxelSize;
+    }
+    EXPECT_GT(hits, 1000u);
+    EXPECT_GE(double(agree), 0.995 * double(hits));
+}
+
+} // namespace
+} // namespace kerf
+
+namespace kerf {
+namespace {
+
+TEST_F(GpuVoxelizerTest, AnEditSequenceOnOneVoxelizerEqualsFreshBuilds)
+{
+    // One voxelizer through a sequence of edits, each build made in the pools
+    // of the one before last (as the viewport will hand them back) and sized
+    // from what it learned: every build holds exactly the voxels a fresh
+    // voxelizer builds for that document (atomics order the records
+    // differently from run to run; the voxels they describe do not change).
+    const auto part = [](double holeX, double depth) {
+        return compileTape(Document::parse(
+            R"({"format":"kerf","version":1,"root":{"id":"d","type":"difference","children":[
+                {"id":"b","type":"box","size":[120,80,)" + std::to_string(depth) + R"(]},
+                {"id":"h","type":"cylinder","radius":4,"height":60,"transform":{"translate":[)" +
+                std::to_string(holeX) + R"(,0,0]}}]}})",
+            "edit.kerf"));
+    };
+    vk::GpuVoxelizer editing(*context);
+    std::optional<vk::GpuVoxels> shown, before;
+    const std::vector<std::pair<double, double>> edits{{0, 18}, {20, 18}, {20, 30}, {-35.5, 30}, {-35.5, 12}};
+    for (const auto& [x, depth] : edits) {
+        SCOPED_TRACE("hole at " + std::to_string(x) + ", depth " + std::to_string(depth));
+        const Tape tape = part(x, depth);
+        const GridLayout layout = GridLayout::choose(tape.bounds(), 1.0);
+        if (before) editing.recycle(std::move(*before));
+        before = std::move(shown);
+        vk::GpuVoxelizeReport report;
+        shown = editing.build(tape, layout, {}, &report);
+        ASSERT_TRUE(shown) << report.whyNot;
+        vk::GpuVoxelizer fresh(*context);
+        const std::optional<vk::GpuVoxels> reference = fresh.build(tape, layout);
+        ASSERT_TRUE(reference);
+        const VoxelComparison c =
+            compareVoxels(reference->readBack(*context), shown->readBack(*context), layout.voxelSize);
+        EXPECT_GT(c.both, 1000u);
+        EXPECT_EQ(c.onlyOneSideNearZero + c.onlyOneSideElsewhere, 0u);
+        EXPECT_EQ(c.distanceOff, 0u);
+        EXPECT_EQ(c.worstDistance, 0.0f);
+        EXPECT_EQ(c.normalOff, 0u);
     }
 }
 
