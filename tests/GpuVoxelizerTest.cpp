@@ -6,12 +6,12 @@
 // and the build is retried; a budget too small is refused in words; and the
 // validation layers stay quiet (lavapipe here).
 
+#include "kerf/viewport/GpuVoxelizer.hpp"
 #include "kerf/document/Document.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/ExactTracer.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
-#include "kerf/viewport/GpuVoxelizer.hpp"
 #include "kerf/viewport/VulkanError.hpp"
 #include "kerf/voxelizer/TileTape.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
@@ -37,8 +37,8 @@ struct VoxelRead {
     std::array<float, 8> distance{};
     std::array<glm::vec3, 8> normal{};
     std::array<std::uint32_t, 8> feature{};
-    std::array<glm::vec3, 8> at{};          // the corners, tile-relative mm, as the voxelizers compute them
-    const std::uint32_t* tape = nullptr;   // the tile's exact tape, when it has one
+    std::array<glm::vec3, 8> at{};       // the corners, tile-relative mm, as the voxelizers compute them
+    const std::uint32_t* tape = nullptr; // the tile's exact tape, when it has one
 };
 using VoxelKey = std::pair<long, glm::u64>; // tile, then x | y << 21 | z << 42 in voxels
 
@@ -145,8 +145,10 @@ VoxelComparison compareVoxels(const FlatVoxelBuffers& cpu, const FlatVoxelBuffer
                 const glm::vec4 g = voxel::evaluateTileTapeGradient(it->second.tape, it->second.at[q], feature);
                 tie = glm::dot(glm::normalize(glm::vec3(g.y, g.z, g.w)), it->second.normal[q]) >= cosTolerance;
             }
-            if (tie) ++c.normalTies;
-            else normalOff = true;
+            if (tie)
+                ++c.normalTies;
+            else
+                normalOff = true;
         }
         c.distanceOff += distanceOff;
         c.normalOff += normalOff;
@@ -189,6 +191,13 @@ void expectSameVoxels(const VoxelComparison& c)
     EXPECT_LE(c.normalOff, c.both / 200 + 2);
 }
 
+Tape sphereTape(double radius)
+{
+    return compileTape(Document::parse(R"({"format":"kerf","version":1,"root":{"id":"s","type":"sphere","radius":)" +
+                                           std::to_string(radius) + "}}",
+                                       "sphere.kerf"));
+}
+
 class GpuVoxelizerTest : public ::testing::Test {
 protected:
     static void SetUpTestSuite()
@@ -229,13 +238,12 @@ protected:
         const FlatVoxelBuffers back = gpu->readBack(*context);
         const double voxelMm = layout.tileSize / std::pow(4.0, gpu->levels);
         const VoxelComparison c = compareVoxels(cpu, back, voxelMm);
-        const std::string figures = "voxels: cpu " + std::to_string(c.cpu) + ", gpu " + std::to_string(c.gpu) +
-                                    ", both " + std::to_string(c.both) + ", one side near zero " +
-                                    std::to_string(c.onlyOneSideNearZero) + ", distances off " +
-                                    std::to_string(c.distanceOff) + " (worst " + std::to_string(c.worstDistance) +
-                                    " mm), normals off " + std::to_string(c.normalOff) + " (ties " +
-                                    std::to_string(c.normalTies) + "); levels run again " +
-                                    std::to_string(r.levelReruns);
+        const std::string figures =
+            "voxels: cpu " + std::to_string(c.cpu) + ", gpu " + std::to_string(c.gpu) + ", both " +
+            std::to_string(c.both) + ", one side near zero " + std::to_string(c.onlyOneSideNearZero) +
+            ", distances off " + std::to_string(c.distanceOff) + " (worst " + std::to_string(c.worstDistance) +
+            " mm), normals off " + std::to_string(c.normalOff) + " (ties " + std::to_string(c.normalTies) +
+            "); levels run again " + std::to_string(r.levelReruns);
         std::printf("%s; GPU corners not its tape's value %zu of %zu\n", figures.c_str(), c.gpuCornersNotItsTape,
                     c.gpuCorners);
         SCOPED_TRACE(figures);
@@ -245,8 +253,11 @@ protected:
         // only voxels of a tile are ones populated on one side by a hair.
         std::size_t differentTiles = 0;
         for (std::size_t t = 0; t < cpu.tiles.size(); ++t) {
-            const auto kind = [](std::uint32_t w) { return w == voxel::kEmptyTile ? 0 : w == voxel::kFullTile ? 1 : 2; };
-            differentTiles += kind(cpu.tiles[t]) != kind(back.tiles[t]) && !c.tilesWithHairDifferences.contains(long(t));
+            const auto kind = [](std::uint32_t w) {
+                return w == voxel::kEmptyTile ? 0 : w == voxel::kFullTile ? 1 : 2;
+            };
+            differentTiles +=
+                kind(cpu.tiles[t]) != kind(back.tiles[t]) && !c.tilesWithHairDifferences.contains(long(t));
         }
         EXPECT_EQ(differentTiles, 0u);
         return std::move(*gpu);
@@ -322,9 +333,7 @@ TEST_F(GpuVoxelizerTest, ALevelThatOutgrowsItsPoolsRunsAgainInLargerOnes)
     // finer each way); a sphere filling a grid of 8 tiles has more at the
     // coarse levels: those levels run again in pools of what they asked for.
     vk::GpuVoxelizer fresh(*context);
-    const Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"s","type":"sphere","radius":30}})",
-                                         "sphere.kerf");
-    const Tape tape = compileTape(doc);
+    const Tape tape = sphereTape(30);
     const GridLayout layout = GridLayout::choose(tape.bounds(), 0.25, {.maxTiles = 8});
     vk::GpuVoxelizeReport report;
     std::optional<vk::GpuVoxels> gpu = fresh.build(tape, layout, {}, &report);
@@ -346,9 +355,7 @@ TEST_F(GpuVoxelizerTest, ALevelThatOutgrowsItsPoolsRunsAgainInLargerOnes)
 
 TEST_F(GpuVoxelizerTest, ABudgetTooSmallIsRefusedInWords)
 {
-    const Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"s","type":"sphere","radius":30}})",
-                                         "sphere.kerf");
-    const Tape tape = compileTape(doc);
+    const Tape tape = sphereTape(30);
     const GridLayout layout = GridLayout::choose(tape.bounds(), 0.5);
     vk::GpuVoxelizeReport report;
     EXPECT_FALSE(voxelizer->build(tape, layout, {.memoryBudget = 1 << 20}, &report));
@@ -371,20 +378,12 @@ TEST_F(GpuVoxelizerTest, CoarserDepthsAndPartsFarFromTheOrigin)
     }
 }
 
-} // namespace
-} // namespace kerf
-
-namespace kerf {
-namespace {
-
 TEST_F(GpuVoxelizerTest, PoolsLargerThanLavapipesStorageBufferRangeWork)
 {
     // lavapipe caps a storage-buffer binding at 128 MiB; the voxelizer and
     // the tracer reach their pools by device address, where no such cap
     // applies. A sphere whose vertex pool alone is larger than that.
-    const Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"s","type":"sphere","radius":58}})",
-                                         "sphere.kerf");
-    const Tape tape = compileTape(doc);
+    const Tape tape = sphereTape(58);
     const GridLayout layout = GridLayout::choose(tape.bounds(), 0.1);
     vk::GpuVoxelizeReport report;
     std::optional<vk::GpuVoxels> gpu = voxelizer->build(tape, layout, {}, &report);
@@ -412,12 +411,6 @@ TEST_F(GpuVoxelizerTest, PoolsLargerThanLavapipesStorageBufferRangeWork)
     EXPECT_GE(double(agree), 0.995 * double(hits));
 }
 
-} // namespace
-} // namespace kerf
-
-namespace kerf {
-namespace {
-
 TEST_F(GpuVoxelizerTest, AnEditSequenceOnOneVoxelizerEqualsFreshBuilds)
 {
     // One voxelizer through a sequence of edits, each build made in the pools
@@ -428,7 +421,8 @@ TEST_F(GpuVoxelizerTest, AnEditSequenceOnOneVoxelizerEqualsFreshBuilds)
     const auto part = [](double holeX, double depth) {
         return compileTape(Document::parse(
             R"({"format":"kerf","version":1,"root":{"id":"d","type":"difference","children":[
-                {"id":"b","type":"box","size":[120,80,)" + std::to_string(depth) + R"(]},
+                {"id":"b","type":"box","size":[120,80,)" +
+                std::to_string(depth) + R"(]},
                 {"id":"h","type":"cylinder","radius":4,"height":60,"transform":{"translate":[)" +
                 std::to_string(holeX) + R"(,0,0]}}]}})",
             "edit.kerf"));

@@ -80,14 +80,12 @@ std::size_t deviceLocalHeapBytes(const Context& ctx)
     vkGetPhysicalDeviceMemoryProperties(ctx.physicalDevice(), &mp);
     VkDeviceSize largest = 0;
     for (std::uint32_t i = 0; i < mp.memoryHeapCount; ++i)
-        if (mp.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT) largest = std::max(largest, mp.memoryHeaps[i].size);
+        if (mp.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+            largest = std::max(largest, mp.memoryHeaps[i].size);
     return std::size_t(largest);
 }
 
-std::string megabytes(std::size_t bytes)
-{
-    return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MB";
-}
+std::string megabytes(std::size_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MB"; }
 
 } // namespace
 
@@ -129,16 +127,17 @@ FlatVoxelBuffers GpuVoxels::readBack(const Context& ctx) const
         void* to;
         std::size_t bytes;
     };
-    const Part parts[] = {{&tiles, out.tiles.data(), out.tiles.size() * 4},
-                          {&entries, out.entries.data(), out.entries.size() * sizeof(TileEntry)},
-                          {&nodes, out.nodes.data(), out.nodes.size() * sizeof(voxel::Node)},
-                          {&leafIndirections, out.leafIndirections.data(),
-                           out.leafIndirections.size() * sizeof(voxel::LeafIndirection)},
-                          {&leafData, out.leafData.data(), out.leafData.size() * sizeof(voxel::LeafData)},
-                          {&vertices, out.vertices.data(), out.vertices.size() * sizeof(voxel::Vertex)},
-                          {&tapes, out.tapes.data(), out.tapes.size() * 4}};
+    const Part parts[] = {
+        {&tiles, out.tiles.data(), out.tiles.size() * 4},
+        {&entries, out.entries.data(), out.entries.size() * sizeof(TileEntry)},
+        {&nodes, out.nodes.data(), out.nodes.size() * sizeof(voxel::Node)},
+        {&leafIndirections, out.leafIndirections.data(), out.leafIndirections.size() * sizeof(voxel::LeafIndirection)},
+        {&leafData, out.leafData.data(), out.leafData.size() * sizeof(voxel::LeafData)},
+        {&vertices, out.vertices.data(), out.vertices.size() * sizeof(voxel::Vertex)},
+        {&tapes, out.tapes.data(), out.tapes.size() * 4}};
     std::size_t total = 0;
-    for (const Part& p : parts) total += p.bytes;
+    for (const Part& p : parts)
+        total += p.bytes;
     const GpuBuffer staging(ctx, total, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback, "voxel read-back");
     ctx.submitAndWait([&](VkCommandBuffer cb) {
         std::size_t at = 0;
@@ -162,33 +161,18 @@ FlatVoxelBuffers GpuVoxels::readBack(const Context& ctx) const
     return out;
 }
 
-GpuVoxelizer::GpuVoxelizer(const Context& ctx) : ctx_(ctx)
+GpuVoxelizer::GpuVoxelizer(const Context& ctx)
+    : ctx_(ctx), compute_(makeComputePipeline(ctx.device(), kVoxelizeComp, sizeof(kVoxelizeComp), sizeof(VoxelizePush),
+                                              "voxelize.comp"))
 {
-    VkDevice dev = ctx.device();
-    module_ = makeShaderModule(dev, kVoxelizeComp, sizeof(kVoxelizeComp), "vkCreateShaderModule (voxelize.comp)");
-    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(VoxelizePush)};
-    VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    plci.pushConstantRangeCount = 1;
-    plci.pPushConstantRanges = &range;
-    VkPipelineLayout pl;
-    check(vkCreatePipelineLayout(dev, &plci, nullptr, &pl), "vkCreatePipelineLayout (voxelizer)");
-    layout_ = PipelineLayout(dev, pl);
-    VkComputePipelineCreateInfo cpci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    cpci.stage.module = module_;
-    cpci.stage.pName = "main";
-    cpci.layout = layout_;
-    VkPipeline p;
-    check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cpci, nullptr, &p), "vkCreateComputePipelines (voxelizer)");
-    pipeline_ = Pipeline(dev, p);
 }
 
 GpuVoxelizer::~GpuVoxelizer() = default;
 
 void GpuVoxelizer::recycle(GpuVoxels&& old)
 {
-    for (GpuBuffer* b : {&old.nodes, &old.leafIndirections, &old.leafData, &old.vertices}) giveSpare(std::move(*b));
+    for (GpuBuffer* b : {&old.nodes, &old.leafIndirections, &old.leafData, &old.vertices})
+        giveSpare(std::move(*b));
     old = GpuVoxels{};
 }
 
@@ -231,28 +215,29 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         tbb::enumerable_thread_specific<TileBuildScratch> builders;
         tbb::task_arena arena = workerArena(options.threads);
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<long>(0, layout.tileCount(), 16), [&](const tbb::blocked_range<long>& range) {
-                auto& [intervals, simple] = scratch.local();
-                for (long i = range.begin(); i != range.end(); ++i) {
-                    const glm::ivec3 t = layout.tileCoord(i);
-                    const Aabb box = layout.tileBox(t);
-                    const Interval iv = intervals.simplify(
-                        blocks.forTile(t), box.grown(layout.tileSize * kIntervalBoxHair), simple);
-                    TilePlan& plan = plans[std::size_t(i)];
-                    if (iv.lo > 0.0) continue;
-                    if (iv.hi < 0.0) {
-                        plan.state = TileState::Full;
-                        continue;
+            tbb::parallel_for(
+                tbb::blocked_range<long>(0, layout.tileCount(), 16), [&](const tbb::blocked_range<long>& range) {
+                    auto& [intervals, simple] = scratch.local();
+                    for (long i = range.begin(); i != range.end(); ++i) {
+                        const glm::ivec3 t = layout.tileCoord(i);
+                        const Aabb box = layout.tileBox(t);
+                        const Interval iv = intervals.simplify(blocks.forTile(t),
+                                                               box.grown(layout.tileSize * kIntervalBoxHair), simple);
+                        TilePlan& plan = plans[std::size_t(i)];
+                        if (iv.lo > 0.0) continue;
+                        if (iv.hi < 0.0) {
+                            plan.state = TileState::Full;
+                            continue;
+                        }
+                        plan.state = TileState::Surface;
+                        plan.tape = voxel::encodeTileTape(simple.rebased(box.min));
+                        if (plan.tape.empty()) {
+                            // Beyond the shaders' stack or length: the CPU's builder does this tile.
+                            plan.built = buildTile(blocks.forTile(t), layout, t, levels, builders.local());
+                            if (plan.built) plan.state = plan.built->state;
+                        }
                     }
-                    plan.state = TileState::Surface;
-                    plan.tape = voxel::encodeTileTape(simple.rebased(box.min));
-                    if (plan.tape.empty()) {
-                        // Beyond the shaders' stack or length: the CPU's builder does this tile.
-                        plan.built = buildTile(blocks.forTile(t), layout, t, levels, builders.local());
-                        if (plan.built) plan.state = plan.built->state;
-                    }
-                }
-            });
+                });
         });
     }
     HostData host;
@@ -272,7 +257,8 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         e.tape = std::uint32_t(host.tapes.size());
         host.tapes.insert(host.tapes.end(), plan.tape.begin(), plan.tape.end());
         host.entryTiles.push_back(std::uint32_t(i));
-        host.roots.insert(host.roots.end(), {std::uint32_t(host.entries.size()), std::uint32_t(host.entries.size()), 0u, 0u, 0u});
+        host.roots.insert(host.roots.end(),
+                          {std::uint32_t(host.entries.size()), std::uint32_t(host.entries.size()), 0u, 0u, 0u});
         host.entries.push_back(e);
     }
     const std::size_t surface = host.entries.size(); // built by the device
@@ -298,12 +284,12 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
     out.layout = layout;
     out.levels = levels;
     out.surfaceTiles = host.entries.size();
-    constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                                            VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    constexpr VkBufferUsageFlags kStorage =
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     const auto allocateStart = Clock::now();
     out.tiles = GpuBuffer(ctx_, host.tiles.size() * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "tiles");
-    out.entries = GpuBuffer(ctx_, host.entries.size() * sizeof(TileEntry), kStorage, GpuBuffer::Kind::DeviceLocal,
-                            "entries");
+    out.entries =
+        GpuBuffer(ctx_, host.entries.size() * sizeof(TileEntry), kStorage, GpuBuffer::Kind::DeviceLocal, "entries");
     out.tapes = GpuBuffer(ctx_, host.tapes.size() * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "tapes");
     const GpuBuffer entryTiles(ctx_, surface * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "entry tiles");
     const GpuBuffer entryVoxels(ctx_, surface * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "entry voxels");
@@ -332,14 +318,15 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
     Pool* const all[] = {&nodes, &leafIndirections, &leafData, &vertices, &jobs[0], &jobs[1]};
     const auto poolBytes = [&] {
         std::size_t b = 0;
-        for (const Pool* p : all) b += p->capacity * p->recordBytes;
+        for (const Pool* p : all)
+            b += p->capacity * p->recordBytes;
         return b;
     };
     struct Copy {
         VkBuffer from, to;
         std::size_t bytes;
     };
-    std::vector<Copy> copies;     // contents to carry into grown pools, in the next submission
+    std::vector<Copy> copies;       // contents to carry into grown pools, in the next submission
     std::vector<GpuBuffer> retired; // pools replaced: kept until that submission has run
     // Grows `p` to at least `records`, keeping its first `keep` records; false
     // when over the budget. A `guess` (what a level will probably ask for) is
@@ -360,7 +347,8 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
             return false;
         }
         GpuBuffer bigger = takeSpare(records * p.recordBytes);
-        if (bigger.size() == 0) bigger = GpuBuffer(ctx_, records * p.recordBytes, kStorage, GpuBuffer::Kind::DeviceLocal, p.name);
+        if (bigger.size() == 0)
+            bigger = GpuBuffer(ctx_, records * p.recordBytes, kStorage, GpuBuffer::Kind::DeviceLocal, p.name);
         if (keep > 0) copies.push_back({p.buffer.buffer(), bigger.buffer(), keep * p.recordBytes});
         retired.push_back(std::move(p.buffer));
         p.buffer = std::move(bigger);
@@ -384,7 +372,8 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         !grow(jobs[1], 16 * surface, 0) || !grow(leafIndirections, count[KERF_COUNT_LEAF_INDIRECTIONS] + 1, 0) ||
         !grow(leafData, count[KERF_COUNT_LEAF_DATA] + 1, 0) || !grow(vertices, count[KERF_COUNT_VERTICES] + 1, 0))
         return std::nullopt;
-    for (GpuBuffer& b : retired) giveSpare(std::move(b));
+    for (GpuBuffer& b : retired)
+        giveSpare(std::move(b));
     retired.clear();
 
     struct Upload {
@@ -399,13 +388,15 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         {host.tapes.data(), host.tapes.size() * 4, out.tapes.buffer()},
         {host.entryTiles.data(), surface * 4, entryTiles.buffer()},
         {host.roots.data(), host.roots.size() * 4, jobs[0].buffer.buffer()},
-        {host.nodes.data(), host.nodes.size() * sizeof(voxel::Node), nodes.buffer.buffer(), surface * sizeof(voxel::Node)},
+        {host.nodes.data(), host.nodes.size() * sizeof(voxel::Node), nodes.buffer.buffer(),
+         surface * sizeof(voxel::Node)},
         {host.leafIndirections.data(), host.leafIndirections.size() * sizeof(voxel::LeafIndirection),
          leafIndirections.buffer.buffer()},
         {host.leafData.data(), host.leafData.size() * sizeof(voxel::LeafData), leafData.buffer.buffer()},
         {host.vertices.data(), host.vertices.size() * sizeof(voxel::Vertex), vertices.buffer.buffer()}};
     std::size_t stagingBytes = 0;
-    for (const Upload& u : uploads) stagingBytes += u.bytes;
+    for (const Upload& u : uploads)
+        stagingBytes += u.bytes;
     const GpuBuffer staging(ctx_, stagingBytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GpuBuffer::Kind::HostVisible,
                             "voxelizer staging");
     r.allocateMilliseconds = millisecondsSince(allocateStart);
@@ -443,7 +434,8 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         const double fraction = std::frexp(voxelMm, &exponent);
         p.voxelMantissa = std::uint64_t(std::llround(std::ldexp(fraction, 40)));
         // The interval boxes grow by a hair so that float corners never cut them short.
-        p.sizes = {float(voxelMm), float(layout.tileSize), float(layout.tileSize * kIntervalBoxHair), float(exponent - 40)};
+        p.sizes = {float(voxelMm), float(layout.tileSize), float(layout.tileSize * kIntervalBoxHair),
+                   float(exponent - 40)};
         return p;
     };
     // One submission: carried contents, parameters and counters, then `record`, then the counters back.
@@ -468,7 +460,7 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
             vkCmdUpdateBuffer(cb, params.buffer(), 0, sizeof p, &p);
             vkCmdUpdateBuffer(cb, counters.buffer(), 0, sizeof count, count);
             computeBarrier(cb);
-            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, compute_.pipeline);
             record(cb);
             computeBarrier(cb);
             const VkBufferCopy region{0, 0, KERF_COUNT_WORDS * 4};
@@ -476,17 +468,18 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
             VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
             mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
             mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-            vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0,
-                                 nullptr, 0, nullptr);
+            vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr,
+                                 0, nullptr);
         });
         r.deviceMilliseconds += millisecondsSince(deviceStart);
         copies.clear();
-        for (GpuBuffer& b : retired) giveSpare(std::move(b));
+        for (GpuBuffer& b : retired)
+            giveSpare(std::move(b));
         retired.clear();
     };
     const auto push = [&](VkCommandBuffer cb, std::uint32_t pass, int level) {
         const VoxelizePush pc{params.address(), pass, std::uint32_t(level), std::uint32_t(level & 1), 0};
-        vkCmdPushConstants(cb, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
+        vkCmdPushConstants(cb, compute_.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
     };
 
     bool first = true;
@@ -499,13 +492,15 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         bool fits = true;
         if (leaf) {
             const std::size_t voxelsGuess = std::size_t(voxelsPerLeaf * 1.1 * jobsIn);
-            fits = grow(leafIndirections, count[KERF_COUNT_LEAF_INDIRECTIONS] + jobsIn, count[KERF_COUNT_LEAF_INDIRECTIONS],
-                        true) &&
-                   grow(leafData, count[KERF_COUNT_LEAF_DATA] + voxelsGuess, count[KERF_COUNT_LEAF_DATA], true) &&
-                   grow(vertices, count[KERF_COUNT_VERTICES] + std::size_t(verticesPerVoxel * 1.1 * double(voxelsGuess)),
-                        count[KERF_COUNT_VERTICES], true);
+            fits =
+                grow(leafIndirections, count[KERF_COUNT_LEAF_INDIRECTIONS] + jobsIn,
+                     count[KERF_COUNT_LEAF_INDIRECTIONS], true) &&
+                grow(leafData, count[KERF_COUNT_LEAF_DATA] + voxelsGuess, count[KERF_COUNT_LEAF_DATA], true) &&
+                grow(vertices, count[KERF_COUNT_VERTICES] + std::size_t(verticesPerVoxel * 1.1 * double(voxelsGuess)),
+                     count[KERF_COUNT_VERTICES], true);
         } else {
-            const double ratio = childrenPerNode_[std::size_t(level)] > 0.0 ? 1.1 * childrenPerNode_[std::size_t(level)] : 16.0;
+            const double ratio =
+                childrenPerNode_[std::size_t(level)] > 0.0 ? 1.1 * childrenPerNode_[std::size_t(level)] : 16.0;
             const std::size_t children = std::size_t(std::ceil(ratio * double(jobsIn)));
             fits = grow(nodes, count[KERF_COUNT_NODES] + children, count[KERF_COUNT_NODES], true) &&
                    grow(jobs[next], children, 0, true);
@@ -521,11 +516,10 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
             std::uint32_t back[KERF_COUNT_WORDS];
             std::memcpy(back, countsBack.mapped(), sizeof back);
             // Every claim counted, written or not: these are exactly what the level asked for.
-            const bool ran = back[KERF_COUNT_NODES] <= nodes.capacity &&
-                             back[KERF_COUNT_JOBS + next] <= jobs[next].capacity &&
-                             back[KERF_COUNT_LEAF_INDIRECTIONS] <= leafIndirections.capacity &&
-                             back[KERF_COUNT_LEAF_DATA] <= leafData.capacity &&
-                             back[KERF_COUNT_VERTICES] <= vertices.capacity;
+            const bool ran =
+                back[KERF_COUNT_NODES] <= nodes.capacity && back[KERF_COUNT_JOBS + next] <= jobs[next].capacity &&
+                back[KERF_COUNT_LEAF_INDIRECTIONS] <= leafIndirections.capacity &&
+                back[KERF_COUNT_LEAF_DATA] <= leafData.capacity && back[KERF_COUNT_VERTICES] <= vertices.capacity;
             if (ran) {
                 if (!leaf) childrenPerNode_[std::size_t(level)] = double(back[KERF_COUNT_JOBS + next]) / double(jobsIn);
                 std::memcpy(count, back, sizeof count);

@@ -23,26 +23,10 @@ constexpr std::uint32_t kGroup = 64; // tape_probe.comp's local size
 
 } // namespace
 
-TapeProbe::TapeProbe(const Context& ctx) : ctx_(ctx)
+TapeProbe::TapeProbe(const Context& ctx)
+    : ctx_(ctx), compute_(makeComputePipeline(ctx.device(), kTapeProbeComp, sizeof(kTapeProbeComp), sizeof(ProbePush),
+                                              "tape_probe.comp"))
 {
-    VkDevice dev = ctx.device();
-    module_ = makeShaderModule(dev, kTapeProbeComp, sizeof(kTapeProbeComp), "vkCreateShaderModule (tape_probe.comp)");
-    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(ProbePush)};
-    VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    plci.pushConstantRangeCount = 1;
-    plci.pPushConstantRanges = &range;
-    VkPipelineLayout pl;
-    check(vkCreatePipelineLayout(dev, &plci, nullptr, &pl), "vkCreatePipelineLayout (tape probe)");
-    layout_ = PipelineLayout(dev, pl);
-    VkComputePipelineCreateInfo cpci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    cpci.stage.module = module_;
-    cpci.stage.pName = "main";
-    cpci.layout = layout_;
-    VkPipeline p;
-    check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cpci, nullptr, &p), "vkCreateComputePipelines (tape probe)");
-    pipeline_ = Pipeline(dev, p);
 }
 
 std::vector<glm::vec4> TapeProbe::run(const std::vector<std::uint32_t>& tape, const std::vector<glm::vec4>& inputs,
@@ -56,8 +40,8 @@ std::vector<glm::vec4> TapeProbe::run(const std::vector<std::uint32_t>& tape, co
                             GpuBuffer::Kind::Readback, "probe results");
     const ProbePush push{words.address(), where.address(), results.address(), std::uint32_t(count), boxes ? 1u : 0u};
     ctx_.submitAndWait([&](VkCommandBuffer cb) {
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
-        vkCmdPushConstants(cb, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, compute_.pipeline);
+        vkCmdPushConstants(cb, compute_.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
         vkCmdDispatch(cb, (std::uint32_t(count) + kGroup - 1) / kGroup, 1, 1);
         VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
         barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
@@ -76,7 +60,8 @@ std::vector<TapeProbe::Result> TapeProbe::evaluate(const std::vector<std::uint32
     if (tape.empty() || points.empty()) return {};
     std::vector<glm::vec4> at;
     at.reserve(points.size());
-    for (const glm::vec3& p : points) at.emplace_back(p, 0.0f);
+    for (const glm::vec3& p : points)
+        at.emplace_back(p, 0.0f);
     const std::vector<glm::vec4> raw = run(tape, at, points.size(), false);
     std::vector<Result> out(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
@@ -98,7 +83,8 @@ std::vector<glm::vec2> TapeProbe::enclose(const std::vector<std::uint32_t>& tape
     }
     const std::vector<glm::vec4> raw = run(tape, corners, boxes.size(), true);
     std::vector<glm::vec2> out(boxes.size());
-    for (std::size_t i = 0; i < boxes.size(); ++i) out[i] = glm::vec2(raw[2 * i]);
+    for (std::size_t i = 0; i < boxes.size(); ++i)
+        out[i] = glm::vec2(raw[2 * i]);
     return out;
 }
 

@@ -31,6 +31,7 @@
 #include "kerf/evaluator/Tape.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
 #include "kerf/viewport/GpuBuffer.hpp"
+#include "kerf/viewport/ShaderModules.hpp"
 #include "kerf/viewport/VulkanContext.hpp"
 #include "kerf/viewport/VulkanHandle.hpp"
 #include "kerf/voxelizer/GridLayout.hpp"
@@ -51,9 +52,9 @@ struct GpuVoxels {
     GridLayout layout;
     int levels = 0;
     GpuBuffer tiles, entries, nodes, leafIndirections, leafData, vertices, tapes;
-    std::size_t surfaceTiles = 0;    // tiles with an entry (some may turn out empty or full)
-    std::size_t nodeCount = 0;       // nodes written, leaves included
-    std::size_t leafCount = 0;       // leaves holding populated voxels
+    std::size_t surfaceTiles = 0; // tiles with an entry (some may turn out empty or full)
+    std::size_t nodeCount = 0;    // nodes written, leaves included
+    std::size_t leafCount = 0;    // leaves holding populated voxels
     std::size_t populatedVoxels = 0;
     std::size_t vertexCount = 0;
 
@@ -73,14 +74,14 @@ struct GpuVoxelizeOptions {
 };
 
 struct GpuVoxelizeReport {
-    double prepareMilliseconds = 0.0; // the host's tile tapes and intervals
+    double prepareMilliseconds = 0.0;  // the host's tile tapes and intervals
     double allocateMilliseconds = 0.0; // device buffers made
     double uploadMilliseconds = 0.0;   // tapes, entries and first jobs into the staging buffer
     double deviceMilliseconds = 0.0;   // the submissions, from recording to completion (one per level)
     int levelReruns = 0;               // levels run twice because they asked for more than a pool held
-    std::size_t hostBuiltTiles = 0;   // surface tiles whose tape the shaders cannot hold: built by the CPU's builder
+    std::size_t hostBuiltTiles = 0;    // surface tiles whose tape the shaders cannot hold: built by the CPU's builder
     std::size_t poolBytes = 0;         // the pools' device memory at the end
-    std::string whyNot;               // set when build() returns nothing
+    std::string whyNot;                // set when build() returns nothing
 };
 
 class GpuVoxelizer {
@@ -104,9 +105,7 @@ private:
     void giveSpare(GpuBuffer&& buffer);
     GpuBuffer takeSpare(std::size_t bytes); // an empty buffer when no spare fits
     const Context& ctx_;
-    ShaderModule module_;
-    PipelineLayout layout_;
-    Pipeline pipeline_;
+    ComputePipeline compute_;
     /// What the last build had per leaf and per node: the next one sizes
     /// its pools from them (an edit's rebuild then runs every level once).
     double voxelsPerLeaf_ = 0.0;

@@ -9,6 +9,7 @@
 // Threading: one thread; the context must outlive the probe.
 
 #include "kerf/viewport/VulkanContext.hpp"
+#include "kerf/viewport/ShaderModules.hpp"
 #include "kerf/viewport/VulkanHandle.hpp"
 
 #include <glm/vec2.hpp>
@@ -44,9 +45,7 @@ private:
                                std::size_t count, bool boxes) const;
 
     const Context& ctx_;
-    ShaderModule module_;
-    PipelineLayout layout_;
-    Pipeline pipeline_;
+    ComputePipeline compute_;
 };
 
 } // namespace kerf::vk
