@@ -15,6 +15,7 @@
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
+#include "kerf/viewport/GpuVoxelizer.hpp"
 #include "kerf/viewport/ReferenceMesh.hpp"
 #include "kerf/viewport/SceneRenderer.hpp"
 #include "kerf/viewport/VulkanError.hpp"
@@ -33,7 +34,7 @@ namespace {
 
 const char* kRenderHelp = R"(Usage: kerf render FILE.kerf -o OUT.png [--size WxH] [--view NAME]
                    [--feature-size MM] [--quality voxels|exact] [--ortho] [--cpu]
-                   [--json] [-D NAME=VALUE]...
+                   [--voxelizer cpu|gpu] [--json] [-D NAME=VALUE]...
 
 Voxelizes the part and traces it with the Vulkan compute tracer, without a
 window, then writes a shaded PNG.
@@ -48,6 +49,11 @@ Options:
                         surface, for sharp edges and intersections (slower)
   --ortho               orthographic instead of perspective projection
   --cpu                 use the CPU reference tracer instead of Vulkan
+  --voxelizer V         cpu (default): voxelize with oneTBB on every core;
+                        gpu: voxelize on the Vulkan device with compute
+                        shaders and trace the voxels where they were built
+                        (falls back to cpu, saying why, when the device
+                        cannot; not with --cpu)
   --json                print the figures as one JSON object
   -D NAME=VALUE         set the document's parameter NAME (a number or an
                         expression, like 19 or 3/4in) for this run; repeatable
@@ -66,7 +72,7 @@ double msSince(std::chrono::steady_clock::time_point t)
 int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
 {
     try {
-        const Arguments a(args, {"-o", "--output", "--size", "--view", "--feature-size", "--quality", "-D"},
+        const Arguments a(args, {"-o", "--output", "--size", "--view", "--feature-size", "--quality", "--voxelizer", "-D"},
                           {"--ortho", "--cpu", "--json", "--help", "-h"});
         if (a.has("--help") || a.has("-h")) {
             out << kRenderHelp;
@@ -80,6 +86,11 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const std::string qualityName = a.value("--quality").value_or("voxels");
         const std::optional<TraceQuality> quality = parseTraceQuality(qualityName);
         if (!quality) throw UsageError("--quality must be voxels or exact, not '" + printable(qualityName) + "'");
+        const std::string voxelizerName = a.value("--voxelizer").value_or("cpu");
+        if (voxelizerName != "cpu" && voxelizerName != "gpu")
+            throw UsageError("--voxelizer must be cpu or gpu, not '" + printable(voxelizerName) + "'");
+        if (voxelizerName == "gpu" && a.has("--cpu"))
+            throw UsageError("--voxelizer gpu needs the Vulkan device, and --cpu leaves it out");
         const std::filesystem::path file = a.positional()[0];
         const bool requested = a.value("--feature-size").has_value();
         const double requestedSize = requested ? Arguments::parseFeatureSize("--feature-size", *a.value("--feature-size")) : 0.0;
@@ -114,10 +125,22 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
 
         auto t0 = std::chrono::steady_clock::now();
         const GridLayout layout = GridLayout::choose(tape.bounds(), featureSize);
-        const VoxelSnapshot snap = voxelizeWithProgress(tape, layout, "kerf render", cost.seconds > 2.0, err);
-        const FlatVoxelBuffers buffers = FlatVoxelBuffers::flatten(snap);
-        const double voxelizeMs = msSince(t0);
         if (!layout.note.empty()) err << "kerf render: " << layout.note << "\n";
+        // The voxels: on the CPU unless the GPU voxelizer was asked for and builds them.
+        std::optional<FlatVoxelBuffers> buffers;
+        double voxelizeMs = 0.0;
+        std::size_t populatedVoxels = 0, voxelBytes = 0;
+        std::string builtBy = "cpu";
+        const auto voxelizeOnTheCpu = [&] {
+            t0 = std::chrono::steady_clock::now();
+            const VoxelSnapshot snap = voxelizeWithProgress(tape, layout, "kerf render", cost.seconds > 2.0, err);
+            buffers = FlatVoxelBuffers::flatten(snap);
+            voxelizeMs = msSince(t0);
+            populatedVoxels = snap.populatedVoxels();
+            voxelBytes = snap.bytes();
+            builtBy = "cpu";
+        };
+        if (voxelizerName == "cpu") voxelizeOnTheCpu();
         const std::filesystem::path shownOutput = printable(*output);
 
         // Reference meshes: a missing or broken one is named and left out.
@@ -140,17 +163,35 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
             try {
                 vk::Context ctx;
                 vk::ComputeTracer tracer(ctx);
-                tracer.setVoxels(buffers);
+                std::optional<vk::GpuVoxels> gpuVoxels;
+                if (!buffers) {
+                    vk::GpuVoxelizer voxelizer(ctx);
+                    vk::GpuVoxelizeReport report;
+                    t0 = std::chrono::steady_clock::now();
+                    gpuVoxels = voxelizer.build(tape, layout, {}, &report);
+                    voxelizeMs = msSince(t0);
+                    if (gpuVoxels) {
+                        populatedVoxels = gpuVoxels->populatedVoxels;
+                        voxelBytes = gpuVoxels->bytes();
+                        builtBy = "gpu";
+                    } else {
+                        err << "kerf render: the GPU voxelizer cannot build this part here (" << printable(report.whyNot, 300)
+                            << "); voxelizing on the CPU\n";
+                        voxelizeOnTheCpu();
+                    }
+                }
+                if (!gpuVoxels) tracer.setVoxels(*buffers);
+                const vk::VoxelAddresses voxels = gpuVoxels ? gpuVoxels->addresses(1) : tracer.voxels();
                 vk::SceneRenderer renderer(ctx);
                 renderer.setMeshes(meshes);
                 t0 = std::chrono::steady_clock::now();
                 vk::SceneOptions options;
                 options.lights = ShadeOptions::forCamera(camera);
                 options.quality = *quality;
-                picture = renderer.render(tracer, tracer.voxels(), camera, tape.features(), options);
+                picture = renderer.render(tracer, voxels, camera, tape.features(), options);
                 traceMs = msSince(t0);
                 gpuMs = tracer.lastTiming().gpuMilliseconds;
-                image = tracer.trace(camera, nullptr, {}, *quality); // for the figures below
+                image = tracer.trace(camera, voxels, nullptr, {}, *quality); // for the figures below
                 device = ctx.deviceDescription();
                 usedVulkan = true;
             } catch (const vk::VulkanError& e) {
@@ -159,8 +200,9 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
             }
         }
         if (!usedVulkan) {
+            if (!buffers) voxelizeOnTheCpu();
             t0 = std::chrono::steady_clock::now();
-            image = traceVoxels(buffers, camera, 0, {}, *quality);
+            image = traceVoxels(*buffers, camera, 0, {}, *quality);
             traceMs = msSince(t0);
             device = "CPU reference tracer";
             picture = shade(image, tape.features(), ShadeOptions::forCamera(camera));
@@ -181,7 +223,9 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
             j["device"] = device;
             j["vulkan"] = usedVulkan;
             j["feature_size_mm"] = layout.voxelSize;
-            j["voxel_bytes"] = snap.bytes();
+            j["voxelizer"] = builtBy;
+            j["populated_voxels"] = populatedVoxels;
+            j["voxel_bytes"] = voxelBytes;
             j["voxelize_ms"] = voxelizeMs;
             j["trace_ms"] = traceMs;
             if (gpuMs >= 0.0) j["trace_gpu_ms"] = gpuMs;
@@ -190,8 +234,9 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
         } else {
             out << shownOutput.string() << ": " << size.width << "x" << size.height << " " << view << " view of "
                 << printable(file.string()) << "\n  quality:      " << qualityName << "\n  device:       " << device
-                << "\n  voxels:       " << snap.populatedVoxels() << " of " << mm(layout.voxelSize) << " mm, "
-                << snap.bytes() / 1024 << " KiB, built in " << long(voxelizeMs) << " ms\n  trace:        "
+                << "\n  voxels:       " << populatedVoxels << " of " << mm(layout.voxelSize) << " mm, "
+                << voxelBytes / 1024 << " KiB, built in " << long(voxelizeMs) << " ms on the "
+                << (builtBy == "gpu" ? "GPU" : "CPU") << "\n  trace:        "
                 << significant(traceMs, 3) << " ms";
             if (gpuMs >= 0.0) out << " (GPU " << significant(gpuMs, 3) << " ms)";
             out << "\n  pixels hit:   " << hits << "\n";
