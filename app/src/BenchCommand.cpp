@@ -38,7 +38,9 @@ chair when no file is given), at each feature size of LIST:
   screen: cold voxelization time; re-voxelization time after a typical edit
           (the part's smallest feature moved 5 mm along x, printed); GPU
           memory of the voxel buffers; trace time per frame on the device
-          used (printed); the traced picture against an exact sphere-traced
+          used (printed); on Vulkan, the same voxels built on the device by
+          the GPU voxelizer too (cold and warm, with its voxel count against
+          the CPU's); the traced picture against an exact sphere-traced
           reference of the same camera: depth error in mm and normal error
           in degrees (mean, 99th percentile, max) on pixels both hit, and the
           fraction of pixels only one of them hits; with --exact-edges, the
@@ -182,6 +184,25 @@ void printReport(std::ostream& out, const std::string& file, const TradeReport& 
         out << "\n";
     }
     out << "  re-voxelize: to the coarse / the complete publication; silhouette: pixels only one picture hits\n";
+    if (std::any_of(r.rows.begin(), r.rows.end(), [](const TradeRow& x) { return x.gpuVoxelize; })) {
+        out << "\nVoxels built on the GPU (the same grid, the device above)\n";
+        out << "    feature   cold       warm       populated voxels\n";
+        for (const TradeRow& row : r.rows) {
+            if (!row.gpuVoxelize) continue;
+            const GpuVoxelizeFigures& g = *row.gpuVoxelize;
+            out << "  " << right(mm(row.featureSize) + " mm", 9);
+            if (!g.whyNot.empty()) {
+                out << "  not built: " << g.whyNot << "\n";
+                continue;
+            }
+            out << " " << right(milliseconds(g.coldMs), 10) << " " << right(milliseconds(g.warmMs), 10) << "  "
+                << g.populatedVoxels
+                << (g.populatedVoxels == row.populatedVoxels ? " (as the CPU's)"
+                                                             : " (the CPU's: " + std::to_string(row.populatedVoxels) + ")")
+                << "\n";
+        }
+        out << "  cold: a fresh GPU voxelizer; warm: the same part again, as after an edit of every tile\n";
+    }
     for (const TradeRow& row : r.rows)
         if (!row.note.empty()) out << "  " << mm(row.featureSize) << " mm: " << row.note << "\n";
 

@@ -6,6 +6,7 @@
 #include "kerf/tracer/ExactTracer.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
+#include "kerf/viewport/GpuVoxelizer.hpp"
 #include "kerf/viewport/VulkanError.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
 #include "kerf/voxelizer/Voxelizer.hpp"
@@ -43,6 +44,32 @@ std::string mmText(double v)
     char buf[32];
     std::snprintf(buf, sizeof buf, "%g", v);
     return buf;
+}
+
+// The GPU voxelizer on the same grid: a fresh one (cold), then a rebuild
+// with the first build still alive, as a viewport would hold it (warm).
+GpuVoxelizeFigures gpuVoxelizeFigures(const vk::Context& context, const Tape& tape, const GridLayout& layout)
+{
+    GpuVoxelizeFigures f;
+    vk::GpuVoxelizer voxelizer(context);
+    vk::GpuVoxelizeReport report;
+    auto t0 = Clock::now();
+    std::optional<vk::GpuVoxels> first = voxelizer.build(tape, layout, {}, &report);
+    f.coldMs = msSince(t0);
+    if (!first) {
+        f.whyNot = report.whyNot;
+        f.coldMs = 0.0;
+        return f;
+    }
+    t0 = Clock::now();
+    const std::optional<vk::GpuVoxels> second = voxelizer.build(tape, layout, {}, &report);
+    f.warmMs = msSince(t0);
+    if (!second) {
+        f.whyNot = report.whyNot;
+        return f;
+    }
+    f.populatedVoxels = second->populatedVoxels;
+    return f;
 }
 
 // Re-voxelization after the typical edit, with the background voxelizer
@@ -153,6 +180,10 @@ TradeReport runTradeBench(const Document& doc, const TradeBenchOptions& options)
             row.populatedVoxels = snapshot.populatedVoxels();
             row.gpuBytes = buffers.bytes();
 
+            if (report.vulkan) {
+                progress("voxelizing on the GPU" + at);
+                row.gpuVoxelize = gpuVoxelizeFigures(*context, tape, layout);
+            }
             progress("tracing" + at);
             if (report.vulkan) {
                 t0 = Clock::now();
@@ -246,6 +277,13 @@ nlohmann::ordered_json tradeReportJson(const TradeReport& r)
         x["voxel_size_mm"] = row.voxelSize;
         if (!row.note.empty()) x["note"] = row.note;
         x["voxelize_ms"] = row.voxelizeMs;
+        if (row.gpuVoxelize)
+            x["gpu_voxelize"] = {{"cold_ms", row.gpuVoxelize->coldMs},
+                                 {"warm_ms", row.gpuVoxelize->warmMs},
+                                 {"populated_voxels", row.gpuVoxelize->populatedVoxels},
+                                 {"why_not", row.gpuVoxelize->whyNot}};
+        else
+            x["gpu_voxelize"] = nullptr;
         if (row.revoxelize)
             x["revoxelize"] = {{"coarse_ms", row.revoxelize->coarseMs},
                                {"final_ms", row.revoxelize->finalMs},

@@ -12,6 +12,11 @@
 //    edit (TypicalEdit.hpp), the median of three edits (+d, -d, +d): the time
 //    to the coarse publication and to the complete one, and the tiles rebuilt.
 //  - gpuBytes: FlatVoxelBuffers::bytes(), what the tracer uploads.
+//  - gpuVoxelize (Vulkan only): the same voxels built on the device by the
+//    GPU voxelizer (GpuVoxelizer.hpp): cold (a fresh voxelizer, its pools
+//    made and sized as it goes) and warm (a rebuild of the same part, as
+//    after an edit that dirties every tile), with its populated voxels,
+//    which should be the CPU's.
 //  - traceMs: per frame, `frames` traces back to back after a warm-up
 //    (ComputeTracer::sustainedMilliseconds, Vulkan) or the median of
 //    `frames` traces after one warm-up on the wall clock (the CPU reference
@@ -80,6 +85,12 @@ struct PictureFigures {
     ImageError picture;
 };
 
+struct GpuVoxelizeFigures {
+    double coldMs = 0.0, warmMs = 0.0;
+    std::size_t populatedVoxels = 0;
+    std::string whyNot; // set when the device could not build it (the times are then 0)
+};
+
 struct TradeRow {
     double featureSize = 0.0; // mm, as asked
     double voxelSize = 0.0;   // mm, as built (larger only when the grid had to coarsen)
@@ -88,6 +99,7 @@ struct TradeRow {
     std::size_t populatedVoxels = 0;
     std::size_t gpuBytes = 0;
     std::optional<RevoxelizeFigures> revoxelize; // none when the part has no feature to move
+    std::optional<GpuVoxelizeFigures> gpuVoxelize; // Vulkan only
     double uploadMs = 0.0;                       // Vulkan only: the whole buffers through staging, waiting
     double traceMs = 0.0;
     ImageError picture;
