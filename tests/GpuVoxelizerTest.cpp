@@ -329,14 +329,14 @@ TEST_F(GpuVoxelizerTest, GeneratedPartsAtSeveralFeatureSizes)
 
 TEST_F(GpuVoxelizerTest, ALevelThatOutgrowsItsPoolsRunsAgainInLargerOnes)
 {
-    // A fresh voxelizer guesses 16 children per node (a surface four times
-    // finer each way); a sphere filling a grid of 8 tiles has more at the
-    // coarse levels: those levels run again in pools of what they asked for.
+    // Pools guessed a tenth of what a fresh voxelizer guesses (16 children
+    // per node, room for all 64 where that is cheap, 24 voxels per leaf):
+    // levels outgrow them and run again in pools of what they asked for.
     vk::GpuVoxelizer fresh(*context);
     const Tape tape = sphereTape(30);
     const GridLayout layout = GridLayout::choose(tape.bounds(), 0.25, {.maxTiles = 8});
     vk::GpuVoxelizeReport report;
-    std::optional<vk::GpuVoxels> gpu = fresh.build(tape, layout, {}, &report);
+    std::optional<vk::GpuVoxels> gpu = fresh.build(tape, layout, {.poolGuessScale = 0.1}, &report);
     ASSERT_TRUE(gpu) << report.whyNot;
     EXPECT_GT(report.levelReruns, 0) << "the first guess was meant to be too small here";
     const FlatVoxelBuffers cpu = FlatVoxelBuffers::flatten(voxelize(tape, layout));

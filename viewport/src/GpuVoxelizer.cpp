@@ -39,6 +39,9 @@ double millisecondsSince(Clock::time_point start)
 
 constexpr std::size_t kJobBytes = KERF_VOXELIZE_JOB_WORDS * sizeof(std::uint32_t);
 constexpr std::size_t kMaxRecords = std::size_t(1) << 31; // pointers are 31 bits
+// A level whose nodes could all have 64 children in this many bytes of
+// nodes and jobs gets room for all of them.
+constexpr std::size_t kAllChildrenBytes = std::size_t(64) << 20;
 
 // What the host knows of one tile before the device builds it.
 struct TilePlan {
@@ -367,6 +370,7 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
     // times finer each way); the leaves' records follow what the last build
     // of this depth had per leaf.
     const double voxelsPerLeaf = voxelsPerLeaf_ > 0.0 ? voxelsPerLeaf_ : 24.0;
+    const double guessScale = std::clamp(options.poolGuessScale, 1e-3, 1.0);
     const double verticesPerVoxel = verticesPerVoxel_ > 0.0 ? verticesPerVoxel_ : 2.6;
     if (!grow(nodes, count[KERF_COUNT_NODES] + 16 * surface, 0) || !grow(jobs[0], surface, 0) ||
         !grow(jobs[1], 16 * surface, 0) || !grow(leafIndirections, count[KERF_COUNT_LEAF_INDIRECTIONS] + 1, 0) ||
@@ -491,7 +495,7 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         // What this level will probably ask for.
         bool fits = true;
         if (leaf) {
-            const std::size_t voxelsGuess = std::size_t(voxelsPerLeaf * 1.1 * jobsIn);
+            const std::size_t voxelsGuess = std::size_t(voxelsPerLeaf * 1.1 * guessScale * jobsIn);
             fits =
                 grow(leafIndirections, count[KERF_COUNT_LEAF_INDIRECTIONS] + jobsIn,
                      count[KERF_COUNT_LEAF_INDIRECTIONS], true) &&
@@ -499,9 +503,14 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
                 grow(vertices, count[KERF_COUNT_VERTICES] + std::size_t(verticesPerVoxel * 1.1 * double(voxelsGuess)),
                      count[KERF_COUNT_VERTICES], true);
         } else {
+            // Learned, else 16 (a surface, four times finer each way); but
+            // where all 64 children of every node cost little (the coarse
+            // levels), room for all of them: such a level never runs twice.
             const double ratio =
                 childrenPerNode_[std::size_t(level)] > 0.0 ? 1.1 * childrenPerNode_[std::size_t(level)] : 16.0;
-            const std::size_t children = std::size_t(std::ceil(ratio * double(jobsIn)));
+            std::size_t children = std::size_t(std::ceil(ratio * guessScale * double(jobsIn)));
+            if (guessScale >= 1.0 && 64 * std::size_t(jobsIn) * (sizeof(voxel::Node) + kJobBytes) <= kAllChildrenBytes)
+                children = 64 * std::size_t(jobsIn);
             fits = grow(nodes, count[KERF_COUNT_NODES] + children, count[KERF_COUNT_NODES], true) &&
                    grow(jobs[next], children, 0, true);
         }

@@ -71,6 +71,9 @@ struct GpuVoxelizeOptions {
     int levels = -1;              // contree depth; -1: the layout's
     std::size_t memoryBudget = 0; // bytes the pools may take; 0: half the device-local memory
     int threads = 0;              // host threads preparing tapes; 0: every core
+    /// Scales the pools' first guesses down (tests: levels then outgrow
+    /// their pools and run again); 1 in use.
+    double poolGuessScale = 1.0;
 };
 
 struct GpuVoxelizeReport {
