@@ -330,7 +330,7 @@ TEST_F(GpuVoxelizerTest, GeneratedPartsAtSeveralFeatureSizes)
 TEST_F(GpuVoxelizerTest, ALevelThatOutgrowsItsPoolsRunsAgainInLargerOnes)
 {
     // Pools guessed a tenth of what a fresh voxelizer guesses (16 children
-    // per node, room for all 64 where that is cheap, 24 voxels per leaf):
+    // per node, room for all 64 where that is cheap, 18 voxels per leaf):
     // levels outgrow them and run again in pools of what they asked for.
     vk::GpuVoxelizer fresh(*context);
     const Tape tape = sphereTape(30);
