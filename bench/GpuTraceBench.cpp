@@ -142,8 +142,11 @@ int voxelizeBench(const std::vector<std::string>& args)
                 continue;
             }
             const std::size_t voxels = gpu->populatedVoxels;
-            std::printf("    gpu cold: prepare %.1f, allocate %.1f, device %.1f ms, %d levels run again\n",
-                        cold.prepareMilliseconds, cold.allocateMilliseconds, cold.deviceMilliseconds, cold.levelReruns);
+            std::printf("    gpu cold: prepare %.1f, allocate %.1f, submissions %.1f ms, %d levels run again; "
+                        "%.1f voxels per leaf, %.2f vertices per voxel\n",
+                        cold.prepareMilliseconds, cold.allocateMilliseconds, cold.deviceMilliseconds, cold.levelReruns,
+                        double(gpu->populatedVoxels) / double(std::max<std::size_t>(gpu->leafCount, 1)),
+                        double(gpu->vertexCount) / double(std::max<std::size_t>(gpu->populatedVoxels, 1)));
             // Warm: rebuilds of the same part, as an edit that dirties every
             // tile asks for, while the last build is still on screen; the one
             // before it is recycled. The GPU's clocks first come up (300 ms of

@@ -20,7 +20,6 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
-#include <limits>
 
 namespace kerf::vk {
 
@@ -63,18 +62,98 @@ struct HostData {
     std::vector<voxel::LeafIndirection> leafIndirections;
     std::vector<voxel::LeafData> leafData;
     std::vector<voxel::Vertex> vertices;
+    std::size_t deviceTiles = 0; // the first entries: the device builds them
 };
+
+// The host's share of a build: every tile's interval over its box (grown by
+// the hair the CPU voxelizer's boxes grow by) and, for a surface tile, its
+// tape simplified for the box, rebased and encoded; a surface tile whose
+// tape the shaders cannot hold is built here by the CPU's TileBuilder.
+// The device's tiles come first among the entries, their roots the first
+// nodes; the host's follow.
+HostData planTiles(const Tape& tape, const GridLayout& layout, int levels, int threads)
+{
+    std::vector<TilePlan> plans(std::size_t(layout.tileCount()));
+    {
+        const BlockTapes blocks(tape, layout);
+        tbb::enumerable_thread_specific<std::pair<IntervalEvaluator, Tape>> scratch;
+        tbb::enumerable_thread_specific<TileBuildScratch> builders;
+        tbb::task_arena arena = workerArena(threads);
+        arena.execute([&] {
+            tbb::parallel_for(
+                tbb::blocked_range<long>(0, layout.tileCount(), 16), [&](const tbb::blocked_range<long>& range) {
+                    auto& [intervals, simple] = scratch.local();
+                    for (long i = range.begin(); i != range.end(); ++i) {
+                        const glm::ivec3 t = layout.tileCoord(i);
+                        const Aabb box = layout.tileBox(t);
+                        const Interval iv = intervals.simplify(blocks.forTile(t),
+                                                               box.grown(layout.tileSize * kIntervalBoxHair), simple);
+                        TilePlan& plan = plans[std::size_t(i)];
+                        if (iv.lo > 0.0) continue;
+                        if (iv.hi < 0.0) {
+                            plan.state = TileState::Full;
+                            continue;
+                        }
+                        plan.state = TileState::Surface;
+                        plan.tape = voxel::encodeTileTape(simple.rebased(box.min));
+                        if (plan.tape.empty()) {
+                            // Beyond the shaders' stack or length: the CPU's builder does this tile.
+                            plan.built = buildTile(blocks.forTile(t), layout, t, levels, builders.local());
+                            if (plan.built) plan.state = plan.built->state;
+                        }
+                    }
+                });
+        });
+    }
+    HostData host;
+    host.tiles.resize(plans.size());
+    std::vector<std::size_t> hostBuilt;
+    for (std::size_t i = 0; i < plans.size(); ++i) {
+        const TilePlan& plan = plans[i];
+        host.tiles[i] = plan.state == TileState::Full ? voxel::kFullTile : voxel::kEmptyTile;
+        if (plan.state != TileState::Surface) continue;
+        if (plan.built) {
+            hostBuilt.push_back(i);
+            continue;
+        }
+        TileEntry e;
+        e.node = std::uint32_t(host.entries.size()); // the roots are the first nodes
+        e.levels = std::uint32_t(levels);
+        e.tape = std::uint32_t(host.tapes.size());
+        host.tapes.insert(host.tapes.end(), plan.tape.begin(), plan.tape.end());
+        host.entryTiles.push_back(std::uint32_t(i));
+        host.roots.insert(host.roots.end(),
+                          {std::uint32_t(host.entries.size()), std::uint32_t(host.entries.size()), 0u, 0u, 0u});
+        host.entries.push_back(e);
+    }
+    const std::size_t surface = host.entries.size(); // built by the device
+    host.deviceTiles = surface;
+    for (const std::size_t i : hostBuilt) {
+        const TileData& t = *plans[i].built;
+        TileEntry e;
+        e.node = std::uint32_t(surface + host.nodes.size());
+        e.leafIndirection = std::uint32_t(host.leafIndirections.size());
+        e.leafData = std::uint32_t(host.leafData.size());
+        e.vertex = std::uint32_t(host.vertices.size());
+        e.levels = std::uint32_t(t.levels);
+        host.tiles[i] = std::uint32_t(host.entries.size());
+        host.entries.push_back(e);
+        host.nodes.insert(host.nodes.end(), t.nodes.begin(), t.nodes.end());
+        host.leafIndirections.insert(host.leafIndirections.end(), t.leafIndirections.begin(), t.leafIndirections.end());
+        host.leafData.insert(host.leafData.end(), t.leafData.begin(), t.leafData.end());
+        host.vertices.insert(host.vertices.end(), t.vertices.begin(), t.vertices.end());
+    }
+    return host;
+}
 
 void computeBarrier(VkCommandBuffer cb)
 {
     VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-    mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT |
-                       VK_ACCESS_TRANSFER_READ_BIT;
+    mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT;
     vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
-                             VK_PIPELINE_STAGE_TRANSFER_BIT,
-                         0, 1, &mb, 0, nullptr, 0, nullptr);
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, nullptr,
+                         0, nullptr);
 }
 
 std::size_t deviceLocalHeapBytes(const Context& ctx)
@@ -211,76 +290,9 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
 
     // The host's share: tile intervals in double, exactly as the CPU voxelizer.
     const auto prepareStart = Clock::now();
-    std::vector<TilePlan> plans(std::size_t(layout.tileCount()));
-    {
-        const BlockTapes blocks(tape, layout);
-        tbb::enumerable_thread_specific<std::pair<IntervalEvaluator, Tape>> scratch;
-        tbb::enumerable_thread_specific<TileBuildScratch> builders;
-        tbb::task_arena arena = workerArena(options.threads);
-        arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range<long>(0, layout.tileCount(), 16), [&](const tbb::blocked_range<long>& range) {
-                    auto& [intervals, simple] = scratch.local();
-                    for (long i = range.begin(); i != range.end(); ++i) {
-                        const glm::ivec3 t = layout.tileCoord(i);
-                        const Aabb box = layout.tileBox(t);
-                        const Interval iv = intervals.simplify(blocks.forTile(t),
-                                                               box.grown(layout.tileSize * kIntervalBoxHair), simple);
-                        TilePlan& plan = plans[std::size_t(i)];
-                        if (iv.lo > 0.0) continue;
-                        if (iv.hi < 0.0) {
-                            plan.state = TileState::Full;
-                            continue;
-                        }
-                        plan.state = TileState::Surface;
-                        plan.tape = voxel::encodeTileTape(simple.rebased(box.min));
-                        if (plan.tape.empty()) {
-                            // Beyond the shaders' stack or length: the CPU's builder does this tile.
-                            plan.built = buildTile(blocks.forTile(t), layout, t, levels, builders.local());
-                            if (plan.built) plan.state = plan.built->state;
-                        }
-                    }
-                });
-        });
-    }
-    HostData host;
-    host.tiles.resize(plans.size());
-    std::vector<std::size_t> hostBuilt;
-    for (std::size_t i = 0; i < plans.size(); ++i) {
-        const TilePlan& plan = plans[i];
-        host.tiles[i] = plan.state == TileState::Full ? voxel::kFullTile : voxel::kEmptyTile;
-        if (plan.state != TileState::Surface) continue;
-        if (plan.built) {
-            hostBuilt.push_back(i);
-            continue;
-        }
-        TileEntry e;
-        e.node = std::uint32_t(host.entries.size()); // the roots are the first nodes
-        e.levels = std::uint32_t(levels);
-        e.tape = std::uint32_t(host.tapes.size());
-        host.tapes.insert(host.tapes.end(), plan.tape.begin(), plan.tape.end());
-        host.entryTiles.push_back(std::uint32_t(i));
-        host.roots.insert(host.roots.end(),
-                          {std::uint32_t(host.entries.size()), std::uint32_t(host.entries.size()), 0u, 0u, 0u});
-        host.entries.push_back(e);
-    }
-    const std::size_t surface = host.entries.size(); // built by the device
-    for (const std::size_t i : hostBuilt) {
-        const TileData& t = *plans[i].built;
-        TileEntry e;
-        e.node = std::uint32_t(surface + host.nodes.size());
-        e.leafIndirection = std::uint32_t(host.leafIndirections.size());
-        e.leafData = std::uint32_t(host.leafData.size());
-        e.vertex = std::uint32_t(host.vertices.size());
-        e.levels = std::uint32_t(t.levels);
-        host.tiles[i] = std::uint32_t(host.entries.size());
-        host.entries.push_back(e);
-        host.nodes.insert(host.nodes.end(), t.nodes.begin(), t.nodes.end());
-        host.leafIndirections.insert(host.leafIndirections.end(), t.leafIndirections.begin(), t.leafIndirections.end());
-        host.leafData.insert(host.leafData.end(), t.leafData.begin(), t.leafData.end());
-        host.vertices.insert(host.vertices.end(), t.vertices.begin(), t.vertices.end());
-    }
-    r.hostBuiltTiles = hostBuilt.size();
+    HostData host = planTiles(tape, layout, levels, options.threads);
+    const std::size_t surface = host.deviceTiles;
+    r.hostBuiltTiles = host.entries.size() - surface;
     r.prepareMilliseconds = millisecondsSince(prepareStart);
 
     GpuVoxels out;
