@@ -7,6 +7,7 @@
 // validation layers stay quiet (lavapipe here).
 
 #include "kerf/viewport/GpuVoxelizer.hpp"
+#include "kerf/viewport/GpuVoxelWorker.hpp"
 #include "kerf/document/Document.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/ExactTracer.hpp"
@@ -21,7 +22,10 @@
 
 #include <glm/glm.hpp>
 
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <mutex>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -450,6 +454,108 @@ TEST_F(GpuVoxelizerTest, AnEditSequenceOnOneVoxelizerEqualsFreshBuilds)
         EXPECT_EQ(c.worstDistance, 0.0f);
         EXPECT_EQ(c.normalOff, 0u);
     }
+}
+
+// The viewport's background builder: a new part gets its preview, then full
+// depth; an edit on the same grid goes straight to full depth (the build on
+// screen stays until then); a request made during a build supersedes it;
+// the results are the voxels a direct build makes; an empty part is an
+// empty result; a refusal is said with its revision.
+TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequestWins)
+{
+    std::mutex m;
+    std::condition_variable changed;
+    int signals = 0;
+    vk::GpuVoxelWorker worker(*context, [&] {
+        std::lock_guard lock(m);
+        ++signals;
+        changed.notify_all();
+    });
+    // Waits for the worker to go idle; returns every result it published meanwhile, oldest first.
+    const auto results = [&] {
+        std::vector<std::unique_ptr<vk::GpuVoxelResult>> out;
+        for (;;) {
+            {
+                std::unique_lock lock(m);
+                changed.wait_for(lock, std::chrono::milliseconds(50));
+            }
+            if (auto r = worker.take()) out.push_back(std::move(r));
+            if (!worker.busy()) {
+                if (auto r = worker.take()) out.push_back(std::move(r));
+                return out;
+            }
+        }
+    };
+    const auto box = [](double depth) {
+        return std::make_shared<const Tape>(compileTape(Document::parse(
+            R"({"format":"kerf","version":1,"root":{"id":"d","type":"difference","children":[
+                {"id":"b","type":"box","size":[60,40,)" +
+                std::to_string(depth) + R"(]},
+                {"id":"h","type":"cylinder","radius":4,"height":60}]}})",
+            "worker.kerf")));
+    };
+    const auto tape = box(18);
+    const GridLimits fewTiles{.maxTiles = 8}; // deep tiles: a preview two levels up
+    const GridLayout layout = GridLayout::choose(tape->bounds(), 0.5, fewTiles);
+    ASSERT_GE(layout.levels, 3);
+
+    worker.request({1, tape, layout, 2});
+    auto first = results();
+    // Taken as they come: the preview, then full depth (a slow poll may see only the second).
+    ASSERT_FALSE(first.empty());
+    const vk::GpuVoxelResult& full = *first.back();
+    EXPECT_TRUE(full.complete);
+    EXPECT_EQ(full.revision, 1u);
+    EXPECT_EQ(full.voxels.levels, layout.levels);
+    EXPECT_TRUE(worker.refusal().empty());
+    ASSERT_TRUE(full.features);
+    EXPECT_EQ(full.features->size(), tape->features().size());
+    if (first.size() == 2) {
+        EXPECT_FALSE(first.front()->complete);
+        EXPECT_EQ(first.front()->voxels.levels, layout.levels - 2);
+        EXPECT_LT(first.front()->version, full.version);
+    }
+    const FlatVoxelBuffers cpu = FlatVoxelBuffers::flatten(voxelize(*tape, layout));
+    expectSameVoxels(compareVoxels(cpu, full.voxels.readBack(*context), layout.voxelSize));
+
+    // An edit on the same grid: no preview, and the voxels of the new part.
+    const auto deeper = box(24);
+    ASSERT_EQ(GridLayout::choose(deeper->bounds(), 0.5, fewTiles), layout);
+    worker.recycle(std::move(first.front()));
+    worker.request({2, deeper, layout, 2});
+    auto second = results();
+    ASSERT_EQ(second.size(), 1u) << "an edit of the part on screen has no preview";
+    EXPECT_TRUE(second.front()->complete);
+    EXPECT_EQ(second.front()->revision, 2u);
+    expectSameVoxels(compareVoxels(FlatVoxelBuffers::flatten(voxelize(*deeper, layout)),
+                                   second.front()->voxels.readBack(*context), layout.voxelSize));
+    worker.recycle(std::move(first.back()));
+
+    // Requests one after the other, faster than builds: the last one is what stays.
+    for (std::uint64_t revision = 3; revision <= 6; ++revision)
+        worker.request({revision, revision % 2 ? tape : deeper, layout, 2});
+    auto burst = results();
+    ASSERT_FALSE(burst.empty());
+    EXPECT_EQ(burst.back()->revision, 6u);
+    EXPECT_TRUE(burst.back()->complete);
+    for (std::size_t i = 1; i < burst.size(); ++i) EXPECT_LT(burst[i - 1]->version, burst[i]->version);
+
+    // An empty part: an empty result at once.
+    worker.request({7, std::make_shared<const Tape>(), GridLayout{}, 2});
+    auto empty = results();
+    ASSERT_EQ(empty.size(), 1u);
+    EXPECT_EQ(empty.front()->voxels.surfaceTiles, 0u);
+    EXPECT_EQ(empty.front()->voxels.addresses(1).tiles, 0u) << "the tracer draws nothing";
+
+    // Beyond the memory budget: refused in words, with its revision, nothing published.
+    vk::GpuVoxelRequest tooBig{8, tape, GridLayout::choose(tape->bounds(), 0.1), 0};
+    tooBig.memoryBudget = 1 << 20;
+    worker.request(tooBig);
+    EXPECT_TRUE(results().empty());
+    EXPECT_NE(worker.refusal().find("device memory"), std::string::npos) << worker.refusal();
+    EXPECT_EQ(worker.refusedRevision(), 8u);
+    std::lock_guard lock(m);
+    EXPECT_GT(signals, 0);
 }
 
 } // namespace

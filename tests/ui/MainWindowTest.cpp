@@ -146,6 +146,18 @@ bool waitForViewport(MainWindow& w)
         kVoxelTimeoutMs);
 }
 
+// Waits until the viewport shows a complete GPU build newer than `afterVersion`
+// and the GPU voxelizer has nothing newer under way.
+bool waitForGpuVoxels(MainWindow& w, std::uint64_t afterVersion)
+{
+    return QTest::qWaitFor(
+        [&] {
+            const auto s = w.viewport()->status();
+            return s.gpuVoxels && s.shownComplete && !s.gpuBusy && s.shownVersion > afterVersion;
+        },
+        kVoxelTimeoutMs);
+}
+
 // Fraction of pixels that are not the background (the part, the grid lines
 // excluded by comparing against a picture of the empty scene's colours:
 // background pixels are grey-blue, the wood tone is orange).
@@ -318,6 +330,7 @@ private slots:
     void aTurnedProfileIsEditedInItsPointTable();
     void theThicknessChangedInTheParametersPanelCarriesEveryDependentFeature();
     void lengthsShownInInchesAreTypedInInchesAndTheDocumentKeepsMillimetres();
+    void theGpuVoxelizesWhenAskedAndTheCpuTakesOverWhenItCannot();
 
 private:
     QTemporaryDir recovery_, files_;
@@ -1918,4 +1931,70 @@ void MainWindowTest::aTurnedProfileIsEditedInItsPointTable()
     QVERIFY2(woodFraction(frame) > 0.02, "the turning fills part of the picture");
     QVERIFY2(w->viewport()->status().validationErrors == 0, qPrintable(w->viewport()->status().lastValidationMessage));
     saveScreenshot(*w, "app-revolve-profile");
+}
+
+// View > Voxelize on the GPU (issue 18): the GPU voxelizer in the viewport's
+// background builds the part (its preview, then full depth) and every edit
+// (straight to full depth, the last build on screen meanwhile), the CPU
+// voxelizer is not asked; back on the CPU the picture is the same; a part
+// beyond the voxel memory budget is refused in words and the CPU takes over.
+void MainWindowTest::theGpuVoxelizesWhenAskedAndTheCpuTakesOverWhenItCannot()
+{
+    // A small drilled board: lavapipe builds it in seconds.
+    const QString doc = files_.path() + "/gpu-board.kerf";
+    {
+        QFile f(doc);
+        QVERIFY(f.open(QIODevice::WriteOnly));
+        f.write(R"({"format":"kerf","version":1,"settings":{"feature_size":0.5},
+            "root":{"id":"d","type":"difference","children":[
+            {"id":"board","type":"box","size":[80,50,18]},
+            {"id":"hole","type":"cylinder","radius":6,"height":40,"transform":{"translate":[15,0,0]}}]}})");
+    }
+    MainWindowOptions options;
+    options.voxelizeOnGpu = true;
+    auto w = makeWindow(recovery_.path(), options);
+    if (!w->viewport()->canVoxelizeOnGpu()) QSKIP("the viewport has no Vulkan device");
+    QAction* onGpu = action(w.get(), "action.voxelizeOnGpu");
+    QVERIFY(onGpu->isEnabled());
+    QVERIFY(onGpu->isChecked());
+    const std::uint64_t cpuRequests = w->voxelizer()->lastSubmitted();
+    QVERIFY(w->openFile(doc.toStdString()));
+    QVERIFY(w->voxelizingOnGpu());
+    QVERIFY(waitForGpuVoxels(*w, 0));
+    const QImage board = w->viewport()->grabFrame();
+    QVERIFY2(woodFraction(board) > 0.03, "the board fills part of the picture");
+    QTRY_VERIFY(w->findChild<QLabel*>("status.voxels")->text().startsWith("Voxels (GPU)"));
+    saveScreenshot(*w, "app-gpu-voxels");
+
+    // An edit: built on the GPU, the picture changes; the CPU voxelizer is never asked.
+    const std::uint64_t shown = w->viewport()->status().shownVersion;
+    w->selectNodes({"hole"});
+    QuantityEdit* radius = field(*w, "radius");
+    typeInto(radius, "14");
+    QVERIFY(waitForGpuVoxels(*w, shown));
+    const QImage edited = w->viewport()->grabFrame();
+    QVERIFY2(pictureDifference(board, edited) > 0.002, "the picture shows the wider hole");
+    QCOMPARE(w->voxelizer()->lastSubmitted(), cpuRequests);
+
+    // Back on the CPU: its voxels of the same document make the same picture.
+    onGpu->trigger();
+    QVERIFY(!w->voxelizingOnGpu());
+    QVERIFY(waitForViewport(*w));
+    QTRY_VERIFY_WITH_TIMEOUT(!w->viewport()->status().gpuVoxels, kVoxelTimeoutMs);
+    const QImage onTheCpu = w->viewport()->grabFrame();
+    QVERIFY2(pictureDifference(edited, onTheCpu) < 0.005, "the GPU's and the CPU's voxels look the same");
+
+    // A voxel budget the GPU's pools cannot keep to: said, and the CPU voxelizes.
+    qputenv("KERF_GPU_BUDGET_MB", "1");
+    onGpu->trigger();
+    QTRY_VERIFY_WITH_TIMEOUT(w->lastMessage().contains("The GPU cannot voxelize this part"), kVoxelTimeoutMs);
+    qunsetenv("KERF_GPU_BUDGET_MB");
+    QVERIFY2(w->lastMessage().contains("MB"), qPrintable(w->lastMessage()));
+    QVERIFY(!onGpu->isChecked());
+    QVERIFY(!w->voxelizingOnGpu());
+    QVERIFY(w->voxelizer()->lastSubmitted() > cpuRequests);
+    QVERIFY(waitForViewport(*w));
+    QVERIFY(woodFraction(w->viewport()->grabFrame()) > 0.03);
+    const auto status = w->viewport()->status();
+    QVERIFY2(status.validationErrors == 0, qPrintable(status.lastValidationMessage));
 }

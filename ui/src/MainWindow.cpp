@@ -18,6 +18,7 @@
 #include <QLabel>
 #include <QMenu>
 #include <QScrollArea>
+#include <QSignalBlocker>
 #include <QSettings>
 #include <QStatusBar>
 #include <QTimer>
@@ -119,11 +120,19 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
     connect(viewport_, &qt::ViewportWidget::backendChanged, this, [this] {
         showMessage(tr("The viewport uses the CPU reference tracer: %1").arg(viewport_->status().fallbackReason), 0);
     });
+    // The view's needs go to the CPU voxelizer; the GPU builds the whole part at full depth.
     connect(viewport_, &qt::ViewportWidget::viewSettled, this, [this](const ViewRequirement& v) {
-        if (refineForView_->isChecked()) voxelizer_->setView(v);
+        if (refineForView_->isChecked() && !voxelizingOnGpu()) voxelizer_->setView(v);
     });
     connect(viewport_, &qt::ViewportWidget::pictureTaken, this, [this](std::shared_ptr<const OcclusionMap> picture) {
-        if (refineForView_->isChecked()) voxelizer_->setOcclusion(std::move(picture));
+        if (refineForView_->isChecked() && !voxelizingOnGpu()) voxelizer_->setOcclusion(std::move(picture));
+    });
+    connect(viewport_, &qt::ViewportWidget::gpuVoxelizerRefused, this, [this](const QString& reason) {
+        // Not saved: the next part (or the menu) may try the GPU again.
+        const QSignalBlocker quiet(voxelizeOnGpu_);
+        voxelizeOnGpu_->setChecked(false);
+        showMessage(tr("The GPU cannot voxelize this part (%1): the CPU voxelizes it").arg(reason), 15000);
+        voxelizeAgain();
     });
     connect(voxelizer_, &VoxelizerBridge::published, this, [this](std::shared_ptr<const VoxelSnapshot> s) {
         viewport_->setSnapshot(std::move(s));
@@ -194,7 +203,10 @@ void MainWindow::buildDocks()
 
     // Section view: a clipping plane across X, Y or Z at a draggable offset.
     auto* section = new SectionPanel(
-        [this] { return voxelizer_->latest() ? voxelizer_->latest()->layout.bounds() : Aabb{glm::dvec3(-100), glm::dvec3(100)}; },
+        [this] {
+            if (gpuLayout_ && gpuLayout_->tileCount() > 0) return gpuLayout_->bounds();
+            return voxelizer_->latest() ? voxelizer_->latest()->layout.bounds() : Aabb{glm::dvec3(-100), glm::dvec3(100)};
+        },
         this);
     connect(section, &SectionPanel::sectionChanged, viewport_, &qt::ViewportWidget::setSection);
     auto* sectionDock = new QDockWidget(tr("Section"), this);
@@ -233,12 +245,14 @@ void MainWindow::buildStatusBar() { status_ = new StatusReadout(statusBar()); }
 void MainWindow::onDocumentChanged()
 {
     const Document& doc = session_->document();
+    std::shared_ptr<const Tape> tape;
     try {
-        viewport_->setPickTape(std::make_shared<const Tape>(compileTape(doc)));
+        tape = std::make_shared<const Tape>(compileTape(doc));
+        viewport_->setPickTape(tape);
     } catch (const std::exception& e) {
         showMessage(tr("The part could not be compiled: %1").arg(QString::fromUtf8(e.what())));
     }
-    voxelizer_->submit(doc);
+    voxelize(doc, std::move(tape));
     if (doc.meshes != loadedMeshes_) {
         std::vector<std::string> problems;
         const fs::path folder = session_->path() ? session_->path()->parent_path() : fs::current_path();
@@ -327,10 +341,39 @@ void MainWindow::showMessage(const QString& text, int timeoutMs)
     statusBar()->showMessage(text, timeoutMs);
 }
 
+bool MainWindow::voxelizingOnGpu() const
+{
+    return voxelizeOnGpu_ && voxelizeOnGpu_->isChecked() && viewport_->canVoxelizeOnGpu();
+}
+
+void MainWindow::voxelize(const Document& doc, std::shared_ptr<const Tape> tape)
+{
+    if (voxelizingOnGpu() && tape) {
+        gpuLayout_ = voxelizer_->voxelizer().layoutFor(doc, *tape);
+        viewport_->setGpuVoxelSource(std::move(tape), *gpuLayout_, ++gpuRevision_, memoryBudgetBytes());
+        return;
+    }
+    gpuLayout_.reset();
+    viewport_->clearGpuVoxelSource(); // its last build stays on screen until the CPU's is there
+    voxelizer_->submit(doc);
+}
+
+void MainWindow::voxelizeAgain()
+{
+    std::shared_ptr<const Tape> tape;
+    try {
+        tape = std::make_shared<const Tape>(compileTape(session_->document()));
+    } catch (const std::exception&) {
+        // Said when the document changed; the CPU voxelizer reports it too.
+    }
+    voxelize(session_->document(), std::move(tape));
+}
+
 void MainWindow::updateStatus()
 {
     const auto snap = voxelizer_->latest();
-    status_->show(voxelizer_->progress(), snap.get(), voxelizer_->lastStats(), viewport_->status(), memoryBudgetBytes());
+    status_->show(voxelizer_->progress(), snap.get(), voxelizer_->lastStats(), viewport_->status(), memoryBudgetBytes(),
+                  gpuLayout_ ? &*gpuLayout_ : nullptr);
 }
 
 } // namespace kerf::ui

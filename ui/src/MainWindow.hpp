@@ -74,6 +74,9 @@ struct MainWindowOptions {
     /// Restore the window's size and its docks and toolbars as the last
     /// session left them (QSettings), and save them on close.
     bool rememberLayout = true;
+    /// Voxelize on the GPU (View menu), overriding the setting; none: the
+    /// setting, which starts on where the viewport has a real GPU.
+    std::optional<bool> voxelizeOnGpu;
 };
 
 class MainWindow : public QMainWindow {
@@ -114,6 +117,9 @@ public:
 
     /// The voxel memory budget (KERF_GPU_BUDGET_MB, the setting, or 1 GiB).
     std::size_t memoryBudgetBytes() const;
+    /// Whether the document is voxelized on the GPU (View > Voxelize on the
+    /// GPU, on a viewport that can): else by the CPU voxelizer.
+    bool voxelizingOnGpu() const;
 
     /// The last message shown in the status bar's message area.
     QString lastMessage() const { return lastMessage_; }
@@ -145,6 +151,10 @@ private:
     void buildDocks();
     void buildStatusBar();
     void onDocumentChanged();
+    /// Hands the document (its `tape`, null when it did not compile) to the
+    /// voxelizer in use: the GPU's, through the viewport, or the CPU's.
+    void voxelize(const Document& doc, std::shared_ptr<const Tape> tape);
+    void voxelizeAgain();
     void onSelectionChanged();
     void onViewportClicked(const qt::ViewportPick& pick);
     void updateTitle();
@@ -195,6 +205,9 @@ private:
     // Measure.
     QAction* measureAction_ = nullptr;
     QAction* refineForView_ = nullptr;
+    QAction* voxelizeOnGpu_ = nullptr;
+    std::optional<GridLayout> gpuLayout_; // the grid of the last GPU request (none: the CPU voxelizes)
+    std::uint64_t gpuRevision_ = 0;       // counts GPU requests
     QLabel* measureLabel_ = nullptr;
     MeasureTool* measure_ = nullptr;
     MoveTool* move_ = nullptr;

@@ -241,9 +241,24 @@ void MainWindow::buildViewMenu()
         if (!ok) return;
         QSettings().setValue("voxelBudgetMB", mb);
         voxelizer_->voxelizer().setMemoryBudget(memoryBudgetBytes());
-        voxelizer_->submit(session_->document());
+        voxelizeAgain();
     });
-    view->addActions({refineForView_, budget});
+    // Where the voxels are built: the GPU (compute shaders, the whole part
+    // at full depth in milliseconds) or the CPU (oneTBB, refined for the view).
+    voxelizeOnGpu_ = newAction(tr("Voxelize on the &GPU"), "action.voxelizeOnGpu");
+    voxelizeOnGpu_->setCheckable(true);
+    voxelizeOnGpu_->setEnabled(viewport_->canVoxelizeOnGpu());
+    voxelizeOnGpu_->setToolTip(viewport_->canVoxelizeOnGpu()
+                                   ? tr("Build the voxels with compute shaders on the viewport's device")
+                                   : tr("The viewport has no Vulkan device: the CPU voxelizes"));
+    voxelizeOnGpu_->setChecked(options_.voxelizeOnGpu.value_or(
+        QSettings().value("voxelizeOnGpu", viewport_->hasHardwareGpu()).toBool()));
+    connect(voxelizeOnGpu_, &QAction::toggled, this, [this](bool on) {
+        QSettings().setValue("voxelizeOnGpu", on);
+        voxelizeAgain();
+        if (!voxelizingOnGpu()) voxelizer_->setView(refineForView_->isChecked() ? viewport_->settledView() : std::nullopt);
+    });
+    view->addActions({refineForView_, budget, voxelizeOnGpu_});
     view->addSeparator();
     // How lengths are shown and typed (the document stays in millimetres).
     QMenu* lengths = view->addMenu(tr("&Lengths In"));

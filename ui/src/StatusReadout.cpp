@@ -22,9 +22,21 @@ StatusReadout::StatusReadout(QStatusBar* bar) : QObject(bar)
 }
 
 void StatusReadout::show(const VoxelizerProgress& p, const VoxelSnapshot* snap, const VoxelizerStats& s,
-                         const qt::ViewportStatus& v, std::size_t memoryBudgetBytes)
+                         const qt::ViewportStatus& v, std::size_t memoryBudgetBytes, const GridLayout* gpuGrid)
 {
-    if (p.busy) {
+    if (gpuGrid) {
+        // The GPU builds the whole part: its preview, then full depth.
+        if (v.gpuBusy)
+            voxels_->setText(tr("Voxelizing on the GPU: %L1 tiles, depth %2").arg(gpuGrid->tileCount()).arg(gpuGrid->levels));
+        else if (v.gpuVoxels)
+            voxels_->setText(tr("Voxels (GPU%1): %L2 tiles, depth %3, %4 mm; built in %5 ms")
+                                 .arg(v.shownComplete ? QString() : tr(", preview"))
+                                 .arg(gpuGrid->tileCount())
+                                 .arg(gpuGrid->levels)
+                                 .arg(gpuGrid->voxelSize, 0, 'g', 3)
+                                 .arg(v.gpuBuildMs, 0, 'f', 0));
+        snap = nullptr; // the CPU's figures are not what is shown
+    } else if (p.busy) {
         voxels_->setText(tr("Voxelizing: %1 %2 of %3 tiles (depth %4 of %5)")
                              .arg(p.coarsePass ? tr("coarse preview") : tr("refining"))
                              .arg(p.tilesBuilt)

@@ -23,8 +23,9 @@ public:
     explicit StatusReadout(QStatusBar* bar);
 
     /// Shows the latest figures; `snapshot` may be null (nothing built yet).
+    /// `gpuGrid`: the grid the GPU voxelizes on (null: the CPU voxelizes).
     void show(const VoxelizerProgress& progress, const VoxelSnapshot* snapshot, const VoxelizerStats& lastBuild,
-              const qt::ViewportStatus& view, std::size_t memoryBudgetBytes);
+              const qt::ViewportStatus& view, std::size_t memoryBudgetBytes, const GridLayout* gpuGrid = nullptr);
 
 private:
     QLabel* voxels_;

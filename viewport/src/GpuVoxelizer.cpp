@@ -503,6 +503,16 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
 
     bool first = true;
     for (int level = 0; level < levels && surface > 0; ++level) {
+        if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
+            // Asked to stop (a newer request): the pools serve the next build.
+            for (Pool* p : all)
+                giveSpare(std::move(p->buffer));
+            for (GpuBuffer& b : retired)
+                giveSpare(std::move(b));
+            r.cancelled = true;
+            r.whyNot = "cancelled";
+            return std::nullopt;
+        }
         const bool leaf = level == levels - 1;
         const int in = level & 1, next = 1 - in;
         const std::uint32_t jobsIn = count[KERF_COUNT_JOBS + in];

@@ -37,6 +37,7 @@ Swapchain::~Swapchain() { release(); }
 void Swapchain::release()
 {
     if (swapchain_) {
+        const auto queueLock = ctx_.lockQueue();
         vkDeviceWaitIdle(ctx_.device());
         vkDestroySwapchainKHR(ctx_.device(), swapchain_, nullptr);
     }
@@ -92,7 +93,10 @@ bool Swapchain::ensure(int width, int height)
     ci.clipped = VK_TRUE;
     ci.oldSwapchain = swapchain_;
     VkSwapchainKHR made;
-    vkDeviceWaitIdle(ctx_.device());
+    {
+        const auto queueLock = ctx_.lockQueue();
+        vkDeviceWaitIdle(ctx_.device());
+    }
     check(vkCreateSwapchainKHR(ctx_.device(), &ci, nullptr, &made), "vkCreateSwapchainKHR");
     if (swapchain_) vkDestroySwapchainKHR(ctx_.device(), swapchain_, nullptr);
     swapchain_ = made;
@@ -126,7 +130,11 @@ bool Swapchain::present(std::uint32_t index, VkSemaphore rendered)
     pi.swapchainCount = 1;
     pi.pSwapchains = &swapchain_;
     pi.pImageIndices = &index;
-    const VkResult r = vkQueuePresentKHR(ctx_.queue(), &pi);
+    VkResult r;
+    {
+        const auto queueLock = ctx_.lockQueue();
+        r = vkQueuePresentKHR(ctx_.queue(), &pi);
+    }
     if (r == VK_ERROR_OUT_OF_DATE_KHR || r == VK_SUBOPTIMAL_KHR) {
         outOfDate_ = true;
         return r == VK_SUBOPTIMAL_KHR;

@@ -49,9 +49,14 @@ struct ViewportRenderer::Impl {
     std::shared_ptr<const VoxelSnapshot> target;
     std::shared_ptr<const std::vector<PlacedMesh>> meshes, markers, ghosts;
     GpuBuffer depthReadback; // the trace's depth, for the occlusion picture
+    // The GPU voxelizer, made on the first request.
+    std::function<void()> wake;
+    std::unique_ptr<GpuVoxelWorker> worker;
+    std::shared_ptr<const GpuVoxelRequest> gpuRequest;
+    std::unique_ptr<GpuVoxelResult> gpuShown;
 
-    Impl(const Context& c, VkSurfaceKHR surface, StreamingOptions streaming)
-        : ctx(c), swapchain(c, surface), tracer(c), scene(c), streamer(c, streaming)
+    Impl(const Context& c, VkSurfaceKHR surface, StreamingOptions streaming, std::function<void()> w)
+        : ctx(c), swapchain(c, surface), tracer(c), scene(c), streamer(c, streaming), wake(std::move(w))
     {
         VkDevice dev = c.device();
         VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -73,19 +78,26 @@ struct ViewportRenderer::Impl {
     }
 };
 
-ViewportRenderer::ViewportRenderer(const Context& ctx, VkSurfaceKHR surface, StreamingOptions streaming)
-    : impl_(std::make_unique<Impl>(ctx, surface, streaming))
+ViewportRenderer::ViewportRenderer(const Context& ctx, VkSurfaceKHR surface, StreamingOptions streaming,
+                                   std::function<void()> wake)
+    : impl_(std::make_unique<Impl>(ctx, surface, streaming, std::move(wake)))
 {
 }
 
 ViewportRenderer::~ViewportRenderer()
 {
-    if (impl_) vkDeviceWaitIdle(impl_->ctx.device());
+    if (!impl_) return;
+    impl_->worker.reset(); // stops its build before the device goes idle
+    const auto queueLock = impl_->ctx.lockQueue();
+    vkDeviceWaitIdle(impl_->ctx.device());
 }
 
 void ViewportRenderer::releaseSurface()
 {
-    vkDeviceWaitIdle(impl_->ctx.device());
+    {
+        const auto queueLock = impl_->ctx.lockQueue();
+        vkDeviceWaitIdle(impl_->ctx.device());
+    }
     impl_->swapchain.release();
     impl_->rendered.clear();
 }
@@ -114,6 +126,26 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
         m.ghosts = scene.ghosts;
         m.scene.setGhosts(m.ghosts ? *m.ghosts : std::vector<PlacedMesh>{});
     }
+    // The GPU voxelizer: a new request to it, and its newest build on screen.
+    if (scene.gpuVoxels != m.gpuRequest) {
+        m.gpuRequest = scene.gpuVoxels;
+        if (m.gpuRequest) {
+            if (!m.worker) m.worker = std::make_unique<GpuVoxelWorker>(m.ctx, m.wake);
+            m.worker->request(*m.gpuRequest);
+        } else if (m.worker) {
+            m.worker->cancel();
+        }
+    }
+    if (m.worker) {
+        if (auto built = m.worker->take()) {
+            // The last frame, which read the build on screen, has finished.
+            m.worker->recycle(std::move(m.gpuShown));
+            m.gpuShown = std::move(built);
+        }
+        // Back on the CPU's snapshots: the GPU's build stays until they are on the device.
+        if (!m.gpuRequest && m.gpuShown && m.streamer.resident().valid() && m.streamer.upToDate())
+            m.worker->recycle(std::move(m.gpuShown));
+    }
     if (!m.swapchain.ensure(width, height)) return st;
     std::optional<std::uint32_t> index = m.swapchain.acquire(m.acquired);
     if (!index) {
@@ -134,9 +166,14 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
 
     const ResidentSet& resident = m.streamer.resident();
     const auto& shown = m.streamer.residentSnapshot();
+    const GpuVoxelResult* gpu = m.gpuShown.get();
     static const std::vector<Feature> kNoFeatures;
-    const std::vector<Feature>& features = shown && shown->features ? *shown->features : kNoFeatures;
-    const Aabb bounds = resident.valid() ? resident.layout.bounds() : Aabb::empty();
+    const std::vector<Feature>& features = gpu ? (gpu->features ? *gpu->features : kNoFeatures)
+                                           : shown && shown->features ? *shown->features
+                                                                      : kNoFeatures;
+    const Aabb bounds = gpu ? (gpu->voxels.surfaceTiles > 0 ? gpu->voxels.layout.bounds() : Aabb::empty())
+                        : resident.valid() ? resident.layout.bounds()
+                                           : Aabb::empty();
     const Camera camera = scene.view.camera(tw, th, bounds);
     SceneOptions options;
     options.lights = ShadeOptions::forCamera(camera);
@@ -147,7 +184,10 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
     if (scene.selectedFeatureNodes && !scene.selectedFeatureNodes->empty())
         for (std::uint32_t i = 0; i < features.size(); ++i)
             if (scene.selectedFeatureNodes->count(features[i].nodeId)) options.selectedFeatures.push_back(i);
-    const VoxelAddresses voxels = resident.valid() ? VoxelAddresses::of(resident) : VoxelAddresses{};
+    // GPU builds count their versions from the top of the range, apart from the snapshots'.
+    const VoxelAddresses voxels = gpu ? gpu->voxels.addresses(~std::uint64_t(0) - gpu->version)
+                                  : resident.valid() ? VoxelAddresses::of(resident)
+                                                     : VoxelAddresses{};
     m.scene.record(m.cb, m.tracer, voxels, camera, features, options, scene.section);
     st.traced = m.scene.lastFrameTraced();
     // The voxelizer's occlusion picture: only a full-resolution trace of the
@@ -195,7 +235,10 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
     si.signalSemaphoreCount = 1;
     si.pSignalSemaphores = &signal;
     const VkFence f = m.fence;
-    check(vkQueueSubmit(m.ctx.queue(), 1, &si, f), "vkQueueSubmit (viewport)");
+    {
+        const auto queueLock = m.ctx.lockQueue();
+        check(vkQueueSubmit(m.ctx.queue(), 1, &si, f), "vkQueueSubmit (viewport)");
+    }
     st.presented = m.swapchain.present(*index, signal);
     check(vkWaitForFences(m.ctx.device(), 1, &f, VK_TRUE, UINT64_MAX), "vkWaitForFences (viewport)");
     check(vkResetFences(m.ctx.device(), 1, &f), "vkResetFences (viewport)");
@@ -205,12 +248,30 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
         st.picture = std::make_shared<const OcclusionMap>(OcclusionMap::fromDepths(
             *scene.occlusionView, tw, th,
             std::span<const float>(static_cast<const float*>(m.depthReadback.mapped()), std::size_t(tw) * std::size_t(th))));
-    st.upToDate = m.streamer.upToDate();
-    st.shownVersion = shown ? shown->version : 0;
-    st.shownRevision = shown ? shown->documentRevision : 0;
-    st.shownComplete = shown && shown->complete;
-    st.residentBytes = resident.bytes;
-    st.heapBytes = m.streamer.heapCapacity();
+    if (gpu) {
+        st.gpuVoxels = true;
+        // The worker wakes the owner when it has more; back on the CPU's
+        // snapshots, frames go on until they are on the device and replace it.
+        st.upToDate = m.gpuRequest != nullptr;
+        st.shownVersion = gpu->version;
+        st.shownRevision = gpu->revision;
+        st.shownComplete = gpu->complete;
+        st.residentBytes = gpu->voxels.bytes();
+        st.heapBytes = gpu->report.poolBytes;
+        st.gpuBuildMs = gpu->requestMilliseconds;
+    } else {
+        st.upToDate = m.streamer.upToDate();
+        st.shownVersion = shown ? shown->version : 0;
+        st.shownRevision = shown ? shown->documentRevision : 0;
+        st.shownComplete = shown && shown->complete;
+        st.residentBytes = resident.bytes;
+        st.heapBytes = m.streamer.heapCapacity();
+    }
+    if (m.worker) {
+        st.gpuBusy = m.gpuRequest && m.worker->busy();
+        st.gpuRefusal = m.worker->refusal();
+        st.gpuRefusedRevision = m.worker->refusedRevision();
+    }
     st.width = w;
     st.height = h;
     st.traceWidth = tw;

@@ -248,14 +248,22 @@ void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) 
     ai.commandPool = pool_;
     ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     ai.commandBufferCount = 1;
+    // The pool and its command buffers are used by one thread at a time;
+    // the wait for the device happens with neither lock held.
+    std::unique_lock poolLock(poolMutex_);
     VkCommandBuffer cb;
     check(vkAllocateCommandBuffers(device_, &ai, &cb), "vkAllocateCommandBuffers");
     struct Free {
         VkDevice d;
         VkCommandPool p;
         VkCommandBuffer c;
-        ~Free() { vkFreeCommandBuffers(d, p, 1, &c); }
-    } freeLater{device_, pool_, cb};
+        std::unique_lock<std::mutex>& lock;
+        ~Free()
+        {
+            if (!lock.owns_lock()) lock.lock();
+            vkFreeCommandBuffers(d, p, 1, &c);
+        }
+    } freeLater{device_, pool_, cb, poolLock};
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     check(vkBeginCommandBuffer(cb, &bi), "vkBeginCommandBuffer");
@@ -268,7 +276,11 @@ void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) 
     VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     si.commandBufferCount = 1;
     si.pCommandBuffers = &cb;
-    check(vkQueueSubmit(queue_, 1, &si, fence), "vkQueueSubmit");
+    {
+        const auto queueLock = lockQueue();
+        check(vkQueueSubmit(queue_, 1, &si, fence), "vkQueueSubmit");
+    }
+    poolLock.unlock();
     check(vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
 }
 

@@ -174,14 +174,18 @@ void Voxelizer::publish(std::shared_ptr<VoxelSnapshot> snap)
     changed_.notify_all();
 }
 
+GridLayout Voxelizer::layoutFor(const Document& doc, const Tape& tape) const
+{
+    const double featureSize =
+        options_.featureSize > 0.0 ? options_.featureSize : doc.settings.featureSize.value_or(defaultFeatureSize(tape.bounds()));
+    return GridLayout::choose(tape.bounds(), featureSize, options_.limits);
+}
+
 void Voxelizer::process(Request request)
 {
     const std::uint64_t revision = request.revision;
     const Tape tape = compileTape(request.doc, &features_);
-    const double featureSize = options_.featureSize > 0.0 ? options_.featureSize
-                                                          : request.doc.settings.featureSize.value_or(
-                                                                defaultFeatureSize(tape.bounds()));
-    const GridLayout layout = GridLayout::choose(tape.bounds(), featureSize, options_.limits);
+    const GridLayout layout = layoutFor(request.doc, tape);
     const auto base = snapshot();
 
     // Which tiles to rebuild: everything when the grid changed; otherwise the

@@ -24,6 +24,8 @@ public:
     virtual QImage grab(const vk::ViewportScene& scene, int timeoutMs) = 0;
     /// Size of the drawing surface in device pixels.
     virtual QSize pixelSize() const = 0;
+    /// Whether it draws on a real GPU (not a CPU implementation of Vulkan).
+    virtual bool hardwareGpu() const { return false; }
 };
 
 /// The Vulkan backend; throws std::runtime_error with the reason when there

@@ -2,6 +2,7 @@
 
 #include "ViewportBackend.hpp"
 #include "kerf/tracer/ExactTracer.hpp"
+#include "kerf/viewport/GpuVoxelWorker.hpp"
 #include "kerf/viewport/OverlayMeshes.hpp"
 
 #include <algorithm>
@@ -114,6 +115,11 @@ void ViewportWidget::onFrame(const ViewportStatus& s)
     status_.picture.reset(); // handed on, not kept
     if (!s.vulkan) status_.fallbackReason = reason;
     emit frameDrawn();
+    if (gpuRequest_ && !s.gpuRefusal.isEmpty() && s.gpuRefusedRevision == gpuRequest_->revision &&
+        gpuRefusalTold_ != s.gpuRefusedRevision) {
+        gpuRefusalTold_ = s.gpuRefusedRevision;
+        emit gpuVoxelizerRefused(s.gpuRefusal);
+    }
     if (s.picture) emit pictureTaken(s.picture);
     // The settled view goes with its first picture, or at once while there
     // are no voxels to take a picture of.
@@ -141,6 +147,7 @@ vk::ViewportScene ViewportWidget::scene() const
     vk::ViewportScene scene;
     scene.view = view_;
     scene.snapshot = snapshot_;
+    scene.gpuVoxels = gpuRequest_;
     scene.section = section_;
     scene.selectedFeatureNodes = selected_;
     scene.grid = grid_;
@@ -194,13 +201,41 @@ void ViewportWidget::tellSettledView()
 void ViewportWidget::setSnapshot(std::shared_ptr<const VoxelSnapshot> snapshot)
 {
     snapshot_ = std::move(snapshot);
-    if (!viewFramed_ && snapshot_ && !partBounds().isEmpty()) {
-        const QSize px = pixelSize();
-        view_.setStandardView("iso", partBounds(), double(px.width()) / px.height());
-        viewFramed_ = true;
-        framedExtent_ = partExtent();
-    }
+    if (snapshot_) frameOnFirstPart();
     refitIfRescaled();
+    sceneChanged();
+}
+
+void ViewportWidget::frameOnFirstPart()
+{
+    if (viewFramed_ || partBounds().isEmpty()) return;
+    const QSize px = pixelSize();
+    view_.setStandardView("iso", partBounds(), double(px.width()) / px.height());
+    viewFramed_ = true;
+    framedExtent_ = partExtent();
+}
+
+bool ViewportWidget::hasHardwareGpu() const { return status_.vulkan && backend_ && backend_->hardwareGpu(); }
+
+void ViewportWidget::setGpuVoxelSource(std::shared_ptr<const Tape> tape, const GridLayout& layout,
+                                       std::uint64_t revision, std::size_t memoryBudget)
+{
+    if (!canVoxelizeOnGpu()) return;
+    auto request = std::make_shared<vk::GpuVoxelRequest>();
+    request->revision = revision;
+    request->tape = std::move(tape);
+    request->layout = layout;
+    request->memoryBudget = memoryBudget;
+    gpuRequest_ = std::move(request);
+    frameOnFirstPart();
+    refitIfRescaled();
+    sceneChanged();
+}
+
+void ViewportWidget::clearGpuVoxelSource()
+{
+    if (!gpuRequest_) return;
+    gpuRequest_.reset();
     sceneChanged();
 }
 

@@ -39,6 +39,8 @@ VulkanViewWindow::~VulkanViewWindow() { stopThread(); }
 
 QString VulkanViewWindow::deviceDescription() const { return QString::fromStdString(context_->deviceDescription()); }
 
+bool VulkanViewWindow::hardwareGpu() const { return !context_->isCpuDevice(); }
+
 void VulkanViewWindow::schedule()
 {
     {
@@ -143,7 +145,15 @@ void VulkanViewWindow::renderLoop()
             surface = surface_;
         }
         try {
-            if (!renderer_) renderer_ = std::make_unique<vk::ViewportRenderer>(*context_, surface);
+            if (!renderer_)
+                renderer_ = std::make_unique<vk::ViewportRenderer>(*context_, surface, vk::StreamingOptions{}, [this] {
+                    // The GPU voxelizer has a build (or went idle): draw a frame.
+                    {
+                        std::lock_guard lock(mutex_);
+                        dirty_ = true;
+                    }
+                    wake_.notify_all();
+                });
             const vk::FrameStats f = renderer_->drawFrame(scene, w, h);
             ViewportStatus s;
             s.vulkan = true;
@@ -159,6 +169,11 @@ void VulkanViewWindow::renderLoop()
             s.shownRevision = f.shownRevision;
             s.shownComplete = f.shownComplete;
             s.streaming = !f.upToDate;
+            s.gpuVoxels = f.gpuVoxels;
+            s.gpuBusy = f.gpuBusy;
+            s.gpuBuildMs = f.gpuBuildMs;
+            s.gpuRefusal = QString::fromStdString(f.gpuRefusal);
+            s.gpuRefusedRevision = f.gpuRefusedRevision;
             s.picture = f.picture;
             s.validationErrors = context_->validationErrors();
             if (s.validationErrors > 0) {
@@ -258,6 +273,7 @@ public:
     void show(const vk::ViewportScene& scene) override { window_->show(scene); }
     QImage grab(const vk::ViewportScene& scene, int timeoutMs) override { return window_->grab(scene, timeoutMs); }
     QSize pixelSize() const override { return window_->size() * window_->devicePixelRatio(); }
+    bool hardwareGpu() const override { return window_->hardwareGpu(); }
 
 private:
     VulkanViewWindow* window_ = nullptr;

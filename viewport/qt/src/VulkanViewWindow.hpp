@@ -32,6 +32,7 @@ public:
     void show(const vk::ViewportScene& scene);
     QImage grab(const vk::ViewportScene& scene, int timeoutMs);
     QString deviceDescription() const;
+    bool hardwareGpu() const;
 
 signals:
     void frameDrawn(const kerf::qt::ViewportStatus& status);

@@ -38,6 +38,7 @@
 #include "kerf/voxelizer/VoxelSnapshot.hpp"
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -74,6 +75,9 @@ struct GpuVoxelizeOptions {
     /// Scales the pools' first guesses down (tests: levels then outgrow
     /// their pools and run again); 1 in use.
     double poolGuessScale = 1.0;
+    /// Checked before every level: when it reads true the build stops and
+    /// returns nothing (report->cancelled), its pools kept as spares.
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 struct GpuVoxelizeReport {
@@ -84,6 +88,7 @@ struct GpuVoxelizeReport {
     int levelReruns = 0;               // levels run twice because they asked for more than a pool held
     std::size_t hostBuiltTiles = 0;    // surface tiles whose tape the shaders cannot hold: built by the CPU's builder
     std::size_t poolBytes = 0;         // the pools' device memory at the end
+    bool cancelled = false;            // stopped by GpuVoxelizeOptions::cancel
     std::string whyNot;                // set when build() returns nothing
 };
 

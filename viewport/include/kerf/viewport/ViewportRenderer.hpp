@@ -7,6 +7,13 @@
 // screen (VoxelStreamer), so a frame never waits for voxelization or for a
 // large upload: at most one budget's worth of copying per frame.
 //
+// The voxels come from the CPU voxelizer's snapshots (streamed as above) or,
+// when the scene carries a GPU request, from the GPU voxelizer working in
+// the background (GpuVoxelWorker): its preview, then its full-depth build,
+// each traced in place the frame after it is done; the build on screen
+// stays until the next one is complete, and goes back to the voxelizer's
+// pools when no frame reads it.
+//
 // While the camera moves on a slow device the trace can run at a fraction
 // of the window's resolution (ViewportScene::resolutionScale), scaled up by
 // the copy to the window; still frames are traced at full resolution.
@@ -18,6 +25,7 @@
 #include "kerf/tracer/Section.hpp"
 #include "kerf/tracer/ViewController.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
+#include "kerf/viewport/GpuVoxelWorker.hpp"
 #include "kerf/viewport/SceneRenderer.hpp"
 #include "kerf/viewport/Swapchain.hpp"
 #include "kerf/viewport/VoxelStreamer.hpp"
@@ -33,6 +41,9 @@ namespace kerf::vk {
 struct ViewportScene {
     ViewController view;
     std::shared_ptr<const VoxelSnapshot> snapshot; // the newest publication, streamed towards
+    /// Voxelize on the GPU: the newest document to build (a new pointer is a
+    /// new request); null: show the CPU voxelizer's snapshots.
+    std::shared_ptr<const GpuVoxelRequest> gpuVoxels;
     Section section;
     /// Features whose node ids are here are drawn as selected.
     std::shared_ptr<const std::unordered_set<std::string>> selectedFeatureNodes;
@@ -64,6 +75,11 @@ struct FrameStats {
     bool shownComplete = false;       // ... at full depth everywhere
     std::size_t residentBytes = 0;    // voxel bytes of the resident set
     std::size_t heapBytes = 0;        // device memory held for voxels
+    bool gpuVoxels = false;           // the voxels shown were built by the GPU voxelizer
+    bool gpuBusy = false;             // ... which is still building a newer request
+    double gpuBuildMs = -1.0;         // the shown GPU build: from its request to its result
+    std::string gpuRefusal;           // why the GPU voxelizer could not build the last request ("" if it could)
+    std::uint64_t gpuRefusedRevision = 0;
     int width = 0, height = 0;        // window pixels
     int traceWidth = 0, traceHeight = 0;
     /// This frame's trace as an occlusion picture (when it traced
@@ -74,7 +90,10 @@ struct FrameStats {
 class ViewportRenderer {
 public:
     /// Throws VulkanError when the device cannot present to `surface`.
-    ViewportRenderer(const Context& ctx, VkSurfaceKHR surface, StreamingOptions streaming = {});
+    /// `wake` is called (on the GPU voxelizer's thread) when a GPU build is
+    /// ready or the voxelizer goes idle: the owner should draw a frame.
+    ViewportRenderer(const Context& ctx, VkSurfaceKHR surface, StreamingOptions streaming = {},
+                     std::function<void()> wake = {});
     ~ViewportRenderer();
     ViewportRenderer(const ViewportRenderer&) = delete;
     ViewportRenderer& operator=(const ViewportRenderer&) = delete;

@@ -4,13 +4,17 @@
 // (lavapipe). Headless: needs no window system. Validation layers are on when
 // asked for (tests) and their error messages are counted.
 //
-// Threading: one thread uses a context at a time.
+// Threading: the viewport's render thread and the GPU voxelizer's worker
+// share a context. Everything that touches the one queue (submissions,
+// presentation, waiting for the device to be idle) holds lockQueue();
+// submitAndWait() does so itself and may be called from any thread.
 
 #include "kerf/viewport/VulkanHandle.hpp"
 
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -60,6 +64,9 @@ public:
 
     /// Records commands into a one-time command buffer, submits it and waits.
     void submitAndWait(const std::function<void(VkCommandBuffer)>& record) const;
+    /// Held around every use of queue() (vkQueueSubmit, vkQueuePresentKHR)
+    /// and vkDeviceWaitIdle: Vulkan requires their callers to be serialized.
+    [[nodiscard]] std::unique_lock<std::mutex> lockQueue() const { return std::unique_lock(queueMutex_); }
 
 private:
     struct Messages;
@@ -78,6 +85,8 @@ private:
     std::size_t maxAllocation_ = std::size_t(1) << 30;
     bool validation_ = false;
     bool ownsInstance_ = true;
+    mutable std::mutex queueMutex_;
+    mutable std::mutex poolMutex_; // submitAndWait's command pool
     std::unique_ptr<Messages> messages_;
     CommandPool pool_;
 };

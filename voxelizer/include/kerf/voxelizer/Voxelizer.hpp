@@ -96,6 +96,10 @@ public:
     void setOcclusion(std::shared_ptr<const OcclusionMap> picture);
     /// The memory budget (0: none); applies from the next request on.
     void setMemoryBudget(std::size_t bytes);
+    /// The grid this voxelizer builds `doc` on (`tape` compiled from it):
+    /// the feature size the options or the document ask for, within the
+    /// options' limits. For a builder of the same voxels elsewhere (the GPU).
+    GridLayout layoutFor(const Document& doc, const Tape& tape) const;
 
     /// The latest publication (null before the first).
     std::shared_ptr<const VoxelSnapshot> snapshot() const;

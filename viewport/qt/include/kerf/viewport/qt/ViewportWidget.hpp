@@ -51,6 +51,7 @@ class QKeyEvent;
 
 namespace kerf::vk {
 struct ViewportScene;
+struct GpuVoxelRequest;
 }
 
 namespace kerf::qt {
@@ -69,6 +70,11 @@ struct ViewportStatus {
     std::uint64_t shownRevision = 0;  // the document revision it shows
     bool shownComplete = false;       // ... at full depth
     bool streaming = false;           // a newer snapshot is still being uploaded
+    bool gpuVoxels = false;           // the voxels shown were built by the GPU voxelizer
+    bool gpuBusy = false;             // ... which is building a newer document
+    double gpuBuildMs = -1.0;         // the shown GPU build, from its request to its result
+    QString gpuRefusal;               // why the GPU voxelizer could not build the last request
+    std::uint64_t gpuRefusedRevision = 0;
     std::uint64_t frames = 0;         // frames drawn so far
     int validationErrors = 0;         // Vulkan validation errors seen (with KERF_VULKAN_VALIDATION set)
     QString lastValidationMessage;    // the newest validation message, if any
@@ -110,6 +116,22 @@ public:
     void setSnapshot(std::shared_ptr<const VoxelSnapshot> snapshot);
     /// The part's field, for picking (exact rays).
     void setPickTape(std::shared_ptr<const Tape> tape);
+    /// Whether this viewport can voxelize on the GPU (it draws with Vulkan).
+    bool canVoxelizeOnGpu() const { return status_.vulkan; }
+    /// Whether the Vulkan device is a real GPU (not a CPU implementation
+    /// such as lavapipe, where the CPU voxelizer is the faster).
+    bool hasHardwareGpu() const;
+    /// Voxelize this document revision's `tape` on the GPU, on this grid,
+    /// within `memoryBudget` bytes of device memory (0: half of it): the
+    /// viewport shows the GPU's builds from now on (its preview, then full
+    /// depth) instead of the snapshots. A refusal (beyond the budget) comes
+    /// as gpuVoxelizerRefused(); the caller falls back.
+    void setGpuVoxelSource(std::shared_ptr<const Tape> tape, const GridLayout& layout, std::uint64_t revision,
+                           std::size_t memoryBudget = 0);
+    /// Back to the CPU voxelizer's snapshots (the GPU's last build stays on
+    /// screen until they are on the device).
+    void clearGpuVoxelSource();
+    bool voxelizesOnGpu() const { return gpuRequest_ != nullptr; }
     void setMeshes(std::vector<PlacedMesh> meshes);
     /// Points drawn as markers (measured points).
     void setMarkers(const std::vector<glm::dvec3>& points);
@@ -190,6 +212,9 @@ signals:
     /// A picture of the settled view: what hides what, for the voxelizer
     /// (Voxelizer::setOcclusion).
     void pictureTaken(std::shared_ptr<const kerf::OcclusionMap> picture);
+    /// The GPU voxelizer cannot build the current request (the reason in
+    /// words): the owner goes back to the CPU voxelizer.
+    void gpuVoxelizerRefused(const QString& reason);
 
 public:
     // For the drawing surfaces (VulkanViewWindow, CpuViewWidget): input
@@ -216,6 +241,9 @@ private:
     double framedExtent_ = 0.0; // the part's largest extent when the view last framed it (mm)
     std::shared_ptr<const VoxelSnapshot> snapshot_;
     std::shared_ptr<const Tape> pickTape_;
+    std::shared_ptr<const vk::GpuVoxelRequest> gpuRequest_;
+    std::uint64_t gpuRefusalTold_ = 0; // the revision whose refusal was signalled
+    void frameOnFirstPart();
     std::shared_ptr<const std::vector<PlacedMesh>> meshes_;
     mutable std::shared_ptr<const std::vector<PlacedMesh>> markers_;
     std::shared_ptr<const std::unordered_set<std::string>> selected_;

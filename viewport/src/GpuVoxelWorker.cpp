@@ -1,0 +1,182 @@
+#include "kerf/viewport/GpuVoxelWorker.hpp"
+
+#include <algorithm>
+#include <exception>
+
+namespace kerf::vk {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+} // namespace
+
+GpuVoxelWorker::GpuVoxelWorker(const Context& ctx, std::function<void()> onChange)
+    : onChange_(std::move(onChange)), voxelizer_(ctx)
+{
+    thread_ = std::thread([this] { run(); });
+}
+
+GpuVoxelWorker::~GpuVoxelWorker()
+{
+    {
+        std::lock_guard lock(mutex_);
+        stop_ = true;
+        cancel_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+}
+
+void GpuVoxelWorker::request(GpuVoxelRequest request)
+{
+    {
+        std::lock_guard lock(mutex_);
+        pending_ = std::make_unique<GpuVoxelRequest>(std::move(request));
+        pendingSince_ = Clock::now();
+        if (building_) cancel_ = true;
+    }
+    wake_.notify_all();
+}
+
+void GpuVoxelWorker::cancel()
+{
+    std::lock_guard lock(mutex_);
+    pending_.reset();
+    if (building_) cancel_ = true;
+}
+
+std::unique_ptr<GpuVoxelResult> GpuVoxelWorker::take()
+{
+    std::lock_guard lock(mutex_);
+    return std::move(ready_);
+}
+
+void GpuVoxelWorker::recycle(std::unique_ptr<GpuVoxelResult> old)
+{
+    if (!old) return;
+    std::lock_guard lock(mutex_);
+    returned_.push_back(std::move(old->voxels));
+}
+
+bool GpuVoxelWorker::busy() const
+{
+    std::lock_guard lock(mutex_);
+    return building_ || pending_;
+}
+
+std::string GpuVoxelWorker::refusal() const
+{
+    std::lock_guard lock(mutex_);
+    return refusal_;
+}
+
+std::uint64_t GpuVoxelWorker::refusedRevision() const
+{
+    std::lock_guard lock(mutex_);
+    return refusedRevision_;
+}
+
+void GpuVoxelWorker::run()
+{
+    for (;;) {
+        GpuVoxelRequest request;
+        Clock::time_point requested;
+        {
+            std::unique_lock lock(mutex_);
+            wake_.wait(lock, [&] { return stop_ || pending_; });
+            if (stop_) return;
+            request = std::move(*pending_);
+            requested = pendingSince_;
+            pending_.reset();
+            building_ = true;
+            cancel_ = false;
+            refusal_.clear();
+            refusedRevision_ = 0;
+        }
+        try {
+            build(request, requested);
+        } catch (const std::exception& e) {
+            // A device error: the viewport says so and the CPU voxelizer takes over.
+            std::lock_guard lock(mutex_);
+            refusal_ = e.what();
+            refusedRevision_ = request.revision;
+        }
+        {
+            std::lock_guard lock(mutex_);
+            building_ = false;
+        }
+        if (onChange_) onChange_();
+    }
+}
+
+void GpuVoxelWorker::build(const GpuVoxelRequest& request, Clock::time_point requested)
+{
+    const auto takeInReturned = [&] {
+        std::vector<GpuVoxels> returned;
+        {
+            std::lock_guard lock(mutex_);
+            returned.swap(returned_);
+        }
+        for (GpuVoxels& v : returned)
+            voxelizer_.recycle(std::move(v));
+    };
+    const auto publish = [&](GpuVoxels voxels, bool complete, const GpuVoxelizeReport& report) {
+        auto result = std::make_unique<GpuVoxelResult>();
+        result->revision = request.revision;
+        result->complete = complete;
+        result->voxels = std::move(voxels);
+        result->features = request.tape ? request.tape->sharedFeatures() : nullptr;
+        result->report = report;
+        result->requestMilliseconds = std::chrono::duration<double, std::milli>(Clock::now() - requested).count();
+        std::unique_ptr<GpuVoxelResult> superseded;
+        {
+            std::lock_guard lock(mutex_);
+            result->version = ++version_;
+            superseded = std::move(ready_); // never shown: straight back to the pools
+            ready_ = std::move(result);
+        }
+        if (superseded) voxelizer_.recycle(std::move(superseded->voxels));
+        if (onChange_) onChange_();
+    };
+
+    takeInReturned();
+    if (!request.tape || request.tape->empty() || request.layout.tileCount() == 0) {
+        // Nothing to build: an empty picture, at once.
+        GpuVoxels none;
+        none.layout = request.layout;
+        publish(std::move(none), true, {});
+        return;
+    }
+    // The preview, then full depth; a grid of one level has no preview.
+    // An edit of the part on screen (same grid) skips the preview: the full
+    // build takes a few frames on a GPU, and a preview would blur the whole
+    // part meanwhile where the CPU path keeps its clean tiles sharp.
+    std::vector<int> depths;
+    const int full = request.layout.levels;
+    const bool edit = lastCompleteLayout_ && *lastCompleteLayout_ == request.layout;
+    if (!edit && request.coarseLevelDrop > 0 && full - request.coarseLevelDrop >= 1)
+        depths.push_back(full - request.coarseLevelDrop);
+    depths.push_back(full);
+    for (const int levels : depths) {
+        takeInReturned();
+        GpuVoxelizeOptions options;
+        options.levels = levels;
+        options.cancel = &cancel_;
+        options.memoryBudget = request.memoryBudget;
+        GpuVoxelizeReport report;
+        std::optional<GpuVoxels> voxels = voxelizer_.build(*request.tape, request.layout, options, &report);
+        if (!voxels) {
+            if (report.cancelled) return;
+            std::lock_guard lock(mutex_);
+            refusal_ = report.whyNot;
+            refusedRevision_ = request.revision;
+            return;
+        }
+        publish(std::move(*voxels), levels == full, report);
+        if (levels == full) lastCompleteLayout_ = request.layout;
+        if (cancel_) return;
+    }
+}
+
+} // namespace kerf::vk
