@@ -55,7 +55,8 @@ struct VoxelizeParams {
     KERF_U64 jobs1;
     KERF_U64 counters;         // KERF_COUNT_WORDS words
     KERF_U64 voxelMantissa;    // the finest voxel edge (mm) = voxelMantissa * 2^sizes.w, exactly to 40 bits
-    KERF_U64 unused;           // (keeps the vectors 16-byte aligned)
+    KERF_U64 firstEntry;       // the first entry this build makes (an update's come after its base's);
+                               // entryTiles and entryVoxels are indexed from it
     KERF_UVEC4 capacity;       // records the pools hold: nodes, leaf indirections, leaf data, vertices
     KERF_UVEC4 limits;         // x: jobs list 0 holds, y: entries, z: contree levels, w: jobs list 1 holds
     KERF_VEC4 sizes;           // x: finest voxel edge (mm, float), y: tile edge (mm), z: the interval boxes' margin (mm),

@@ -202,7 +202,7 @@ void leafPass(uint job)
         if (sOk != 0u) {
             Words(P.leafIndirections).w[indirection * 2u] = firstData;
             Words(P.leafIndirections).w[indirection * 2u + 1u] = firstVertex;
-            atomicAdd(Words(P.entryVoxels).w[entry], count);
+            atomicAdd(Words(P.entryVoxels).w[entry - uint(P.firstEntry)], count);
         }
     }
     barrier();
@@ -235,10 +235,11 @@ void main()
 {
     P = ParamsRef(pc.params).p;
     if (pc.pass == KERF_PASS_FINISH) {
-        const uint entry = gl_GlobalInvocationID.x;
-        if (entry >= P.limits.y) return;
-        const uint tile = Words(P.entryTiles).w[entry];
-        if (Words(P.entryVoxels).w[entry] != 0u) {
+        const uint k = gl_GlobalInvocationID.x; // this build's k-th entry
+        if (k >= P.limits.y) return;
+        const uint entry = uint(P.firstEntry) + k;
+        const uint tile = Words(P.entryTiles).w[k];
+        if (Words(P.entryVoxels).w[k] != 0u) {
             Words(P.tiles).w[tile] = entry;
             return;
         }

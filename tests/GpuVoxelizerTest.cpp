@@ -14,6 +14,7 @@
 #include "kerf/tracer/ReferenceTracer.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
 #include "kerf/viewport/VulkanError.hpp"
+#include "kerf/voxelizer/DirtyRegion.hpp"
 #include "kerf/voxelizer/TileTape.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
 #include "support/RandomShapes.hpp"
@@ -393,7 +394,7 @@ TEST_F(GpuVoxelizerTest, PoolsLargerThanLavapipesStorageBufferRangeWork)
     std::optional<vk::GpuVoxels> gpu = voxelizer->build(tape, layout, {}, &report);
     ASSERT_TRUE(gpu) << report.whyNot;
     constexpr std::size_t kLavapipeRange = std::size_t(128) << 20;
-    EXPECT_GT(gpu->vertices.size(), kLavapipeRange);
+    EXPECT_GT(gpu->vertices->size(), kLavapipeRange);
     EXPECT_GT(gpu->vertexCount * sizeof(voxel::Vertex), kLavapipeRange) << "the records in use, not only the pool";
     std::printf("%zu voxels, %zu vertices; device %.0f ms\n", gpu->populatedVoxels, gpu->vertexCount,
                 report.deviceMilliseconds);
@@ -456,6 +457,57 @@ TEST_F(GpuVoxelizerTest, AnEditSequenceOnOneVoxelizerEqualsFreshBuilds)
     }
 }
 
+// An edit rebuilds only the tiles it reaches, appended to the pools of the
+// build on screen: every update holds exactly the voxels of its document
+// (as the CPU voxelizer builds them), and the build it started from still
+// reads as it did (the frames on screen read it meanwhile).
+TEST_F(GpuVoxelizerTest, AnEditRebuildsOnlyTheTilesItReachesIntoTheBuildOnScreen)
+{
+    const auto part = [](double holeX, double depth) {
+        return Document::parse(R"({"format":"kerf","version":1,"root":{"id":"d","type":"difference","children":[
+                {"id":"b","type":"box","size":[120,80,)" + std::to_string(depth) + R"(]},
+                {"id":"h","type":"cylinder","radius":4,"height":60,"transform":{"translate":[)" +
+                                   std::to_string(holeX) + R"(,0,0]}}]}})",
+                               "update.kerf");
+    };
+    vk::GpuVoxelizer editing(*context);
+    Document doc = part(0, 18);
+    const GridLayout layout = GridLayout::choose(compileTape(doc).bounds(), 1.0, {.maxTiles = 512});
+    std::optional<vk::GpuVoxels> shown = editing.build(compileTape(doc), layout);
+    ASSERT_TRUE(shown);
+    std::optional<vk::GpuVoxels> before;
+    const std::vector<std::pair<double, double>> edits{{20, 18}, {-35.5, 18}, {-35.5, 18.5}, {10, 18.5}};
+    for (const auto& [x, depth] : edits) {
+        SCOPED_TRACE("hole at " + std::to_string(x) + ", depth " + std::to_string(depth));
+        const Document next = part(x, depth);
+        const Tape tape = compileTape(next);
+        ASSERT_EQ(GridLayout::choose(tape.bounds(), 1.0, {.maxTiles = 512}), layout);
+        const std::vector<long> dirty = tilesAnEditReaches(doc, next, layout);
+        ASSERT_FALSE(dirty.empty());
+        const FlatVoxelBuffers shownBefore = shown->readBack(*context);
+        vk::GpuVoxelizeReport report;
+        std::optional<vk::GpuVoxels> updated = editing.update(*shown, tape, dirty, {}, &report);
+        ASSERT_TRUE(updated) << report.whyNot;
+        if (4 * dirty.size() <= std::size_t(layout.tileCount())) {
+            EXPECT_EQ(report.updatedTiles, dirty.size()) << "an update, not a whole build";
+            EXPECT_EQ(updated->nodes, shown->nodes) << "in the same pools";
+        }
+        std::printf("%zu of %ld tiles rebuilt; nodes %zu -> %zu\n", dirty.size(), layout.tileCount(), shown->nodeCount,
+                    updated->nodeCount);
+        const FlatVoxelBuffers cpu = FlatVoxelBuffers::flatten(voxelize(tape, layout));
+        const VoxelComparison c = compareVoxels(cpu, updated->readBack(*context), layout.voxelSize);
+        expectSameVoxels(c);
+        // The build it came from is untouched.
+        const VoxelComparison same = compareVoxels(shownBefore, shown->readBack(*context), layout.voxelSize);
+        EXPECT_EQ(same.both, same.cpu);
+        EXPECT_EQ(same.onlyOneSideNearZero + same.onlyOneSideElsewhere + same.distanceOff + same.normalOff, 0u);
+        if (before) editing.recycle(std::move(*before));
+        before = std::move(shown);
+        shown = std::move(updated);
+        doc = next;
+    }
+}
+
 // The viewport's background builder: a new part gets its preview, then full
 // depth; an edit on the same grid goes straight to full depth (the build on
 // screen stays until then); a request made during a build supersedes it;
@@ -486,16 +538,16 @@ TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequ
             }
         }
     };
-    const auto box = [](double depth) {
-        return std::make_shared<const Tape>(compileTape(Document::parse(
-            R"({"format":"kerf","version":1,"root":{"id":"d","type":"difference","children":[
-                {"id":"b","type":"box","size":[60,40,)" +
-                std::to_string(depth) + R"(]},
-                {"id":"h","type":"cylinder","radius":4,"height":60}]}})",
-            "worker.kerf")));
+    const auto board = [](double holeX) {
+        return Document::parse(R"({"format":"kerf","version":1,"root":{"id":"d","type":"difference","children":[
+                {"id":"b","type":"box","size":[400,40,18]},
+                {"id":"h","type":"cylinder","radius":4,"height":60,"transform":{"translate":[)" +
+                                   std::to_string(holeX) + R"(,0,0]}}]}})",
+                               "worker.kerf");
     };
-    const auto tape = box(18);
-    const GridLimits fewTiles{.maxTiles = 8}; // deep tiles: a preview two levels up
+    const Document firstDoc = board(0), movedDoc = board(12);
+    const auto tape = std::make_shared<const Tape>(compileTape(firstDoc));
+    const GridLimits fewTiles{.maxTiles = 64}; // deep tiles: a preview two levels up
     const GridLayout layout = GridLayout::choose(tape->bounds(), 0.5, fewTiles);
     ASSERT_GE(layout.levels, 3);
 
@@ -506,29 +558,33 @@ TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequ
     const vk::GpuVoxelResult& full = *first.back();
     EXPECT_TRUE(full.complete);
     EXPECT_EQ(full.revision, 1u);
-    EXPECT_EQ(full.voxels.levels, layout.levels);
+    EXPECT_EQ(full.voxels->levels, layout.levels);
     EXPECT_TRUE(worker.refusal().empty());
     ASSERT_TRUE(full.features);
     EXPECT_EQ(full.features->size(), tape->features().size());
     if (first.size() == 2) {
         EXPECT_FALSE(first.front()->complete);
-        EXPECT_EQ(first.front()->voxels.levels, layout.levels - 2);
+        EXPECT_EQ(first.front()->voxels->levels, layout.levels - 2);
         EXPECT_LT(first.front()->version, full.version);
     }
     const FlatVoxelBuffers cpu = FlatVoxelBuffers::flatten(voxelize(*tape, layout));
-    expectSameVoxels(compareVoxels(cpu, full.voxels.readBack(*context), layout.voxelSize));
+    expectSameVoxels(compareVoxels(cpu, full.voxels->readBack(*context), layout.voxelSize));
 
-    // An edit on the same grid: no preview, and the voxels of the new part.
-    const auto deeper = box(24);
+    // An edit on the same grid: no preview, only the tiles it reaches, and the voxels of the new part.
+    const auto deeper = std::make_shared<const Tape>(compileTape(movedDoc));
     ASSERT_EQ(GridLayout::choose(deeper->bounds(), 0.5, fewTiles), layout);
     worker.recycle(std::move(first.front()));
-    worker.request({2, deeper, layout, 2});
+    vk::GpuVoxelRequest edit{2, deeper, layout, 2};
+    edit.dirtyTiles = tilesAnEditReaches(firstDoc, movedDoc, layout);
+    ASSERT_LT(4 * edit.dirtyTiles->size(), std::size_t(layout.tileCount()));
+    worker.request(edit);
     auto second = results();
     ASSERT_EQ(second.size(), 1u) << "an edit of the part on screen has no preview";
     EXPECT_TRUE(second.front()->complete);
     EXPECT_EQ(second.front()->revision, 2u);
+    EXPECT_EQ(second.front()->report.updatedTiles, edit.dirtyTiles->size()) << "only the edit's tiles";
     expectSameVoxels(compareVoxels(FlatVoxelBuffers::flatten(voxelize(*deeper, layout)),
-                                   second.front()->voxels.readBack(*context), layout.voxelSize));
+                                   second.front()->voxels->readBack(*context), layout.voxelSize));
     worker.recycle(std::move(first.back()));
 
     // Requests one after the other, faster than builds: the last one is what stays.
@@ -544,8 +600,8 @@ TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequ
     worker.request({7, std::make_shared<const Tape>(), GridLayout{}, 2});
     auto empty = results();
     ASSERT_EQ(empty.size(), 1u);
-    EXPECT_EQ(empty.front()->voxels.surfaceTiles, 0u);
-    EXPECT_EQ(empty.front()->voxels.addresses(1).tiles, 0u) << "the tracer draws nothing";
+    EXPECT_EQ(empty.front()->voxels->surfaceTiles, 0u);
+    EXPECT_EQ(empty.front()->voxels->addresses(1).tiles, 0u) << "the tracer draws nothing";
 
     // Beyond the memory budget: refused in words, with its revision, nothing published.
     vk::GpuVoxelRequest tooBig{8, tape, GridLayout::choose(tape->bounds(), 0.1), 0};

@@ -10,6 +10,7 @@
 #include "StatusReadout.hpp"
 #include "kerf/document/DocumentEdits.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/voxelizer/DirtyRegion.hpp"
 #include "kerf/viewport/ReferenceMesh.hpp"
 #include "kerf/viewport/qt/ViewportWidget.hpp"
 
@@ -349,11 +350,17 @@ bool MainWindow::voxelizingOnGpu() const
 void MainWindow::voxelize(const Document& doc, std::shared_ptr<const Tape> tape)
 {
     if (voxelizingOnGpu() && tape) {
-        gpuLayout_ = voxelizer_->voxelizer().layoutFor(doc, *tape);
-        viewport_->setGpuVoxelSource(std::move(tape), *gpuLayout_, ++gpuRevision_, memoryBudgetBytes());
+        const GridLayout layout = voxelizer_->voxelizer().layoutFor(doc, *tape);
+        // An edit on the same grid rebuilds only the tiles it reaches.
+        std::optional<std::vector<long>> dirty;
+        if (gpuDocument_ && gpuLayout_ && *gpuLayout_ == layout) dirty = tilesAnEditReaches(*gpuDocument_, doc, layout);
+        gpuLayout_ = layout;
+        gpuDocument_ = doc;
+        viewport_->setGpuVoxelSource(std::move(tape), layout, ++gpuRevision_, memoryBudgetBytes(), std::move(dirty));
         return;
     }
     gpuLayout_.reset();
+    gpuDocument_.reset();
     viewport_->clearGpuVoxelSource(); // its last build stays on screen until the CPU's is there
     voxelizer_->submit(doc);
 }

@@ -207,6 +207,7 @@ private:
     QAction* refineForView_ = nullptr;
     QAction* voxelizeOnGpu_ = nullptr;
     std::optional<GridLayout> gpuLayout_; // the grid of the last GPU request (none: the CPU voxelizes)
+    std::optional<Document> gpuDocument_; // ... and its document: the next one's dirty tiles are against it
     std::uint64_t gpuRevision_ = 0;       // counts GPU requests
     QLabel* measureLabel_ = nullptr;
     MeasureTool* measure_ = nullptr;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <utility>
 
 namespace kerf::vk {
 
@@ -32,6 +33,8 @@ void GpuVoxelWorker::request(GpuVoxelRequest request)
 {
     {
         std::lock_guard lock(mutex_);
+        if (!request.dirtyTiles) everythingDirty_ = true;
+        else dirtySinceBase_.insert(request.dirtyTiles->begin(), request.dirtyTiles->end());
         pending_ = std::make_unique<GpuVoxelRequest>(std::move(request));
         pendingSince_ = Clock::now();
         if (building_) cancel_ = true;
@@ -112,16 +115,21 @@ void GpuVoxelWorker::run()
 
 void GpuVoxelWorker::build(const GpuVoxelRequest& request, Clock::time_point requested)
 {
+    // A build nobody holds any more goes back to the pools (those it shares
+    // with the base build stay there).
+    const auto recycle = [&](std::shared_ptr<GpuVoxels>& v) {
+        if (v && v.use_count() == 1) voxelizer_.recycle(std::move(*v));
+        v.reset();
+    };
     const auto takeInReturned = [&] {
-        std::vector<GpuVoxels> returned;
+        std::vector<std::shared_ptr<GpuVoxels>> returned;
         {
             std::lock_guard lock(mutex_);
             returned.swap(returned_);
         }
-        for (GpuVoxels& v : returned)
-            voxelizer_.recycle(std::move(v));
+        for (auto& v : returned) recycle(v);
     };
-    const auto publish = [&](GpuVoxels voxels, bool complete, const GpuVoxelizeReport& report) {
+    const auto publish = [&](std::shared_ptr<GpuVoxels> voxels, bool complete, const GpuVoxelizeReport& report) {
         auto result = std::make_unique<GpuVoxelResult>();
         result->revision = request.revision;
         result->complete = complete;
@@ -136,15 +144,39 @@ void GpuVoxelWorker::build(const GpuVoxelRequest& request, Clock::time_point req
             superseded = std::move(ready_); // never shown: straight back to the pools
             ready_ = std::move(result);
         }
-        if (superseded) voxelizer_.recycle(std::move(superseded->voxels));
+        if (superseded) recycle(superseded->voxels);
         if (onChange_) onChange_();
     };
+    // What changed since the base build: taken for this build, given back if it does not finish.
+    std::set<long> dirty;
+    bool everything = false;
+    {
+        std::lock_guard lock(mutex_);
+        dirty.swap(dirtySinceBase_);
+        everything = std::exchange(everythingDirty_, false);
+    }
+    bool finished = false;
+    struct GiveBack {
+        GpuVoxelWorker& w;
+        std::set<long>& dirty;
+        bool& everything;
+        bool& finished;
+        ~GiveBack()
+        {
+            if (finished) return;
+            std::lock_guard lock(w.mutex_);
+            w.dirtySinceBase_.insert(dirty.begin(), dirty.end());
+            w.everythingDirty_ = w.everythingDirty_ || everything;
+        }
+    } giveBack{*this, dirty, everything, finished};
 
     takeInReturned();
     if (!request.tape || request.tape->empty() || request.layout.tileCount() == 0) {
         // Nothing to build: an empty picture, at once.
-        GpuVoxels none;
-        none.layout = request.layout;
+        auto none = std::make_shared<GpuVoxels>();
+        none->layout = request.layout;
+        recycle(base_);
+        finished = true;
         publish(std::move(none), true, {});
         return;
     }
@@ -154,7 +186,7 @@ void GpuVoxelWorker::build(const GpuVoxelRequest& request, Clock::time_point req
     // part meanwhile where the CPU path keeps its clean tiles sharp.
     std::vector<int> depths;
     const int full = request.layout.levels;
-    const bool edit = lastCompleteLayout_ && *lastCompleteLayout_ == request.layout;
+    const bool edit = base_ && base_->layout == request.layout && base_->levels == request.layout.levels;
     if (!edit && request.coarseLevelDrop > 0 && full - request.coarseLevelDrop >= 1)
         depths.push_back(full - request.coarseLevelDrop);
     depths.push_back(full);
@@ -165,7 +197,13 @@ void GpuVoxelWorker::build(const GpuVoxelRequest& request, Clock::time_point req
         options.cancel = &cancel_;
         options.memoryBudget = request.memoryBudget;
         GpuVoxelizeReport report;
-        std::optional<GpuVoxels> voxels = voxelizer_.build(*request.tape, request.layout, options, &report);
+        std::optional<GpuVoxels> voxels;
+        if (levels == full && edit && !everything) {
+            const std::vector<long> tiles(dirty.begin(), dirty.end());
+            voxels = voxelizer_.update(*base_, *request.tape, tiles, options, &report);
+        } else {
+            voxels = voxelizer_.build(*request.tape, request.layout, options, &report);
+        }
         if (!voxels) {
             if (report.cancelled) return;
             std::lock_guard lock(mutex_);
@@ -173,8 +211,13 @@ void GpuVoxelWorker::build(const GpuVoxelRequest& request, Clock::time_point req
             refusedRevision_ = request.revision;
             return;
         }
-        publish(std::move(*voxels), levels == full, report);
-        if (levels == full) lastCompleteLayout_ = request.layout;
+        auto shared = std::make_shared<GpuVoxels>(std::move(*voxels));
+        if (levels == full) {
+            recycle(base_);
+            base_ = shared;
+            finished = true;
+        }
+        publish(std::move(shared), levels == full, report);
         if (cancel_) return;
     }
 }

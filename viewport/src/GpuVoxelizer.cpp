@@ -51,7 +51,9 @@ struct TilePlan {
 
 // Everything the host sends for one build, laid out in one staging buffer.
 struct HostData {
-    std::vector<std::uint32_t> tiles;      // per tile: empty / full markers; surface tiles are set by the finish pass
+    std::vector<std::uint32_t> plannedTiles; // the tiles planned (every tile for a whole build), in order
+    std::vector<std::uint32_t> tiles;      // per planned tile: empty / full markers, host-built tiles' entries;
+                                           // the device's surface tiles are set by the finish pass
     std::vector<TileEntry> entries;        // per surface tile
     std::vector<std::uint32_t> entryTiles; // per surface tile: its tile
     std::vector<std::uint32_t> tapes;      // concatenated
@@ -71,9 +73,22 @@ struct HostData {
 // tape the shaders cannot hold is built here by the CPU's TileBuilder.
 // The device's tiles come first among the entries, their roots the first
 // nodes; the host's follow.
-HostData planTiles(const Tape& tape, const GridLayout& layout, int levels, int threads)
+// Where a build's records start in each buffer: 0 for a whole build; the
+// records already there for an update of some tiles (appended after them).
+struct RecordBases {
+    std::uint32_t entries = 0, nodes = 0, leafIndirections = 0, leafData = 0, vertices = 0, tapeWords = 0;
+};
+
+HostData planTiles(const Tape& tape, const GridLayout& layout, int levels, int threads,
+                   const std::vector<long>* only = nullptr, const RecordBases& bases = {})
 {
-    std::vector<TilePlan> plans(std::size_t(layout.tileCount()));
+    HostData host;
+    if (only) host.plannedTiles.assign(only->begin(), only->end());
+    else {
+        host.plannedTiles.resize(std::size_t(layout.tileCount()));
+        for (std::size_t i = 0; i < host.plannedTiles.size(); ++i) host.plannedTiles[i] = std::uint32_t(i);
+    }
+    std::vector<TilePlan> plans(host.plannedTiles.size());
     {
         const BlockTapes blocks(tape, layout);
         tbb::enumerable_thread_specific<std::pair<IntervalEvaluator, Tape>> scratch;
@@ -81,10 +96,10 @@ HostData planTiles(const Tape& tape, const GridLayout& layout, int levels, int t
         tbb::task_arena arena = workerArena(threads);
         arena.execute([&] {
             tbb::parallel_for(
-                tbb::blocked_range<long>(0, layout.tileCount(), 16), [&](const tbb::blocked_range<long>& range) {
+                tbb::blocked_range<long>(0, long(plans.size()), 16), [&](const tbb::blocked_range<long>& range) {
                     auto& [intervals, simple] = scratch.local();
                     for (long i = range.begin(); i != range.end(); ++i) {
-                        const glm::ivec3 t = layout.tileCoord(i);
+                        const glm::ivec3 t = layout.tileCoord(long(host.plannedTiles[std::size_t(i)]));
                         const Aabb box = layout.tileBox(t);
                         const Interval iv = intervals.simplify(blocks.forTile(t),
                                                                box.grown(layout.tileSize * kIntervalBoxHair), simple);
@@ -105,7 +120,6 @@ HostData planTiles(const Tape& tape, const GridLayout& layout, int levels, int t
                 });
         });
     }
-    HostData host;
     host.tiles.resize(plans.size());
     std::vector<std::size_t> hostBuilt;
     for (std::size_t i = 0; i < plans.size(); ++i) {
@@ -116,14 +130,15 @@ HostData planTiles(const Tape& tape, const GridLayout& layout, int levels, int t
             hostBuilt.push_back(i);
             continue;
         }
+        // The roots are the first new nodes, in the order of the entries.
+        const auto index = std::uint32_t(host.entries.size());
         TileEntry e;
-        e.node = std::uint32_t(host.entries.size()); // the roots are the first nodes
+        e.node = bases.nodes + index;
         e.levels = std::uint32_t(levels);
-        e.tape = std::uint32_t(host.tapes.size());
+        e.tape = bases.tapeWords + std::uint32_t(host.tapes.size());
         host.tapes.insert(host.tapes.end(), plan.tape.begin(), plan.tape.end());
-        host.entryTiles.push_back(std::uint32_t(i));
-        host.roots.insert(host.roots.end(),
-                          {std::uint32_t(host.entries.size()), std::uint32_t(host.entries.size()), 0u, 0u, 0u});
+        host.entryTiles.push_back(host.plannedTiles[i]);
+        host.roots.insert(host.roots.end(), {bases.entries + index, bases.nodes + index, 0u, 0u, 0u});
         host.entries.push_back(e);
     }
     const std::size_t surface = host.entries.size(); // built by the device
@@ -131,12 +146,12 @@ HostData planTiles(const Tape& tape, const GridLayout& layout, int levels, int t
     for (const std::size_t i : hostBuilt) {
         const TileData& t = *plans[i].built;
         TileEntry e;
-        e.node = std::uint32_t(surface + host.nodes.size());
-        e.leafIndirection = std::uint32_t(host.leafIndirections.size());
-        e.leafData = std::uint32_t(host.leafData.size());
-        e.vertex = std::uint32_t(host.vertices.size());
+        e.node = bases.nodes + std::uint32_t(surface + host.nodes.size());
+        e.leafIndirection = bases.leafIndirections + std::uint32_t(host.leafIndirections.size());
+        e.leafData = bases.leafData + std::uint32_t(host.leafData.size());
+        e.vertex = bases.vertices + std::uint32_t(host.vertices.size());
         e.levels = std::uint32_t(t.levels);
-        host.tiles[i] = std::uint32_t(host.entries.size());
+        host.tiles[i] = bases.entries + std::uint32_t(host.entries.size());
         host.entries.push_back(e);
         host.nodes.insert(host.nodes.end(), t.nodes.begin(), t.nodes.end());
         host.leafIndirections.insert(host.leafIndirections.end(), t.leafIndirections.begin(), t.leafIndirections.end());
@@ -173,7 +188,7 @@ std::string megabytes(std::size_t bytes) { return std::to_string((bytes + (1 << 
 
 std::size_t GpuVoxels::bytes() const
 {
-    return tiles.size() + surfaceTiles * sizeof(TileEntry) + nodeCount * sizeof(voxel::Node) +
+    return tiles.size() + entries.size() + nodeCount * sizeof(voxel::Node) +
            leafCount * sizeof(voxel::LeafIndirection) + populatedVoxels * sizeof(voxel::LeafData) +
            vertexCount * sizeof(voxel::Vertex) + tapes.size();
 }
@@ -184,10 +199,11 @@ VoxelAddresses GpuVoxels::addresses(std::uint64_t version) const
     a.grid = layout;
     a.tiles = tiles.address();
     a.entries = entries.address();
-    a.nodes = nodes.address();
-    a.leafIndirections = leafIndirections.address();
-    a.leafData = leafData.address();
-    a.vertices = vertices.address();
+    const auto at = [](const std::shared_ptr<GpuBuffer>& b) -> VkDeviceAddress { return b ? b->address() : 0; };
+    a.nodes = at(nodes);
+    a.leafIndirections = at(leafIndirections);
+    a.leafData = at(leafData);
+    a.vertices = at(vertices);
     a.tapes = tapes.address();
     a.version = version;
     return a;
@@ -198,7 +214,7 @@ FlatVoxelBuffers GpuVoxels::readBack(const Context& ctx) const
     FlatVoxelBuffers out;
     out.layout = layout;
     out.tiles.resize(std::size_t(layout.tileCount()));
-    out.entries.resize(surfaceTiles);
+    out.entries.resize(entryCount());
     out.nodes.resize(nodeCount);
     out.leafIndirections.resize(leafCount);
     out.leafData.resize(populatedVoxels);
@@ -212,10 +228,10 @@ FlatVoxelBuffers GpuVoxels::readBack(const Context& ctx) const
     const Part parts[] = {
         {&tiles, out.tiles.data(), out.tiles.size() * 4},
         {&entries, out.entries.data(), out.entries.size() * sizeof(TileEntry)},
-        {&nodes, out.nodes.data(), out.nodes.size() * sizeof(voxel::Node)},
-        {&leafIndirections, out.leafIndirections.data(), out.leafIndirections.size() * sizeof(voxel::LeafIndirection)},
-        {&leafData, out.leafData.data(), out.leafData.size() * sizeof(voxel::LeafData)},
-        {&vertices, out.vertices.data(), out.vertices.size() * sizeof(voxel::Vertex)},
+        {nodes.get(), out.nodes.data(), out.nodes.size() * sizeof(voxel::Node)},
+        {leafIndirections.get(), out.leafIndirections.data(), out.leafIndirections.size() * sizeof(voxel::LeafIndirection)},
+        {leafData.get(), out.leafData.data(), out.leafData.size() * sizeof(voxel::LeafData)},
+        {vertices.get(), out.vertices.data(), out.vertices.size() * sizeof(voxel::Vertex)},
         {&tapes, out.tapes.data(), out.tapes.size() * 4}};
     std::size_t total = 0;
     for (const Part& p : parts)
@@ -253,8 +269,9 @@ GpuVoxelizer::~GpuVoxelizer() = default;
 
 void GpuVoxelizer::recycle(GpuVoxels&& old)
 {
-    for (GpuBuffer* b : {&old.nodes, &old.leafIndirections, &old.leafData, &old.vertices})
-        giveSpare(std::move(*b));
+    // Pools another build shares (an update's base and the update) stay with it.
+    for (std::shared_ptr<GpuBuffer>* b : {&old.nodes, &old.leafIndirections, &old.leafData, &old.vertices})
+        if (*b && b->use_count() == 1) giveSpare(std::move(**b));
     old = GpuVoxels{};
 }
 
@@ -283,14 +300,47 @@ GpuBuffer GpuVoxelizer::takeSpare(std::size_t bytes)
 std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout& layout,
                                              const GpuVoxelizeOptions& options, GpuVoxelizeReport* report)
 {
+    return make(tape, layout, options, report, nullptr, nullptr);
+}
+
+std::optional<GpuVoxels> GpuVoxelizer::update(const GpuVoxels& base, const Tape& tape,
+                                              const std::vector<long>& dirtyTiles, const GpuVoxelizeOptions& options,
+                                              GpuVoxelizeReport* report)
+{
+    const int levels = std::clamp(options.levels > 0 ? options.levels : base.layout.levels, 1, voxel::kMaxLevels);
+    // Rebuilt whole: a different depth, many dirty tiles (as cheap whole),
+    // or pools that the replaced tiles have filled to twice a whole build.
+    const bool whole = levels != base.levels || 4 * dirtyTiles.size() > std::size_t(base.layout.tileCount()) ||
+                       base.nodeCount > 2 * std::max<std::size_t>(base.wholeBuildNodes, 1024);
+    if (whole) return make(tape, base.layout, options, report, nullptr, nullptr);
+    return make(tape, base.layout, options, report, &base, &dirtyTiles);
+}
+
+std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& layout,
+                                            const GpuVoxelizeOptions& options, GpuVoxelizeReport* report,
+                                            const GpuVoxels* base, const std::vector<long>* dirty)
+{
     GpuVoxelizeReport local;
     GpuVoxelizeReport& r = report ? *report : local;
     r = {};
     const int levels = std::clamp(options.levels > 0 ? options.levels : layout.levels, 1, voxel::kMaxLevels);
+    // An update appends the dirty tiles' records after the base's, in its
+    // pools (shared: the base stays readable, the frames on screen read it),
+    // and copies its tile table, entries and tapes.
+    RecordBases bases;
+    if (base) {
+        bases.entries = std::uint32_t(base->entryCount());
+        bases.nodes = std::uint32_t(base->nodeCount);
+        bases.leafIndirections = std::uint32_t(base->leafCount);
+        bases.leafData = std::uint32_t(base->populatedVoxels);
+        bases.vertices = std::uint32_t(base->vertexCount);
+        bases.tapeWords = std::uint32_t(base->tapes.size() / 4);
+    }
+    r.updatedTiles = dirty ? dirty->size() : 0;
 
     // The host's share: tile intervals in double, exactly as the CPU voxelizer.
     const auto prepareStart = Clock::now();
-    HostData host = planTiles(tape, layout, levels, options.threads);
+    HostData host = planTiles(tape, layout, levels, options.threads, dirty, bases);
     const std::size_t surface = host.deviceTiles;
     r.hostBuiltTiles = host.entries.size() - surface;
     r.prepareMilliseconds = millisecondsSince(prepareStart);
@@ -302,10 +352,11 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
     constexpr VkBufferUsageFlags kStorage =
         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     const auto allocateStart = Clock::now();
-    out.tiles = GpuBuffer(ctx_, host.tiles.size() * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "tiles");
-    out.entries =
-        GpuBuffer(ctx_, host.entries.size() * sizeof(TileEntry), kStorage, GpuBuffer::Kind::DeviceLocal, "entries");
-    out.tapes = GpuBuffer(ctx_, host.tapes.size() * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "tapes");
+    out.tiles = GpuBuffer(ctx_, std::size_t(layout.tileCount()) * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "tiles");
+    out.entries = GpuBuffer(ctx_, (bases.entries + host.entries.size()) * sizeof(TileEntry), kStorage,
+                            GpuBuffer::Kind::DeviceLocal, "entries");
+    out.tapes = GpuBuffer(ctx_, (bases.tapeWords + host.tapes.size()) * 4, kStorage, GpuBuffer::Kind::DeviceLocal,
+                          "tapes");
     const GpuBuffer entryTiles(ctx_, surface * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "entry tiles");
     const GpuBuffer entryVoxels(ctx_, surface * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "entry voxels");
     const GpuBuffer counters(ctx_, KERF_COUNT_WORDS * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "counters");
@@ -322,15 +373,28 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
     const std::size_t budget = options.memoryBudget > 0 ? options.memoryBudget : deviceLocalHeapBytes(ctx_) / 2;
     const std::size_t perBuffer = ctx_.maxAllocationBytes();
     struct Pool {
-        GpuBuffer buffer;
+        std::shared_ptr<GpuBuffer> buffer = std::make_shared<GpuBuffer>(); // shared with the base of an update
         std::size_t capacity = 0; // records
         std::size_t recordBytes = 0;
         const char* name = "";
     };
-    Pool nodes{{}, 0, sizeof(voxel::Node), "nodes"}, leafIndirections{{}, 0, sizeof(voxel::LeafIndirection), "leaves"},
-        leafData{{}, 0, sizeof(voxel::LeafData), "voxels"}, vertices{{}, 0, sizeof(voxel::Vertex), "vertices"},
-        jobs[2] = {{{}, 0, kJobBytes, "jobs"}, {{}, 0, kJobBytes, "jobs"}};
+    Pool nodes{.recordBytes = sizeof(voxel::Node), .name = "nodes"},
+        leafIndirections{.recordBytes = sizeof(voxel::LeafIndirection), .name = "leaves"},
+        leafData{.recordBytes = sizeof(voxel::LeafData), .name = "voxels"},
+        vertices{.recordBytes = sizeof(voxel::Vertex), .name = "vertices"},
+        jobs[2] = {{.recordBytes = kJobBytes, .name = "jobs"}, {.recordBytes = kJobBytes, .name = "jobs"}};
     Pool* const all[] = {&nodes, &leafIndirections, &leafData, &vertices, &jobs[0], &jobs[1]};
+    if (base) {
+        const std::pair<Pool*, const std::shared_ptr<GpuBuffer>*> shared[] = {
+            {&nodes, &base->nodes},
+            {&leafIndirections, &base->leafIndirections},
+            {&leafData, &base->leafData},
+            {&vertices, &base->vertices}};
+        for (const auto& [pool, buffer] : shared) {
+            pool->buffer = *buffer;
+            pool->capacity = (*buffer)->size() / pool->recordBytes;
+        }
+    }
     const auto poolBytes = [&] {
         std::size_t b = 0;
         for (const Pool* p : all)
@@ -342,7 +406,12 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         std::size_t bytes;
     };
     std::vector<Copy> copies;       // contents to carry into grown pools, in the next submission
-    std::vector<GpuBuffer> retired; // pools replaced: kept until that submission has run
+    std::vector<std::shared_ptr<GpuBuffer>> retired; // pools replaced: kept until that submission has run
+    // A pool no other build shares goes to the spares.
+    const auto release = [&](std::shared_ptr<GpuBuffer>& b) {
+        if (b && b.use_count() == 1) giveSpare(std::move(*b));
+        b.reset();
+    };
     // Grows `p` to at least `records`, keeping its first `keep` records; false
     // when over the budget. A `guess` (what a level will probably ask for) is
     // cut to what the budget allows instead: only a level's real need refuses.
@@ -361,23 +430,24 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
                        megabytes(records * p.recordBytes) + ")";
             return false;
         }
-        GpuBuffer bigger = takeSpare(records * p.recordBytes);
-        if (bigger.size() == 0)
-            bigger = GpuBuffer(ctx_, records * p.recordBytes, kStorage, GpuBuffer::Kind::DeviceLocal, p.name);
-        if (keep > 0) copies.push_back({p.buffer.buffer(), bigger.buffer(), keep * p.recordBytes});
+        auto bigger = std::make_shared<GpuBuffer>(takeSpare(records * p.recordBytes));
+        if (bigger->size() == 0)
+            *bigger = GpuBuffer(ctx_, records * p.recordBytes, kStorage, GpuBuffer::Kind::DeviceLocal, p.name);
+        if (keep > 0) copies.push_back({p.buffer->buffer(), bigger->buffer(), keep * p.recordBytes});
         retired.push_back(std::move(p.buffer));
         p.buffer = std::move(bigger);
-        p.capacity = p.buffer.size() / p.recordBytes;
+        p.capacity = p.buffer->size() / p.recordBytes;
         return true;
     };
     // The host's tiles take the first records of each pool; the device's
     // roots are the first nodes.
     std::uint32_t count[KERF_COUNT_WORDS] = {};
-    count[KERF_COUNT_NODES] = std::uint32_t(surface + host.nodes.size());
-    count[KERF_COUNT_LEAF_INDIRECTIONS] = std::uint32_t(host.leafIndirections.size());
-    count[KERF_COUNT_LEAF_DATA] = std::uint32_t(host.leafData.size());
-    count[KERF_COUNT_VERTICES] = std::uint32_t(host.vertices.size());
+    count[KERF_COUNT_NODES] = bases.nodes + std::uint32_t(surface + host.nodes.size());
+    count[KERF_COUNT_LEAF_INDIRECTIONS] = bases.leafIndirections + std::uint32_t(host.leafIndirections.size());
+    count[KERF_COUNT_LEAF_DATA] = bases.leafData + std::uint32_t(host.leafData.size());
+    count[KERF_COUNT_VERTICES] = bases.vertices + std::uint32_t(host.vertices.size());
     count[KERF_COUNT_JOBS] = std::uint32_t(surface);
+    const std::uint32_t started[KERF_COUNT_WORDS] = {count[0], count[1], count[2], count[3]};
     // Every level's nodes are about 16 times the last's (a surface, four
     // times finer each way); the leaves' records follow what the last build
     // of this depth had per leaf.
@@ -387,13 +457,16 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
     const double voxelsPerLeaf = voxelsPerLeaf_ > 0.0 ? voxelsPerLeaf_ : 18.0;
     const double guessScale = std::clamp(options.poolGuessScale, 1e-3, 1.0);
     const double verticesPerVoxel = verticesPerVoxel_ > 0.0 ? verticesPerVoxel_ : 3.3;
-    if (!grow(nodes, count[KERF_COUNT_NODES] + 16 * surface, 0) || !grow(jobs[0], surface, 0) ||
-        !grow(jobs[1], 16 * surface, 0) || !grow(leafIndirections, count[KERF_COUNT_LEAF_INDIRECTIONS] + 1, 0) ||
-        !grow(leafData, count[KERF_COUNT_LEAF_DATA] + 1, 0) || !grow(vertices, count[KERF_COUNT_VERTICES] + 1, 0))
+    if (!grow(nodes, count[KERF_COUNT_NODES] + 16 * surface, bases.nodes) || !grow(jobs[0], surface, 0) ||
+        !grow(jobs[1], 16 * surface, 0) ||
+        !grow(leafIndirections, count[KERF_COUNT_LEAF_INDIRECTIONS] + 1, bases.leafIndirections) ||
+        !grow(leafData, count[KERF_COUNT_LEAF_DATA] + 1, bases.leafData) ||
+        !grow(vertices, count[KERF_COUNT_VERTICES] + 1, bases.vertices))
         return std::nullopt;
-    for (GpuBuffer& b : retired)
-        giveSpare(std::move(b));
-    retired.clear();
+    if (!base) {
+        for (auto& b : retired) release(b);
+        retired.clear();
+    }
 
     struct Upload {
         const void* data;
@@ -401,18 +474,23 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         VkBuffer to;
         std::size_t at = 0; // bytes into `to`
     };
+    // A whole build sends the tile table; an update copies its base's and
+    // sets its planned tiles (below).
     const Upload uploads[] = {
-        {host.tiles.data(), host.tiles.size() * 4, out.tiles.buffer()},
-        {host.entries.data(), host.entries.size() * sizeof(TileEntry), out.entries.buffer()},
-        {host.tapes.data(), host.tapes.size() * 4, out.tapes.buffer()},
+        {host.tiles.data(), base ? 0 : host.tiles.size() * 4, out.tiles.buffer()},
+        {host.entries.data(), host.entries.size() * sizeof(TileEntry), out.entries.buffer(),
+         bases.entries * sizeof(TileEntry)},
+        {host.tapes.data(), host.tapes.size() * 4, out.tapes.buffer(), bases.tapeWords * 4u},
         {host.entryTiles.data(), surface * 4, entryTiles.buffer()},
-        {host.roots.data(), host.roots.size() * 4, jobs[0].buffer.buffer()},
-        {host.nodes.data(), host.nodes.size() * sizeof(voxel::Node), nodes.buffer.buffer(),
-         surface * sizeof(voxel::Node)},
+        {host.roots.data(), host.roots.size() * 4, jobs[0].buffer->buffer()},
+        {host.nodes.data(), host.nodes.size() * sizeof(voxel::Node), nodes.buffer->buffer(),
+         (bases.nodes + surface) * sizeof(voxel::Node)},
         {host.leafIndirections.data(), host.leafIndirections.size() * sizeof(voxel::LeafIndirection),
-         leafIndirections.buffer.buffer()},
-        {host.leafData.data(), host.leafData.size() * sizeof(voxel::LeafData), leafData.buffer.buffer()},
-        {host.vertices.data(), host.vertices.size() * sizeof(voxel::Vertex), vertices.buffer.buffer()}};
+         leafIndirections.buffer->buffer(), bases.leafIndirections * sizeof(voxel::LeafIndirection)},
+        {host.leafData.data(), host.leafData.size() * sizeof(voxel::LeafData), leafData.buffer->buffer(),
+         bases.leafData * sizeof(voxel::LeafData)},
+        {host.vertices.data(), host.vertices.size() * sizeof(voxel::Vertex), vertices.buffer->buffer(),
+         bases.vertices * sizeof(voxel::Vertex)}};
     std::size_t stagingBytes = 0;
     for (const Upload& u : uploads)
         stagingBytes += u.bytes;
@@ -437,12 +515,13 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         p.entryTiles = entryTiles.address();
         p.entryVoxels = entryVoxels.address();
         p.tiles = out.tiles.address();
-        p.nodes = nodes.buffer.address();
-        p.leafIndirections = leafIndirections.buffer.address();
-        p.leafData = leafData.buffer.address();
-        p.vertices = vertices.buffer.address();
-        p.jobs0 = jobs[0].buffer.address();
-        p.jobs1 = jobs[1].buffer.address();
+        p.nodes = nodes.buffer->address();
+        p.leafIndirections = leafIndirections.buffer->address();
+        p.leafData = leafData.buffer->address();
+        p.vertices = vertices.buffer->address();
+        p.jobs0 = jobs[0].buffer->address();
+        p.jobs1 = jobs[1].buffer->address();
+        p.firstEntry = bases.entries;
         p.counters = counters.address();
         p.capacity = {std::uint32_t(nodes.capacity), std::uint32_t(leafIndirections.capacity),
                       std::uint32_t(leafData.capacity), std::uint32_t(vertices.capacity)};
@@ -463,6 +542,23 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         const auto deviceStart = Clock::now();
         ctx_.submitAndWait([&](VkCommandBuffer cb) {
             if (first) {
+                if (base) {
+                    // The base's tile table, entries and tapes first; the planned tiles' words after.
+                    const std::pair<const GpuBuffer*, const GpuBuffer*> carried[] = {
+                        {&base->tiles, &out.tiles}, {&base->entries, &out.entries}, {&base->tapes, &out.tapes}};
+                    for (const auto& [from, to] : carried)
+                        if (from->size() > 0) {
+                            const VkBufferCopy region{0, 0, from->size()};
+                            vkCmdCopyBuffer(cb, from->buffer(), to->buffer(), 1, &region);
+                        }
+                    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+                    mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+                    mb.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+                    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb,
+                                         0, nullptr, 0, nullptr);
+                    for (std::size_t i = 0; i < host.plannedTiles.size(); ++i)
+                        vkCmdUpdateBuffer(cb, out.tiles.buffer(), host.plannedTiles[i] * 4u, 4, &host.tiles[i]);
+                }
                 std::size_t at = 0;
                 for (const Upload& u : uploads) {
                     if (u.bytes == 0) continue;
@@ -492,8 +588,7 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         });
         r.deviceMilliseconds += millisecondsSince(deviceStart);
         copies.clear();
-        for (GpuBuffer& b : retired)
-            giveSpare(std::move(b));
+        for (auto& b : retired) release(b);
         retired.clear();
     };
     const auto push = [&](VkCommandBuffer cb, std::uint32_t pass, int level) {
@@ -505,10 +600,8 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
     for (int level = 0; level < levels && surface > 0; ++level) {
         if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
             // Asked to stop (a newer request): the pools serve the next build.
-            for (Pool* p : all)
-                giveSpare(std::move(p->buffer));
-            for (GpuBuffer& b : retired)
-                giveSpare(std::move(b));
+            for (Pool* p : all) release(p->buffer);
+            for (auto& b : retired) release(b);
             r.cancelled = true;
             r.whyNot = "cancelled";
             return std::nullopt;
@@ -578,8 +671,8 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
         vkCmdDispatch(cb, std::uint32_t((surface + KERF_VOXELIZE_GROUP - 1) / KERF_VOXELIZE_GROUP), 1, 1);
     });
 
-    giveSpare(std::move(jobs[0].buffer));
-    giveSpare(std::move(jobs[1].buffer));
+    release(jobs[0].buffer);
+    release(jobs[1].buffer);
     out.nodes = std::move(nodes.buffer);
     out.leafIndirections = std::move(leafIndirections.buffer);
     out.leafData = std::move(leafData.buffer);
@@ -588,12 +681,13 @@ std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout&
     out.leafCount = count[KERF_COUNT_LEAF_INDIRECTIONS];
     out.populatedVoxels = count[KERF_COUNT_LEAF_DATA];
     out.vertexCount = count[KERF_COUNT_VERTICES];
+    out.wholeBuildNodes = base ? base->wholeBuildNodes : out.nodeCount;
     r.poolBytes = poolBytes();
-    const std::size_t deviceLeaves = out.leafCount - host.leafIndirections.size();
-    const std::size_t deviceVoxels = out.populatedVoxels - host.leafData.size();
+    const std::size_t deviceLeaves = out.leafCount - started[KERF_COUNT_LEAF_INDIRECTIONS];
+    const std::size_t deviceVoxels = out.populatedVoxels - started[KERF_COUNT_LEAF_DATA];
     if (deviceLeaves > 0 && deviceVoxels > 0) {
         voxelsPerLeaf_ = double(deviceVoxels) / double(deviceLeaves);
-        verticesPerVoxel_ = double(out.vertexCount - host.vertices.size()) / double(deviceVoxels);
+        verticesPerVoxel_ = double(out.vertexCount - started[KERF_COUNT_VERTICES]) / double(deviceVoxels);
     }
     return out;
 }

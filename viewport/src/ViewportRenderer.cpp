@@ -171,7 +171,7 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
     const std::vector<Feature>& features = gpu ? (gpu->features ? *gpu->features : kNoFeatures)
                                            : shown && shown->features ? *shown->features
                                                                       : kNoFeatures;
-    const Aabb bounds = gpu ? (gpu->voxels.surfaceTiles > 0 ? gpu->voxels.layout.bounds() : Aabb::empty())
+    const Aabb bounds = gpu ? (gpu->voxels->surfaceTiles > 0 ? gpu->voxels->layout.bounds() : Aabb::empty())
                         : resident.valid() ? resident.layout.bounds()
                                            : Aabb::empty();
     const Camera camera = scene.view.camera(tw, th, bounds);
@@ -185,7 +185,7 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
         for (std::uint32_t i = 0; i < features.size(); ++i)
             if (scene.selectedFeatureNodes->count(features[i].nodeId)) options.selectedFeatures.push_back(i);
     // GPU builds count their versions from the top of the range, apart from the snapshots'.
-    const VoxelAddresses voxels = gpu ? gpu->voxels.addresses(~std::uint64_t(0) - gpu->version)
+    const VoxelAddresses voxels = gpu ? gpu->voxels->addresses(~std::uint64_t(0) - gpu->version)
                                   : resident.valid() ? VoxelAddresses::of(resident)
                                                      : VoxelAddresses{};
     m.scene.record(m.cb, m.tracer, voxels, camera, features, options, scene.section);
@@ -256,7 +256,7 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
         st.shownVersion = gpu->version;
         st.shownRevision = gpu->revision;
         st.shownComplete = gpu->complete;
-        st.residentBytes = gpu->voxels.bytes();
+        st.residentBytes = gpu->voxels->bytes();
         st.heapBytes = gpu->report.poolBytes;
         st.gpuBuildMs = gpu->requestMilliseconds;
     } else {

@@ -2,6 +2,8 @@
 
 #include "kerf/document/NodeBounds.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -100,6 +102,35 @@ DirtyRegion dirtyRegion(const Document& before, const Document& after, double ma
     const BoundsMap b = worldBoundsOfNodes(before, margin), a = worldBoundsOfNodes(after, margin);
     Differ(b, a, r).diff(before.root, after.root);
     return r;
+}
+
+std::vector<long> tilesReached(const DirtyRegion& region, const GridLayout& layout)
+{
+    std::vector<long> tiles;
+    if (region.everything) {
+        tiles.resize(std::size_t(layout.tileCount()));
+        for (long i = 0; i < layout.tileCount(); ++i) tiles[std::size_t(i)] = i;
+        return tiles;
+    }
+    for (const Aabb& box : region.boxes) {
+        const Aabb clipped = box.intersected(layout.bounds());
+        if (clipped.isEmpty()) continue;
+        const glm::ivec3 lo = glm::clamp(glm::ivec3(glm::floor((clipped.min - layout.origin) / layout.tileSize)),
+                                         glm::ivec3(0), layout.dims - 1);
+        const glm::ivec3 hi = glm::clamp(glm::ivec3(glm::floor((clipped.max - layout.origin) / layout.tileSize)),
+                                         glm::ivec3(0), layout.dims - 1);
+        for (int z = lo.z; z <= hi.z; ++z)
+            for (int y = lo.y; y <= hi.y; ++y)
+                for (int x = lo.x; x <= hi.x; ++x) tiles.push_back(layout.tileIndex({x, y, z}));
+    }
+    std::sort(tiles.begin(), tiles.end());
+    tiles.erase(std::unique(tiles.begin(), tiles.end()), tiles.end());
+    return tiles;
+}
+
+std::vector<long> tilesAnEditReaches(const Document& before, const Document& after, const GridLayout& layout)
+{
+    return tilesReached(dirtyRegion(before, after, 2.0 * std::sqrt(3.0) * layout.voxelSize), layout);
 }
 
 } // namespace kerf

@@ -221,20 +221,8 @@ void Voxelizer::process(Request request)
                 for (long i = 0; i < layout.tileCount(); ++i) dirty.insert(i);
                 break;
             }
-            for (const Aabb& box : region.boxes) {
-                const Aabb clipped = box.intersected(layout.bounds());
-                if (clipped.isEmpty()) continue;
-                const glm::ivec3 lo = glm::clamp(glm::ivec3(glm::floor((clipped.min - layout.origin) / layout.tileSize)),
-                                                 glm::ivec3(0), layout.dims - 1);
-                const glm::ivec3 hi = glm::clamp(glm::ivec3(glm::floor((clipped.max - layout.origin) / layout.tileSize)),
-                                                 glm::ivec3(0), layout.dims - 1);
-                for (int z = lo.z; z <= hi.z; ++z)
-                    for (int y = lo.y; y <= hi.y; ++y)
-                        for (int x = lo.x; x <= hi.x; ++x) {
-                            const long i = layout.tileIndex({x, y, z});
-                            if (depthOf[std::size_t(i)] == depth) dirty.insert(i);
-                        }
-            }
+            for (const long i : tilesReached(region, layout))
+                if (depthOf[std::size_t(i)] == depth) dirty.insert(i);
         }
     }
     builtDocument_ = request.doc;

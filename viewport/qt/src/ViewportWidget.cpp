@@ -218,7 +218,8 @@ void ViewportWidget::frameOnFirstPart()
 bool ViewportWidget::hasHardwareGpu() const { return status_.vulkan && backend_ && backend_->hardwareGpu(); }
 
 void ViewportWidget::setGpuVoxelSource(std::shared_ptr<const Tape> tape, const GridLayout& layout,
-                                       std::uint64_t revision, std::size_t memoryBudget)
+                                       std::uint64_t revision, std::size_t memoryBudget,
+                                       std::optional<std::vector<long>> dirtyTiles)
 {
     if (!canVoxelizeOnGpu()) return;
     auto request = std::make_shared<vk::GpuVoxelRequest>();
@@ -226,6 +227,7 @@ void ViewportWidget::setGpuVoxelSource(std::shared_ptr<const Tape> tape, const G
     request->tape = std::move(tape);
     request->layout = layout;
     request->memoryBudget = memoryBudget;
+    request->dirtyTiles = std::move(dirtyTiles);
     gpuRequest_ = std::move(request);
     frameOnFirstPart();
     refitIfRescaled();

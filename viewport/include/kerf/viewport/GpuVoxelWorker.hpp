@@ -7,6 +7,12 @@
 // never waits for a build. A request made while another is being built stops that one before
 // its next level and takes its pools.
 //
+// An edit whose request names the tiles it reaches (relative to the
+// request before it) is an update of the last complete build: only those
+// tiles are built again, into the same pools (GpuVoxelizer::update); the
+// tiles of requests superseded on the way are added up, so the update is
+// always against what the base build shows.
+//
 // Results wait in a mailbox of one: the render thread take()s the newest
 // (an older one it never took goes straight back to the pools) and hands
 // the one it showed before back with recycle() once no frame reads it, so
@@ -25,6 +31,8 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -41,13 +49,16 @@ struct GpuVoxelRequest {
     /// Device memory the build's pools may take (the user's voxel budget);
     /// 0: half the device-local memory.
     std::size_t memoryBudget = 0;
+    /// The tiles this document differs in from the previous request's (same
+    /// grid; DirtyRegion.hpp's tilesAnEditReaches); none: unknown, all.
+    std::optional<std::vector<long>> dirtyTiles;
 };
 
 struct GpuVoxelResult {
     std::uint64_t revision = 0;
     std::uint64_t version = 0; // increases with every result of a worker
     bool complete = false;     // at the layout's full depth
-    GpuVoxels voxels;          // no tiles for an empty part
+    std::shared_ptr<GpuVoxels> voxels; // no tiles for an empty part
     std::shared_ptr<const std::vector<Feature>> features;
     GpuVoxelizeReport report;
     double requestMilliseconds = 0.0; // from request() to this result
@@ -81,7 +92,7 @@ private:
 
     std::function<void()> onChange_;
     GpuVoxelizer voxelizer_; // the worker thread's only
-    std::optional<GridLayout> lastCompleteLayout_; // the worker thread's only
+    std::shared_ptr<GpuVoxels> base_; // the last complete build: an edit updates it (the worker thread's only)
 
     mutable std::mutex mutex_;
     std::condition_variable wake_;
@@ -91,7 +102,10 @@ private:
     bool stop_ = false;
     std::atomic<bool> cancel_{false};
     std::unique_ptr<GpuVoxelResult> ready_;
-    std::vector<GpuVoxels> returned_; // recycled by the render thread, for the worker to take in
+    std::vector<std::shared_ptr<GpuVoxels>> returned_; // recycled by the render thread, for the worker to take in
+    // The tiles changed since the base build's request (guarded by mutex_).
+    std::set<long> dirtySinceBase_;
+    bool everythingDirty_ = true;
     std::string refusal_;
     std::uint64_t refusedRevision_ = 0;
     std::uint64_t version_ = 0;

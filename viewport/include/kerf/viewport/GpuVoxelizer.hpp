@@ -40,6 +40,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -49,15 +50,23 @@ namespace kerf::vk {
 /// A voxelization built on the device, in the flat layout: tile entries
 /// carry their root node's index (node pointers are relative to it) and 0
 /// as the other bases (leaf, voxel and vertex pointers are absolute).
+///
+/// An update (GpuVoxelizer::update) appends the records of the tiles it
+/// rebuilds to its base's pools, which the two then share (the base stays
+/// valid and readable); the records it replaced stay in them, unreachable,
+/// until a whole build: the counts below are of records written.
 struct GpuVoxels {
     GridLayout layout;
     int levels = 0;
-    GpuBuffer tiles, entries, nodes, leafIndirections, leafData, vertices, tapes;
-    std::size_t surfaceTiles = 0; // tiles with an entry (some may turn out empty or full)
+    GpuBuffer tiles, entries, tapes;
+    std::shared_ptr<GpuBuffer> nodes, leafIndirections, leafData, vertices; // the pools
+    std::size_t surfaceTiles = 0; // tiles this build gave an entry (some may turn out empty or full)
     std::size_t nodeCount = 0;    // nodes written, leaves included
     std::size_t leafCount = 0;    // leaves holding populated voxels
     std::size_t populatedVoxels = 0;
     std::size_t vertexCount = 0;
+    std::size_t wholeBuildNodes = 0; // nodes of the last whole build in these pools
+    std::size_t entryCount() const { return entries.size() / sizeof(TileEntry); }
 
     /// Bytes of voxel data in use (not the pools' spare room).
     std::size_t bytes() const;
@@ -89,6 +98,7 @@ struct GpuVoxelizeReport {
     std::size_t hostBuiltTiles = 0;    // surface tiles whose tape the shaders cannot hold: built by the CPU's builder
     std::size_t poolBytes = 0;         // the pools' device memory at the end
     bool cancelled = false;            // stopped by GpuVoxelizeOptions::cancel
+    std::size_t updatedTiles = 0;      // an update: the tiles rebuilt (0: a whole build)
     std::string whyNot;                // set when build() returns nothing
 };
 
@@ -102,6 +112,14 @@ public:
     /// says why, in words): the caller falls back to the CPU voxelizer.
     std::optional<GpuVoxels> build(const Tape& tape, const GridLayout& layout, const GpuVoxelizeOptions& options = {},
                                    GpuVoxelizeReport* report = nullptr);
+    /// `base` (built by this voxelizer, on screen perhaps) with `dirtyTiles`
+    /// rebuilt from `tape`: the other tiles' records are kept as they are
+    /// and the new ones appended in the same pools (an edit's tiles cost
+    /// what they cost, not the part). A whole build instead when the depth
+    /// differs, when a quarter of the tiles or more are dirty, or when
+    /// replaced records fill the pools to twice a whole build's.
+    std::optional<GpuVoxels> update(const GpuVoxels& base, const Tape& tape, const std::vector<long>& dirtyTiles,
+                                    const GpuVoxelizeOptions& options = {}, GpuVoxelizeReport* report = nullptr);
 
     /// Hands back a build nobody reads any more (the one before the one on
     /// screen): its pools serve the next build instead of new allocations,
@@ -109,6 +127,8 @@ public:
     void recycle(GpuVoxels&& old);
 
 private:
+    std::optional<GpuVoxels> make(const Tape& tape, const GridLayout& layout, const GpuVoxelizeOptions& options,
+                                  GpuVoxelizeReport* report, const GpuVoxels* base, const std::vector<long>* dirty);
     static constexpr std::size_t kSpareBuffers = 8;
     void giveSpare(GpuBuffer&& buffer);
     GpuBuffer takeSpare(std::size_t bytes); // an empty buffer when no spare fits

@@ -7,6 +7,7 @@
 
 #include "kerf/document/Aabb.hpp"
 #include "kerf/document/Document.hpp"
+#include "kerf/voxelizer/GridLayout.hpp"
 
 #include <vector>
 
@@ -19,5 +20,14 @@ struct DirtyRegion {
 };
 
 DirtyRegion dirtyRegion(const Document& before, const Document& after, double margin);
+
+/// The tiles of `layout` that the region's boxes reach, in increasing order
+/// (every tile when it says everything).
+std::vector<long> tilesReached(const DirtyRegion& region, const GridLayout& layout);
+
+/// The tiles whose voxels at the layout's full depth an edit from `before`
+/// to `after` can change (a margin of two voxel diagonals: a stored distance
+/// saturates at two voxel edges).
+std::vector<long> tilesAnEditReaches(const Document& before, const Document& after, const GridLayout& layout);
 
 } // namespace kerf
