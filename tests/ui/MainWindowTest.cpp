@@ -78,6 +78,9 @@ std::unique_ptr<MainWindow> makeWindow(const QString& recoveryDir, MainWindowOpt
     options.recoveryFolder = recoveryDir.toStdString();
     options.rememberLayout = rememberLayout; // by default each scenario starts from the default layout
     options.autosaveMs = 3600 * 1000; // the tests autosave by hand
+    // The CPU voxelizer unless a scenario asks for the GPU (the setting is
+    // remembered between runs).
+    if (!options.voxelizeOnGpu) options.voxelizeOnGpu = false;
     if (!options.askSave) options.askSave = [](const QString&) { return QMessageBox::Discard; };
     if (!options.askRestore) options.askRestore = [](const RecoveryCandidate&) { return false; };
     if (!options.reportError) options.reportError = [](const QString&, const QString&) {}; // no modal boxes
