@@ -24,6 +24,16 @@
 // cold (a fresh voxelizer: its pools guessed) and warm (a rebuild of the same
 // part, as after an edit that dirties every tile), all in the same run.
 //
+//   kerf_gpu_bench edit [--feature-size MM] [--edits N] [--json OUT.json] [--examples DIR]
+//
+// The edit form times what the viewport does after an edit of the chair
+// when it voxelizes on the GPU (View > Voxelize on the GPU): the typical
+// edit (kerf bench's: a feature moved 5 mm, back and forth), the document
+// compiled, the tiles it reaches found, the GPU voxelizer's worker building
+// them into the build on screen, and one 2560x1440 trace of the result: the
+// edit to its final picture. The same run times each edit as an update of
+// the dirty tiles and as a whole rebuild, alternated.
+//
 // The bench form runs `kerf bench` itself (the same code, app/TradeBench),
 // so that the speed/accuracy table can be measured on the GPU machine, which
 // has no Qt; --trace-only leaves out the export measurements.
@@ -33,13 +43,18 @@
 #include "kerf/tracer/Camera.hpp"
 #include "kerf/tracer/ExactRefinement.h"
 #include "kerf/viewport/ComputeTracer.hpp"
+#include "kerf/app/TypicalEdit.hpp"
+#include "kerf/viewport/GpuVoxelWorker.hpp"
 #include "kerf/viewport/GpuVoxelizer.hpp"
+#include "kerf/voxelizer/DirtyRegion.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -232,6 +247,114 @@ int voxelizeBench(const std::vector<std::string>& args)
     return 0;
 }
 
+// The edit to its final picture on the GPU path (see the usage above).
+int editBench(const std::vector<std::string>& args)
+{
+    std::string examples = KERF_EXAMPLES_DIR, jsonPath;
+    std::vector<double> featureSizes{1.0, 0.5, 0.25, 0.1};
+    int edits = 9;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        const bool more = i + 1 < args.size();
+        if (a == "--json" && more) jsonPath = args[++i];
+        else if (a == "--examples" && more) examples = args[++i];
+        else if (a == "--feature-size" && more) featureSizes = {std::atof(args[++i].c_str())};
+        else if (a == "--edits" && more) edits = std::max(1, std::atoi(args[++i].c_str()));
+        else {
+            std::cerr << "usage: kerf_gpu_bench edit [--feature-size MM] [--edits N] [--json OUT.json] [--examples DIR]\n";
+            return 2;
+        }
+    }
+    vk::Context ctx;
+    std::cout << "device: " << ctx.deviceDescription() << "\n";
+    const Document chair = Document::load(examples + "/side-chair.kerf");
+    const std::optional<TypicalEdit> typical = chooseTypicalEdit(chair);
+    if (!typical) throw std::runtime_error("the chair has no feature to move");
+    std::mutex m;
+    std::condition_variable changed;
+    vk::GpuVoxelWorker worker(ctx, [&] {
+        std::lock_guard lock(m);
+        changed.notify_all();
+    });
+    vk::ComputeTracer tracer(ctx);
+    std::unique_ptr<vk::GpuVoxelResult> shown;
+    // Waits for the worker's complete build of `revision`; the one shown before goes back.
+    const auto waitFor = [&](std::uint64_t revision) {
+        for (;;) {
+            if (auto r = worker.take()) {
+                worker.recycle(std::move(shown));
+                shown = std::move(r);
+                if (shown->complete && shown->revision == revision) return;
+            }
+            if (!worker.busy() && !worker.refusal().empty()) throw std::runtime_error(worker.refusal());
+            std::unique_lock lock(m);
+            changed.wait_for(lock, std::chrono::milliseconds(1));
+        }
+    };
+    nlohmann::ordered_json results = nlohmann::ordered_json::array();
+    std::printf("%6s %9s %12s %12s %12s %12s %10s\n", "fs", "tiles", "dirty tiles", "update ms", "whole ms",
+                "update dev", "trace ms");
+    std::uint64_t revision = 0;
+    for (const double fs : featureSizes) {
+        Document doc = chair;
+        const Tape first = compileTape(doc);
+        const GridLayout layout = GridLayout::choose(first.bounds(), fs);
+        worker.request({++revision, std::make_shared<const Tape>(first), layout, 0});
+        waitFor(revision);
+        std::vector<double> updateMs, wholeMs, updateDevice, traceMs;
+        std::size_t dirtyCount = 0;
+        const Camera camera = Camera::standardView(first.bounds(), "iso", 2560, 1440);
+        // One edit to its picture: compile, dirty tiles, build, trace.
+        const auto editOnce = [&](double offset, bool update) {
+            const auto t0 = std::chrono::steady_clock::now();
+            const Document next = applyTypicalEdit(doc, *typical, offset);
+            auto tape = std::make_shared<const Tape>(compileTape(next));
+            vk::GpuVoxelRequest request{++revision, tape, GridLayout::choose(tape->bounds(), fs), 0};
+            if (update && request.layout == layout) request.dirtyTiles = tilesAnEditReaches(doc, next, layout);
+            if (update) dirtyCount = request.dirtyTiles ? request.dirtyTiles->size() : std::size_t(layout.tileCount());
+            worker.request(std::move(request));
+            waitFor(revision);
+            const auto t1 = std::chrono::steady_clock::now();
+            const vk::VoxelAddresses voxels = shown->voxels->addresses(revision);
+            ctx.submitAndWait([&](VkCommandBuffer cb) { tracer.record(cb, camera, voxels); });
+            const double total = millisecondsSince(t0);
+            (update ? updateMs : wholeMs).push_back(total);
+            if (update) {
+                updateDevice.push_back(shown->report.deviceMilliseconds);
+                traceMs.push_back(millisecondsSince(t1));
+            }
+            doc = next;
+        };
+        // Warm-up (the GPU clocks up), then edits alternating +5/-5 mm, each way timed.
+        for (int i = 0; i < 4; ++i) editOnce(i % 2 ? -kTypicalEditMm : kTypicalEditMm, true);
+        for (int i = 0; i < edits; ++i) {
+            editOnce(kTypicalEditMm, true);
+            editOnce(-kTypicalEditMm, false);
+            editOnce(kTypicalEditMm, false);
+            editOnce(-kTypicalEditMm, true);
+        }
+        std::printf("%6g %9ld %12zu %12.1f %12.1f %12.1f %10.2f\n", fs, layout.tileCount(), dirtyCount,
+                    median(updateMs), median(wholeMs), median(updateDevice), median(traceMs));
+        std::fflush(stdout);
+        results.push_back({{"feature_size", fs},
+                           {"tiles", layout.tileCount()},
+                           {"dirty_tiles", dirtyCount},
+                           {"edit_to_picture_update_ms", updateMs},
+                           {"edit_to_picture_whole_ms", wholeMs},
+                           {"update_device_ms", updateDevice},
+                           {"trace_ms", traceMs}});
+    }
+    worker.recycle(std::move(shown));
+    if (!jsonPath.empty()) {
+        nlohmann::ordered_json j;
+        j["device"] = ctx.deviceDescription();
+        j["edit"] = typical->nodeId;
+        j["results"] = results;
+        std::ofstream(jsonPath) << j.dump(2) << "\n";
+    }
+    return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -239,6 +362,14 @@ int main(int argc, char** argv)
     if (argc > 1 && std::string(argv[1]) == "voxelize") {
         try {
             return voxelizeBench(std::vector<std::string>(argv + 2, argv + argc));
+        } catch (const std::exception& e) {
+            std::cerr << "kerf_gpu_bench: " << e.what() << "\n";
+            return 1;
+        }
+    }
+    if (argc > 1 && std::string(argv[1]) == "edit") {
+        try {
+            return editBench(std::vector<std::string>(argv + 2, argv + argc));
         } catch (const std::exception& e) {
             std::cerr << "kerf_gpu_bench: " << e.what() << "\n";
             return 1;
