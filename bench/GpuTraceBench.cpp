@@ -299,7 +299,8 @@ int editBench(const std::vector<std::string>& args)
         Document doc = chair;
         const Tape first = compileTape(doc);
         const GridLayout layout = GridLayout::choose(first.bounds(), fs);
-        worker.request({++revision, std::make_shared<const Tape>(first), layout, 0});
+        worker.request(
+            {.revision = ++revision, .tape = std::make_shared<const Tape>(first), .layout = layout, .coarseLevelDrop = 0, .memoryBudget = 0, .dirtyTiles = std::nullopt});
         waitFor(revision);
         std::vector<double> updateMs, wholeMs, updateDevice, traceMs;
         std::size_t dirtyCount = 0;
@@ -309,7 +310,10 @@ int editBench(const std::vector<std::string>& args)
             const auto t0 = std::chrono::steady_clock::now();
             const Document next = applyTypicalEdit(doc, *typical, offset);
             auto tape = std::make_shared<const Tape>(compileTape(next));
-            vk::GpuVoxelRequest request{++revision, tape, GridLayout::choose(tape->bounds(), fs), 0};
+            vk::GpuVoxelRequest request{.revision = ++revision,
+                                        .tape = tape,
+                                        .layout = GridLayout::choose(tape->bounds(), fs),
+                                        .coarseLevelDrop = 0, .memoryBudget = 0, .dirtyTiles = std::nullopt};
             if (update && request.layout == layout) request.dirtyTiles = tilesAnEditReaches(doc, next, layout);
             if (update) dirtyCount = request.dirtyTiles ? request.dirtyTiles->size() : std::size_t(layout.tileCount());
             worker.request(std::move(request));

@@ -551,7 +551,7 @@ TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequ
     const GridLayout layout = GridLayout::choose(tape->bounds(), 0.5, fewTiles);
     ASSERT_GE(layout.levels, 3);
 
-    worker.request({1, tape, layout, 2});
+    worker.request({.revision = 1, .tape = tape, .layout = layout, .coarseLevelDrop = 2, .memoryBudget = 0, .dirtyTiles = std::nullopt});
     auto first = results();
     // Taken as they come: the preview, then full depth (a slow poll may see only the second).
     ASSERT_FALSE(first.empty());
@@ -574,7 +574,7 @@ TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequ
     const auto deeper = std::make_shared<const Tape>(compileTape(movedDoc));
     ASSERT_EQ(GridLayout::choose(deeper->bounds(), 0.5, fewTiles), layout);
     worker.recycle(std::move(first.front()));
-    vk::GpuVoxelRequest edit{2, deeper, layout, 2};
+    vk::GpuVoxelRequest edit{.revision = 2, .tape = deeper, .layout = layout, .coarseLevelDrop = 2, .memoryBudget = 0, .dirtyTiles = std::nullopt};
     edit.dirtyTiles = tilesAnEditReaches(firstDoc, movedDoc, layout);
     ASSERT_LT(4 * edit.dirtyTiles->size(), std::size_t(layout.tileCount()));
     worker.request(edit);
@@ -589,7 +589,7 @@ TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequ
 
     // Requests one after the other, faster than builds: the last one is what stays.
     for (std::uint64_t revision = 3; revision <= 6; ++revision)
-        worker.request({revision, revision % 2 ? tape : deeper, layout, 2});
+        worker.request({.revision = revision, .tape = revision % 2 ? tape : deeper, .layout = layout, .coarseLevelDrop = 2, .memoryBudget = 0, .dirtyTiles = std::nullopt});
     auto burst = results();
     ASSERT_FALSE(burst.empty());
     EXPECT_EQ(burst.back()->revision, 6u);
@@ -597,14 +597,15 @@ TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequ
     for (std::size_t i = 1; i < burst.size(); ++i) EXPECT_LT(burst[i - 1]->version, burst[i]->version);
 
     // An empty part: an empty result at once.
-    worker.request({7, std::make_shared<const Tape>(), GridLayout{}, 2});
+    worker.request({.revision = 7, .tape = std::make_shared<const Tape>(), .layout = GridLayout{}, .coarseLevelDrop = 2, .memoryBudget = 0, .dirtyTiles = std::nullopt});
     auto empty = results();
     ASSERT_EQ(empty.size(), 1u);
     EXPECT_EQ(empty.front()->voxels->surfaceTiles, 0u);
     EXPECT_EQ(empty.front()->voxels->addresses(1).tiles, 0u) << "the tracer draws nothing";
 
     // Beyond the memory budget: refused in words, with its revision, nothing published.
-    vk::GpuVoxelRequest tooBig{8, tape, GridLayout::choose(tape->bounds(), 0.1), 0};
+    vk::GpuVoxelRequest tooBig{
+        .revision = 8, .tape = tape, .layout = GridLayout::choose(tape->bounds(), 0.1), .coarseLevelDrop = 0, .memoryBudget = 0, .dirtyTiles = std::nullopt};
     tooBig.memoryBudget = 1 << 20;
     worker.request(tooBig);
     EXPECT_TRUE(results().empty());
