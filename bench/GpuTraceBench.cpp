@@ -157,9 +157,10 @@ int voxelizeBench(const std::vector<std::string>& args)
                 continue;
             }
             const std::size_t voxels = gpu->populatedVoxels;
-            std::printf("    gpu cold: prepare %.1f, allocate %.1f, submissions %.1f ms, %d levels run again; "
+            std::printf("    gpu cold: prepare %.1f, allocate %.1f (pools %.1f), submissions %.1f ms, %d levels run again; "
                         "%.1f voxels per leaf, %.2f vertices per voxel\n",
-                        cold.prepareMilliseconds, cold.allocateMilliseconds, cold.deviceMilliseconds, cold.levelReruns,
+                        cold.prepareMilliseconds, cold.allocateMilliseconds, cold.poolAllocateMilliseconds,
+                        cold.deviceMilliseconds, cold.levelReruns,
                         double(gpu->populatedVoxels) / double(std::max<std::size_t>(gpu->leafCount, 1)),
                         double(gpu->vertexCount) / double(std::max<std::size_t>(gpu->populatedVoxels, 1)));
             // Warm: rebuilds of the same part, as an edit that dirties every
@@ -168,10 +169,10 @@ int voxelizeBench(const std::vector<std::string>& args)
             // the same work): a discrete GPU idles down between calls.
             std::optional<vk::GpuVoxels> previous;
             vk::GpuVoxelizeReport warm;
-            const auto rebuild = [&] {
+            const auto rebuild = [&](const vk::GpuVoxelizeOptions& options = {}) {
                 if (previous) fresh.recycle(std::move(*previous));
                 previous = std::move(gpu);
-                gpu = fresh.build(tape, layout, {}, &warm);
+                gpu = fresh.build(tape, layout, options, &warm);
             };
             const auto warmUp = std::chrono::steady_clock::now();
             while (millisecondsSince(warmUp) < 300.0) rebuild();
@@ -185,6 +186,22 @@ int voxelizeBench(const std::vector<std::string>& args)
                 uploadMs.push_back(warm.uploadMilliseconds);
                 deviceMs.push_back(warm.deviceMilliseconds);
             }
+            // What the per-tile tape simplification buys: the same rebuilds
+            // with the whole tape in every tile (the same voxels).
+            std::vector<double> wholeTapeMs, wholeTapeDeviceMs;
+            std::size_t wholeTapeHostTiles = 0;
+            for (int r = 0; r < repeats; ++r) {
+                t0 = std::chrono::steady_clock::now();
+                rebuild({.simplifyTileTapes = false});
+                wholeTapeMs.push_back(millisecondsSince(t0));
+                wholeTapeDeviceMs.push_back(warm.deviceMilliseconds);
+                wholeTapeHostTiles = warm.hostBuiltTiles;
+            }
+            std::printf("    whole tape in every tile: warm %.1f ms (device %.1f ms, %zu tiles built by the host); "
+                        "simplified per tile: warm %.1f ms (device %.1f ms)\n",
+                        median(wholeTapeMs), median(wholeTapeDeviceMs), wholeTapeHostTiles, median(warmMs),
+                        median(deviceMs));
+            rebuild(); // the last figures below are the simplified build's
             gpu.reset();
             previous.reset();
             // CPU: every core, then one (the same code, an arena of one thread).
@@ -232,6 +249,9 @@ int voxelizeBench(const std::vector<std::string>& args)
                                {"gpu_prepare_ms", prepareMs},
                                {"gpu_upload_ms", uploadMs},
                                {"gpu_device_ms", deviceMs},
+                               {"gpu_whole_tape_warm_ms", wholeTapeMs},
+                               {"gpu_whole_tape_device_ms", wholeTapeDeviceMs},
+                               {"gpu_whole_tape_host_built_tiles", wholeTapeHostTiles},
                                {"gpu_pool_bytes", warm.poolBytes},
                                {"cpu_all_threads_ms", cpuAll},
                                {"cpu_one_thread_ms", cpuOne},

@@ -457,6 +457,26 @@ TEST_F(GpuVoxelizerTest, AnEditSequenceOnOneVoxelizerEqualsFreshBuilds)
     }
 }
 
+// The benchmarks' switch: every tile on the whole tape instead of the tape
+// simplified for its box. The same voxels (simplification only drops
+// branches that cannot win there), longer tapes.
+TEST_F(GpuVoxelizerTest, TheWholeTapeEverywhereBuildsTheSameVoxels)
+{
+    const Document doc = Document::load(std::filesystem::path(KERF_EXAMPLES_DIR) / "side-chair.kerf");
+    const Tape tape = compileTape(doc);
+    const GridLayout layout = GridLayout::choose(tape.bounds(), 2.0);
+    vk::GpuVoxelizeReport simplified, whole;
+    const std::optional<vk::GpuVoxels> a = voxelizer->build(tape, layout, {}, &simplified);
+    const std::optional<vk::GpuVoxels> b = voxelizer->build(tape, layout, {.simplifyTileTapes = false}, &whole);
+    ASSERT_TRUE(a && b);
+    EXPECT_EQ(whole.hostBuiltTiles, 0u) << "the chair's whole tape fits the shaders";
+    EXPECT_GT(b->tapes.size(), 2 * a->tapes.size()) << "the whole tape is longer than the tiles' own";
+    const VoxelComparison c = compareVoxels(a->readBack(*context), b->readBack(*context), layout.voxelSize);
+    EXPECT_GT(c.both, 10000u);
+    EXPECT_EQ(c.onlyOneSideNearZero + c.onlyOneSideElsewhere, 0u);
+    EXPECT_EQ(c.distanceOff, 0u) << "worst " << c.worstDistance << " mm";
+}
+
 // An edit rebuilds only the tiles it reaches, appended to the pools of the
 // build on screen: every update holds exactly the voxels of its document
 // (as the CPU voxelizer builds them), and the build it started from still

@@ -79,7 +79,7 @@ struct RecordBases {
     std::uint32_t entries = 0, nodes = 0, leafIndirections = 0, leafData = 0, vertices = 0, tapeWords = 0;
 };
 
-HostData planTiles(const Tape& tape, const GridLayout& layout, int levels, int threads,
+HostData planTiles(const Tape& tape, const GridLayout& layout, int levels, int threads, bool simplify,
                    const std::vector<long>* only = nullptr, const RecordBases& bases = {})
 {
     HostData host;
@@ -110,7 +110,7 @@ HostData planTiles(const Tape& tape, const GridLayout& layout, int levels, int t
                             continue;
                         }
                         plan.state = TileState::Surface;
-                        plan.tape = voxel::encodeTileTape(simple.rebased(box.min));
+                        plan.tape = voxel::encodeTileTape((simplify ? simple : tape).rebased(box.min));
                         if (plan.tape.empty()) {
                             // Beyond the shaders' stack or length: the CPU's builder does this tile.
                             plan.built = buildTile(blocks.forTile(t), layout, t, levels, builders.local());
@@ -340,7 +340,7 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
 
     // The host's share: tile intervals in double, exactly as the CPU voxelizer.
     const auto prepareStart = Clock::now();
-    HostData host = planTiles(tape, layout, levels, options.threads, dirty, bases);
+    HostData host = planTiles(tape, layout, levels, options.threads, options.simplifyTileTapes, dirty, bases);
     const std::size_t surface = host.deviceTiles;
     r.hostBuiltTiles = host.entries.size() - surface;
     r.prepareMilliseconds = millisecondsSince(prepareStart);
@@ -402,7 +402,7 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
         return b;
     };
     struct Copy {
-        VkBuffer from, to;
+        std::shared_ptr<GpuBuffer> from, to;
         std::size_t bytes;
     };
     std::vector<Copy> copies;       // contents to carry into grown pools, in the next submission
@@ -431,9 +431,14 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
             return false;
         }
         auto bigger = std::make_shared<GpuBuffer>(takeSpare(records * p.recordBytes));
-        if (bigger->size() == 0)
+        if (bigger->size() == 0) {
+            // Made one at a time: made on threads of their own, the chair's
+            // pools at 0.25 mm took as long (the driver serializes them).
+            const auto made = Clock::now();
             *bigger = GpuBuffer(ctx_, records * p.recordBytes, kStorage, GpuBuffer::Kind::DeviceLocal, p.name);
-        if (keep > 0) copies.push_back({p.buffer->buffer(), bigger->buffer(), keep * p.recordBytes});
+            r.poolAllocateMilliseconds += millisecondsSince(made);
+        }
+        if (keep > 0) copies.push_back({p.buffer, bigger, keep * p.recordBytes});
         retired.push_back(std::move(p.buffer));
         p.buffer = std::move(bigger);
         p.capacity = p.buffer->size() / p.recordBytes;
@@ -570,7 +575,7 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
             }
             for (const Copy& c : copies) {
                 const VkBufferCopy region{0, 0, c.bytes};
-                vkCmdCopyBuffer(cb, c.from, c.to, 1, &region);
+                vkCmdCopyBuffer(cb, c.from->buffer(), c.to->buffer(), 1, &region);
             }
             vkCmdUpdateBuffer(cb, params.buffer(), 0, sizeof p, &p);
             vkCmdUpdateBuffer(cb, counters.buffer(), 0, sizeof count, count);

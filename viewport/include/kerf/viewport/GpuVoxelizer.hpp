@@ -84,6 +84,10 @@ struct GpuVoxelizeOptions {
     /// Scales the pools' first guesses down (tests: levels then outgrow
     /// their pools and run again); 1 in use.
     double poolGuessScale = 1.0;
+    /// Each surface tile evaluated with the part's tape simplified for its
+    /// box (as the CPU voxelizer does); false: the whole tape everywhere
+    /// (benchmarks: what the simplification buys). The voxels are the same.
+    bool simplifyTileTapes = true;
     /// Checked before every level: when it reads true the build stops and
     /// returns nothing (report->cancelled), its pools kept as spares.
     const std::atomic<bool>* cancel = nullptr;
@@ -91,7 +95,8 @@ struct GpuVoxelizeOptions {
 
 struct GpuVoxelizeReport {
     double prepareMilliseconds = 0.0;  // the host's tile tapes and intervals
-    double allocateMilliseconds = 0.0; // device buffers made
+    double allocateMilliseconds = 0.0; // device buffers made before the first level
+    double poolAllocateMilliseconds = 0.0; // pools made (not taken from the spares), first ones and grown alike
     double uploadMilliseconds = 0.0;   // tapes, entries and first jobs into the staging buffer
     double deviceMilliseconds = 0.0;   // the submissions, from recording to completion (one per level)
     int levelReruns = 0;               // levels run twice because they asked for more than a pool held
