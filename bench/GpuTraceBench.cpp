@@ -24,10 +24,11 @@
 // cold (a fresh voxelizer: its pools guessed) and warm (a rebuild of the same
 // part, as after an edit that dirties every tile), all in the same run.
 //
-//   kerf_gpu_bench edit [--feature-size MM] [--edits N] [--json OUT.json] [--examples DIR]
+//   kerf_gpu_bench edit [--scene chair|showcase] [--feature-size MM] [--edits N] [--json OUT.json]
+//                       [--examples DIR]
 //
 // The edit form times what the viewport does after an edit of the chair
-// when it voxelizes on the GPU (View > Voxelize on the GPU): the typical
+// (and of the showcase) when it voxelizes on the GPU (View > Voxelize on the GPU): the typical
 // edit (kerf bench's: a feature moved 5 mm, back and forth), the document
 // compiled, the tiles it reaches found, the GPU voxelizer's worker building
 // them into the build on screen, and one 2560x1440 trace of the result: the
@@ -39,11 +40,11 @@
 // has no Qt; --trace-only leaves out the export measurements.
 
 #include "kerf/app/Commands.hpp"
+#include "kerf/app/TypicalEdit.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/Camera.hpp"
 #include "kerf/tracer/ExactRefinement.h"
 #include "kerf/viewport/ComputeTracer.hpp"
-#include "kerf/app/TypicalEdit.hpp"
 #include "kerf/viewport/GpuVoxelWorker.hpp"
 #include "kerf/viewport/GpuVoxelizer.hpp"
 #include "kerf/voxelizer/DirtyRegion.hpp"
@@ -54,10 +55,10 @@
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
-#include <mutex>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <mutex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -80,15 +81,17 @@ Document showcase()
                 for (int z = -1; z <= 1; ++z) {
                     if (!x && !y && !z) continue;
                     const glm::dvec3 d = c + glm::normalize(glm::dvec3(x, y, z)) * 4.2;
-                    bumps += R"(,{"id":"b)" + std::to_string(id++) + R"(","type":"sphere","radius":1.1,"transform":{"translate":[)" +
-                             std::to_string(d.x) + "," + std::to_string(d.y) + "," + std::to_string(d.z) + "]}}";
+                    bumps += R"(,{"id":"b)" + std::to_string(id++) +
+                             R"(","type":"sphere","radius":1.1,"transform":{"translate":[)" + std::to_string(d.x) +
+                             "," + std::to_string(d.y) + "," + std::to_string(d.z) + "]}}";
                 }
-        kids += std::string(s ? "," : "") + R"({"id":"u)" + std::to_string(s) + R"(","type":"union","blend":0.8,"children":[)" +
-                R"({"id":"s)" + std::to_string(s) + R"(","type":"sphere","radius":4,"transform":{"translate":[)" +
-                std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z) + "]}}" + bumps + "]}";
+        kids += std::string(s ? "," : "") + R"({"id":"u)" + std::to_string(s) +
+                R"(","type":"union","blend":0.8,"children":[)" + R"({"id":"s)" + std::to_string(s) +
+                R"(","type":"sphere","radius":4,"transform":{"translate":[)" + std::to_string(c.x) + "," +
+                std::to_string(c.y) + "," + std::to_string(c.z) + "]}}" + bumps + "]}";
     }
-    return Document::parse(R"({"format":"kerf","version":1,"root":{"id":"all","type":"union","children":[)" + kids + "]}}",
-                           "showcase");
+    return Document::parse(
+        R"({"format":"kerf","version":1,"root":{"id":"all","type":"union","children":[)" + kids + "]}}", "showcase");
 }
 
 double median(std::vector<double> v)
@@ -111,17 +114,23 @@ int voxelizeBench(const std::vector<std::string>& args)
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         const bool more = i + 1 < args.size();
-        if (a == "--json" && more) jsonPath = args[++i];
-        else if (a == "--examples" && more) examples = args[++i];
-        else if (a == "--scene" && more) onlyScene = args[++i];
-        else if (a == "--feature-size" && more) onlyFeatureSize = std::atof(args[++i].c_str());
-        else if (a == "--repeats" && more) repeats = std::max(1, std::atoi(args[++i].c_str()));
-        else if (a == "--one-thread-up-to" && more) oneThreadUpTo = std::atof(args[++i].c_str());
+        if (a == "--json" && more)
+            jsonPath = args[++i];
+        else if (a == "--examples" && more)
+            examples = args[++i];
+        else if (a == "--scene" && more)
+            onlyScene = args[++i];
+        else if (a == "--feature-size" && more)
+            onlyFeatureSize = std::atof(args[++i].c_str());
+        else if (a == "--repeats" && more)
+            repeats = std::max(1, std::atoi(args[++i].c_str()));
+        else if (a == "--one-thread-up-to" && more)
+            oneThreadUpTo = std::atof(args[++i].c_str());
         else if (a == "--cpu-threads" && more) {
             std::stringstream list(args[++i]);
-            for (std::string t; std::getline(list, t, ',');) threadSweep.push_back(std::max(1, std::atoi(t.c_str())));
-        }
-        else {
+            for (std::string t; std::getline(list, t, ',');)
+                threadSweep.push_back(std::max(1, std::atoi(t.c_str())));
+        } else {
             std::cerr << "usage: kerf_gpu_bench voxelize [--scene chair|showcase] [--feature-size MM] [--repeats N] "
                          "[--json OUT.json] [--examples DIR] [--one-thread-up-to VOXELS] [--cpu-threads 1,2,4,...]\n";
             return 2;
@@ -138,8 +147,8 @@ int voxelizeBench(const std::vector<std::string>& args)
                               {"showcase", showcase(), {0.1, 0.01}}};
     nlohmann::ordered_json results = nlohmann::ordered_json::array();
     std::printf("%-9s %6s %11s %5s %9s %9s %8s %8s %8s %9s %8s %7s %10s %10s %8s\n", "scene", "fs", "voxels", "host",
-                "gpu cold", "gpu warm", "prepare", "alloc", "upload", "device", "pool MB", "reruns", "cpu all",
-                "cpu 1", "Gvox/s");
+                "gpu cold", "gpu warm", "prepare", "alloc", "upload", "device", "pool MB", "reruns", "cpu all", "cpu 1",
+                "Gvox/s");
     for (auto& scene : scenes) {
         if (!onlyScene.empty() && scene.name != onlyScene) continue;
         const Tape tape = compileTape(scene.doc);
@@ -157,12 +166,13 @@ int voxelizeBench(const std::vector<std::string>& args)
                 continue;
             }
             const std::size_t voxels = gpu->populatedVoxels;
-            std::printf("    gpu cold: prepare %.1f, allocate %.1f (pools %.1f), submissions %.1f ms, %d levels run again; "
-                        "%.1f voxels per leaf, %.2f vertices per voxel\n",
-                        cold.prepareMilliseconds, cold.allocateMilliseconds, cold.poolAllocateMilliseconds,
-                        cold.deviceMilliseconds, cold.levelReruns,
-                        double(gpu->populatedVoxels) / double(std::max<std::size_t>(gpu->leafCount, 1)),
-                        double(gpu->vertexCount) / double(std::max<std::size_t>(gpu->populatedVoxels, 1)));
+            std::printf(
+                "    gpu cold: prepare %.1f, allocate %.1f (pools %.1f), submissions %.1f ms, %d levels run again; "
+                "%.1f voxels per leaf, %.2f vertices per voxel\n",
+                cold.prepareMilliseconds, cold.allocateMilliseconds, cold.poolAllocateMilliseconds,
+                cold.deviceMilliseconds, cold.levelReruns,
+                double(gpu->populatedVoxels) / double(std::max<std::size_t>(gpu->leafCount, 1)),
+                double(gpu->vertexCount) / double(std::max<std::size_t>(gpu->populatedVoxels, 1)));
             // Warm: rebuilds of the same part, as an edit that dirties every
             // tile asks for, while the last build is still on screen; the one
             // before it is recycled. The GPU's clocks first come up (300 ms of
@@ -175,7 +185,8 @@ int voxelizeBench(const std::vector<std::string>& args)
                 gpu = fresh.build(tape, layout, options, &warm);
             };
             const auto warmUp = std::chrono::steady_clock::now();
-            while (millisecondsSince(warmUp) < 300.0) rebuild();
+            while (millisecondsSince(warmUp) < 300.0)
+                rebuild();
             std::vector<double> warmMs, prepareMs, allocateMs, uploadMs, deviceMs;
             for (int r = 0; r < repeats; ++r) {
                 t0 = std::chrono::steady_clock::now();
@@ -232,8 +243,7 @@ int voxelizeBench(const std::vector<std::string>& args)
             std::printf("%-9s %6g %11zu %5zu %9.1f %9.1f %8.1f %8.1f %8.1f %9.1f %8.0f %7d %10.1f %10s %8.2f\n",
                         scene.name.c_str(), fs, voxels, warm.hostBuiltTiles, coldMs, gpuWarm, median(prepareMs),
                         median(allocateMs), median(uploadMs), median(deviceMs), double(warm.poolBytes) / 1e6,
-                        cold.levelReruns, median(cpuAll),
-                        cpuOne.empty() ? "-" : std::to_string(int(cpuOne[0])).c_str(),
+                        cold.levelReruns, median(cpuAll), cpuOne.empty() ? "-" : std::to_string(int(cpuOne[0])).c_str(),
                         double(voxels) / (gpuWarm * 1e-3) / 1e9);
             std::fflush(stdout);
             results.push_back({{"scene", scene.name},
@@ -270,26 +280,37 @@ int voxelizeBench(const std::vector<std::string>& args)
 // The edit to its final picture on the GPU path (see the usage above).
 int editBench(const std::vector<std::string>& args)
 {
-    std::string examples = KERF_EXAMPLES_DIR, jsonPath;
-    std::vector<double> featureSizes{1.0, 0.5, 0.25, 0.1};
+    std::string examples = KERF_EXAMPLES_DIR, jsonPath, onlyScene;
+    double onlyFeatureSize = 0.0;
     int edits = 9;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         const bool more = i + 1 < args.size();
-        if (a == "--json" && more) jsonPath = args[++i];
-        else if (a == "--examples" && more) examples = args[++i];
-        else if (a == "--feature-size" && more) featureSizes = {std::atof(args[++i].c_str())};
-        else if (a == "--edits" && more) edits = std::max(1, std::atoi(args[++i].c_str()));
+        if (a == "--json" && more)
+            jsonPath = args[++i];
+        else if (a == "--examples" && more)
+            examples = args[++i];
+        else if (a == "--scene" && more)
+            onlyScene = args[++i];
+        else if (a == "--feature-size" && more)
+            onlyFeatureSize = std::atof(args[++i].c_str());
+        else if (a == "--edits" && more)
+            edits = std::max(1, std::atoi(args[++i].c_str()));
         else {
-            std::cerr << "usage: kerf_gpu_bench edit [--feature-size MM] [--edits N] [--json OUT.json] [--examples DIR]\n";
+            std::cerr << "usage: kerf_gpu_bench edit [--scene chair|showcase] [--feature-size MM] [--edits N] "
+                         "[--json OUT.json] [--examples DIR]\n";
             return 2;
         }
     }
     vk::Context ctx;
     std::cout << "device: " << ctx.deviceDescription() << "\n";
-    const Document chair = Document::load(examples + "/side-chair.kerf");
-    const std::optional<TypicalEdit> typical = chooseTypicalEdit(chair);
-    if (!typical) throw std::runtime_error("the chair has no feature to move");
+    struct Scene {
+        std::string name;
+        Document doc;
+        std::vector<double> featureSizes;
+    };
+    std::vector<Scene> scenes{{"chair", Document::load(examples + "/side-chair.kerf"), {1.0, 0.5, 0.25, 0.1}},
+                              {"showcase", showcase(), {0.1, 0.01}}};
     std::mutex m;
     std::condition_variable changed;
     vk::GpuVoxelWorker worker(ctx, [&] {
@@ -312,67 +333,84 @@ int editBench(const std::vector<std::string>& args)
         }
     };
     nlohmann::ordered_json results = nlohmann::ordered_json::array();
-    std::printf("%6s %9s %12s %12s %12s %12s %10s\n", "fs", "tiles", "dirty tiles", "update ms", "whole ms",
-                "update dev", "trace ms");
+    std::printf("%-9s %6s %9s %12s %12s %12s %12s %10s\n", "scene", "fs", "tiles", "dirty tiles", "update ms",
+                "whole ms", "update dev", "trace ms");
     std::uint64_t revision = 0;
-    for (const double fs : featureSizes) {
-        Document doc = chair;
-        const Tape first = compileTape(doc);
-        const GridLayout layout = GridLayout::choose(first.bounds(), fs);
-        worker.request(
-            {.revision = ++revision, .tape = std::make_shared<const Tape>(first), .layout = layout, .coarseLevelDrop = 0, .memoryBudget = 0, .dirtyTiles = std::nullopt});
-        waitFor(revision);
-        std::vector<double> updateMs, wholeMs, updateDevice, traceMs;
-        std::size_t dirtyCount = 0;
-        const Camera camera = Camera::standardView(first.bounds(), "iso", 2560, 1440);
-        // One edit to its picture: compile, dirty tiles, build, trace.
-        const auto editOnce = [&](double offset, bool update) {
-            const auto t0 = std::chrono::steady_clock::now();
-            const Document next = applyTypicalEdit(doc, *typical, offset);
-            auto tape = std::make_shared<const Tape>(compileTape(next));
-            vk::GpuVoxelRequest request{.revision = ++revision,
-                                        .tape = tape,
-                                        .layout = GridLayout::choose(tape->bounds(), fs),
-                                        .coarseLevelDrop = 0, .memoryBudget = 0, .dirtyTiles = std::nullopt};
-            if (update && request.layout == layout) request.dirtyTiles = tilesAnEditReaches(doc, next, layout);
-            if (update) dirtyCount = request.dirtyTiles ? request.dirtyTiles->size() : std::size_t(layout.tileCount());
-            worker.request(std::move(request));
+    nlohmann::ordered_json edited = nlohmann::ordered_json::object();
+    for (auto& scene : scenes) {
+        if (!onlyScene.empty() && scene.name != onlyScene) continue;
+        const std::optional<TypicalEdit> typical = chooseTypicalEdit(scene.doc);
+        if (!typical) throw std::runtime_error("the " + scene.name + " has no feature to move");
+        edited[scene.name] = typical->nodeId;
+        if (onlyFeatureSize > 0.0) scene.featureSizes = {onlyFeatureSize};
+        for (const double fs : scene.featureSizes) {
+            Document doc = scene.doc;
+            const Tape first = compileTape(doc);
+            const GridLayout layout = GridLayout::choose(first.bounds(), fs);
+            worker.request({.revision = ++revision,
+                            .tape = std::make_shared<const Tape>(first),
+                            .layout = layout,
+                            .coarseLevelDrop = 0,
+                            .memoryBudget = 0,
+                            .dirtyTiles = std::nullopt});
             waitFor(revision);
-            const auto t1 = std::chrono::steady_clock::now();
-            const vk::VoxelAddresses voxels = shown->voxels->addresses(revision);
-            ctx.submitAndWait([&](VkCommandBuffer cb) { tracer.record(cb, camera, voxels); });
-            const double total = millisecondsSince(t0);
-            (update ? updateMs : wholeMs).push_back(total);
-            if (update) {
-                updateDevice.push_back(shown->report.deviceMilliseconds);
-                traceMs.push_back(millisecondsSince(t1));
+            std::vector<double> updateMs, wholeMs, updateDevice, traceMs;
+            std::size_t dirtyCount = 0;
+            const Camera camera = Camera::standardView(first.bounds(), "iso", 2560, 1440);
+            // One edit to its picture: compile, dirty tiles, build, trace.
+            const auto editOnce = [&](double offset, bool update) {
+                const auto t0 = std::chrono::steady_clock::now();
+                const Document next = applyTypicalEdit(doc, *typical, offset);
+                auto tape = std::make_shared<const Tape>(compileTape(next));
+                vk::GpuVoxelRequest request{.revision = ++revision,
+                                            .tape = tape,
+                                            .layout = GridLayout::choose(tape->bounds(), fs),
+                                            .coarseLevelDrop = 0,
+                                            .memoryBudget = 0,
+                                            .dirtyTiles = std::nullopt};
+                if (update && request.layout == layout) request.dirtyTiles = tilesAnEditReaches(doc, next, layout);
+                if (update)
+                    dirtyCount = request.dirtyTiles ? request.dirtyTiles->size() : std::size_t(layout.tileCount());
+                worker.request(std::move(request));
+                waitFor(revision);
+                const auto t1 = std::chrono::steady_clock::now();
+                const vk::VoxelAddresses voxels = shown->voxels->addresses(revision);
+                ctx.submitAndWait([&](VkCommandBuffer cb) { tracer.record(cb, camera, voxels); });
+                const double total = millisecondsSince(t0);
+                (update ? updateMs : wholeMs).push_back(total);
+                if (update) {
+                    updateDevice.push_back(shown->report.deviceMilliseconds);
+                    traceMs.push_back(millisecondsSince(t1));
+                }
+                doc = next;
+            };
+            // Warm-up (the GPU clocks up), then edits alternating +5/-5 mm, each way timed.
+            for (int i = 0; i < 4; ++i)
+                editOnce(i % 2 ? -kTypicalEditMm : kTypicalEditMm, true);
+            for (int i = 0; i < edits; ++i) {
+                editOnce(kTypicalEditMm, true);
+                editOnce(-kTypicalEditMm, false);
+                editOnce(kTypicalEditMm, false);
+                editOnce(-kTypicalEditMm, true);
             }
-            doc = next;
-        };
-        // Warm-up (the GPU clocks up), then edits alternating +5/-5 mm, each way timed.
-        for (int i = 0; i < 4; ++i) editOnce(i % 2 ? -kTypicalEditMm : kTypicalEditMm, true);
-        for (int i = 0; i < edits; ++i) {
-            editOnce(kTypicalEditMm, true);
-            editOnce(-kTypicalEditMm, false);
-            editOnce(kTypicalEditMm, false);
-            editOnce(-kTypicalEditMm, true);
+            std::printf("%-9s %6g %9ld %12zu %12.1f %12.1f %12.1f %10.2f\n", scene.name.c_str(), fs, layout.tileCount(),
+                        dirtyCount, median(updateMs), median(wholeMs), median(updateDevice), median(traceMs));
+            std::fflush(stdout);
+            results.push_back({{"scene", scene.name},
+                               {"feature_size", fs},
+                               {"tiles", layout.tileCount()},
+                               {"dirty_tiles", dirtyCount},
+                               {"edit_to_picture_update_ms", updateMs},
+                               {"edit_to_picture_whole_ms", wholeMs},
+                               {"update_device_ms", updateDevice},
+                               {"trace_ms", traceMs}});
         }
-        std::printf("%6g %9ld %12zu %12.1f %12.1f %12.1f %10.2f\n", fs, layout.tileCount(), dirtyCount,
-                    median(updateMs), median(wholeMs), median(updateDevice), median(traceMs));
-        std::fflush(stdout);
-        results.push_back({{"feature_size", fs},
-                           {"tiles", layout.tileCount()},
-                           {"dirty_tiles", dirtyCount},
-                           {"edit_to_picture_update_ms", updateMs},
-                           {"edit_to_picture_whole_ms", wholeMs},
-                           {"update_device_ms", updateDevice},
-                           {"trace_ms", traceMs}});
     }
     worker.recycle(std::move(shown));
     if (!jsonPath.empty()) {
         nlohmann::ordered_json j;
         j["device"] = ctx.deviceDescription();
-        j["edit"] = typical->nodeId;
+        j["edited"] = edited;
         j["results"] = results;
         std::ofstream(jsonPath) << j.dump(2) << "\n";
     }
@@ -409,13 +447,20 @@ int main(int argc, char** argv)
     double onlyFeatureSize = 0.0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
-        if (a == "--quick") quick = true;
-        else if (a == "--frames" && i + 1 < argc) frames = std::max(1, std::atoi(argv[++i]));
-        else if (a == "--json" && i + 1 < argc) jsonPath = argv[++i];
-        else if (a == "--examples" && i + 1 < argc) examples = argv[++i];
-        else if (a == "--scene" && i + 1 < argc) onlyScene = argv[++i];
-        else if (a == "--feature-size" && i + 1 < argc) onlyFeatureSize = std::atof(argv[++i]);
-        else if (a == "--quality" && i + 1 < argc && std::string(argv[i + 1]) == "both") ++i; // the default
+        if (a == "--quick")
+            quick = true;
+        else if (a == "--frames" && i + 1 < argc)
+            frames = std::max(1, std::atoi(argv[++i]));
+        else if (a == "--json" && i + 1 < argc)
+            jsonPath = argv[++i];
+        else if (a == "--examples" && i + 1 < argc)
+            examples = argv[++i];
+        else if (a == "--scene" && i + 1 < argc)
+            onlyScene = argv[++i];
+        else if (a == "--feature-size" && i + 1 < argc)
+            onlyFeatureSize = std::atof(argv[++i]);
+        else if (a == "--quality" && i + 1 < argc && std::string(argv[i + 1]) == "both")
+            ++i; // the default
         else if (a == "--quality" && i + 1 < argc && parseTraceQuality(argv[i + 1]))
             qualities = {*parseTraceQuality(argv[++i])};
         else {
@@ -435,10 +480,12 @@ int main(int argc, char** argv)
         };
         std::vector<Scene> scenes;
         const Document chair = Document::load(examples + "/side-chair.kerf");
-        scenes.push_back({"chair", chair, quick ? std::vector<double>{2.0, 1.0} : std::vector<double>{2.0, 1.0, 0.5, 0.25}});
+        scenes.push_back(
+            {"chair", chair, quick ? std::vector<double>{2.0, 1.0} : std::vector<double>{2.0, 1.0, 0.5, 0.25}});
         scenes.push_back({"showcase", showcase(), quick ? std::vector<double>{0.1} : std::vector<double>{0.1, 0.01}});
         const std::vector<std::pair<int, int>> sizes =
-            quick ? std::vector<std::pair<int, int>>{{640, 360}} : std::vector<std::pair<int, int>>{{1920, 1080}, {2560, 1440}};
+            quick ? std::vector<std::pair<int, int>>{{640, 360}}
+                  : std::vector<std::pair<int, int>>{{1920, 1080}, {2560, 1440}};
 
         nlohmann::ordered_json results = nlohmann::ordered_json::array();
         std::printf("%-9s %8s %11s %10s %9s %11s %10s %8s %12s %12s %14s\n", "scene", "fs", "voxels", "MB", "tape MB",
@@ -470,7 +517,8 @@ int main(int argc, char** argv)
                             const TraceImage image = tracer.trace(camera, &timing, {}, quality);
                             if (f >= 2) ms.push_back(timing.gpuMilliseconds); // two warm-up frames
                             if (f == 0)
-                                for (std::size_t i = 0; i < image.depth.size(); ++i) hits += image.hit(i);
+                                for (std::size_t i = 0; i < image.depth.size(); ++i)
+                                    hits += image.hit(i);
                         }
                         const double m = median(ms);
                         const double mrays = double(w) * h / (m * 1e-3) / 1e6;
@@ -482,12 +530,17 @@ int main(int argc, char** argv)
                                     scene.name.c_str(), fs, snap.populatedVoxels(), double(snap.bytes()) / 1e6,
                                     double(tapeBytes) / 1e6, uploadMs, w, h, q.c_str(), m, mrays, sustained);
                         std::fflush(stdout);
-                        results.push_back({{"scene", scene.name},          {"feature_size", fs},
+                        results.push_back({{"scene", scene.name},
+                                           {"feature_size", fs},
                                            {"populated_voxels", snap.populatedVoxels()},
-                                           {"bytes", snap.bytes()},        {"tape_bytes", tapeBytes},
-                                           {"voxelize_ms", voxelizeMs},    {"upload_ms", uploadMs},
-                                           {"width", w},                   {"height", h},
-                                           {"quality", q},                 {"pixels_hit", hits},
+                                           {"bytes", snap.bytes()},
+                                           {"tape_bytes", tapeBytes},
+                                           {"voxelize_ms", voxelizeMs},
+                                           {"upload_ms", uploadMs},
+                                           {"width", w},
+                                           {"height", h},
+                                           {"quality", q},
+                                           {"pixels_hit", hits},
                                            {"trace_ms_median", m},
                                            {"trace_ms_min", *std::min_element(ms.begin(), ms.end())},
                                            {"mrays_per_s", mrays},
