@@ -120,6 +120,9 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
     connect(viewport_, &qt::ViewportWidget::frameDrawn, this, &MainWindow::updateStatus);
     connect(viewport_, &qt::ViewportWidget::backendChanged, this, [this] {
         showMessage(tr("The viewport uses the CPU reference tracer: %1").arg(viewport_->status().fallbackReason), 0);
+        // Vulkan gone: the GPU voxelizer with it; the CPU voxelizer takes the document.
+        voxelizeOnGpu_->setEnabled(false);
+        if (gpuLayout_) voxelizeAgain();
     });
     // The view's needs go to the CPU voxelizer; the GPU builds the whole part at full depth.
     connect(viewport_, &qt::ViewportWidget::viewSettled, this, [this](const ViewRequirement& v) {
