@@ -352,6 +352,8 @@ bool MainWindow::voxelizingOnGpu() const
 
 void MainWindow::voxelize(const Document& doc, std::shared_ptr<const Tape> tape)
 {
+    // The GPU builds the whole part at full depth: refining for the view is the CPU voxelizer's.
+    refineForView_->setEnabled(!voxelizingOnGpu());
     if (voxelizingOnGpu() && tape) {
         const GridLayout layout = voxelizer_->voxelizer().layoutFor(doc, *tape);
         // An edit on the same grid rebuilds only the tiles it reaches.
