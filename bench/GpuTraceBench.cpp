@@ -94,6 +94,18 @@ Document showcase()
         R"({"format":"kerf","version":1,"root":{"id":"all","type":"union","children":[)" + kids + "]}}", "showcase");
 }
 
+// A request for the GPU voxelizer's worker (every other field at its default).
+vk::GpuVoxelRequest gpuRequest(std::uint64_t revision, std::shared_ptr<const Tape> tape, const GridLayout& layout,
+                               int coarseLevelDrop)
+{
+    vk::GpuVoxelRequest r;
+    r.revision = revision;
+    r.tape = std::move(tape);
+    r.layout = layout;
+    r.coarseLevelDrop = coarseLevelDrop;
+    return r;
+}
+
 double median(std::vector<double> v)
 {
     std::sort(v.begin(), v.end());
@@ -347,12 +359,7 @@ int editBench(const std::vector<std::string>& args)
             Document doc = scene.doc;
             const Tape first = compileTape(doc);
             const GridLayout layout = GridLayout::choose(first.bounds(), fs);
-            worker.request({.revision = ++revision,
-                            .tape = std::make_shared<const Tape>(first),
-                            .layout = layout,
-                            .coarseLevelDrop = 0,
-                            .memoryBudget = 0,
-                            .dirtyTiles = std::nullopt});
+            worker.request(gpuRequest(++revision, std::make_shared<const Tape>(first), layout, 0));
             waitFor(revision);
             std::vector<double> updateMs, wholeMs, updateDevice, traceMs;
             std::size_t dirtyCount = 0;
@@ -362,13 +369,11 @@ int editBench(const std::vector<std::string>& args)
                 const auto t0 = std::chrono::steady_clock::now();
                 const Document next = applyTypicalEdit(doc, *typical, offset);
                 auto tape = std::make_shared<const Tape>(compileTape(next));
-                vk::GpuVoxelRequest request{.revision = ++revision,
-                                            .tape = tape,
-                                            .layout = GridLayout::choose(tape->bounds(), fs),
-                                            .coarseLevelDrop = 0,
-                                            .memoryBudget = 0,
-                                            .dirtyTiles = std::nullopt};
-                if (update && request.layout == layout) request.dirtyTiles = tilesAnEditReaches(doc, next, layout);
+                vk::GpuVoxelRequest request = gpuRequest(++revision, tape, GridLayout::choose(tape->bounds(), fs), 0);
+                if (update && request.layout == layout) {
+                    request.dirtyTiles = tilesAnEditReaches(doc, next, layout);
+                    request.dirtySince = revision - 1;
+                }
                 if (update)
                     dirtyCount = request.dirtyTiles ? request.dirtyTiles->size() : std::size_t(layout.tileCount());
                 worker.request(std::move(request));

@@ -7,12 +7,12 @@
 // validation layers stay quiet (lavapipe here).
 
 #include "kerf/viewport/GpuVoxelizer.hpp"
-#include "kerf/viewport/GpuVoxelWorker.hpp"
 #include "kerf/document/Document.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/ExactTracer.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
+#include "kerf/viewport/GpuVoxelWorker.hpp"
 #include "kerf/viewport/VulkanError.hpp"
 #include "kerf/voxelizer/DirtyRegion.hpp"
 #include "kerf/voxelizer/TileTape.hpp"
@@ -26,11 +26,11 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
-#include <mutex>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <set>
 
 namespace kerf {
@@ -194,6 +194,18 @@ void expectSameVoxels(const VoxelComparison& c)
     EXPECT_LE(c.distanceOff, c.both / 1000 + 2) << "worst distance difference " << c.worstDistance << " mm";
     // Normals: a corner on a crease may take either face's gradient.
     EXPECT_LE(c.normalOff, c.both / 200 + 2);
+}
+
+// A request for the GPU voxelizer's worker (every other field at its default).
+vk::GpuVoxelRequest gpuRequest(std::uint64_t revision, std::shared_ptr<const Tape> tape, const GridLayout& layout,
+                               int coarseLevelDrop)
+{
+    vk::GpuVoxelRequest r;
+    r.revision = revision;
+    r.tape = std::move(tape);
+    r.layout = layout;
+    r.coarseLevelDrop = coarseLevelDrop;
+    return r;
 }
 
 Tape sphereTape(double radius)
@@ -485,7 +497,8 @@ TEST_F(GpuVoxelizerTest, AnEditRebuildsOnlyTheTilesItReachesIntoTheBuildOnScreen
 {
     const auto part = [](double holeX, double depth) {
         return Document::parse(R"({"format":"kerf","version":1,"root":{"id":"d","type":"difference","children":[
-                {"id":"b","type":"box","size":[120,80,)" + std::to_string(depth) + R"(]},
+                {"id":"b","type":"box","size":[120,80,)" +
+                                   std::to_string(depth) + R"(]},
                 {"id":"h","type":"cylinder","radius":4,"height":60,"transform":{"translate":[)" +
                                    std::to_string(holeX) + R"(,0,0]}}]}})",
                                "update.kerf");
@@ -571,7 +584,7 @@ TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequ
     const GridLayout layout = GridLayout::choose(tape->bounds(), 0.5, fewTiles);
     ASSERT_GE(layout.levels, 3);
 
-    worker.request({.revision = 1, .tape = tape, .layout = layout, .coarseLevelDrop = 2, .memoryBudget = 0, .dirtyTiles = std::nullopt});
+    worker.request(gpuRequest(1, tape, layout, 2));
     auto first = results();
     // Taken as they come: the preview, then full depth (a slow poll may see only the second).
     ASSERT_FALSE(first.empty());
@@ -594,8 +607,9 @@ TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequ
     const auto deeper = std::make_shared<const Tape>(compileTape(movedDoc));
     ASSERT_EQ(GridLayout::choose(deeper->bounds(), 0.5, fewTiles), layout);
     worker.recycle(std::move(first.front()));
-    vk::GpuVoxelRequest edit{.revision = 2, .tape = deeper, .layout = layout, .coarseLevelDrop = 2, .memoryBudget = 0, .dirtyTiles = std::nullopt};
+    vk::GpuVoxelRequest edit = gpuRequest(2, deeper, layout, 2);
     edit.dirtyTiles = tilesAnEditReaches(firstDoc, movedDoc, layout);
+    edit.dirtySince = 1;
     ASSERT_LT(4 * edit.dirtyTiles->size(), std::size_t(layout.tileCount()));
     worker.request(edit);
     auto second = results();
@@ -607,25 +621,42 @@ TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequ
                                    second.front()->voxels->readBack(*context), layout.voxelSize));
     worker.recycle(std::move(first.back()));
 
+    // Dirty tiles against a request the worker never saw (the viewport skipped
+    // one): not trusted, the part is built whole.
+    vk::GpuVoxelRequest gap = gpuRequest(3, tape, layout, 2);
+    gap.dirtyTiles = edit.dirtyTiles;
+    gap.dirtySince = 99;
+    worker.request(gap);
+    auto third = results();
+    ASSERT_EQ(third.size(), 1u);
+    EXPECT_EQ(third.front()->report.updatedTiles, 0u) << "a whole build";
+    expectSameVoxels(compareVoxels(cpu, third.front()->voxels->readBack(*context), layout.voxelSize));
+
+    // Back to the CPU's snapshots: the worker lets go of its device memory,
+    // and builds again when asked.
+    worker.cancel();
+    worker.recycle(std::move(second.front()));
+    worker.recycle(std::move(third.front()));
+
     // Requests one after the other, faster than builds: the last one is what stays.
-    for (std::uint64_t revision = 3; revision <= 6; ++revision)
-        worker.request({.revision = revision, .tape = revision % 2 ? tape : deeper, .layout = layout, .coarseLevelDrop = 2, .memoryBudget = 0, .dirtyTiles = std::nullopt});
+    for (std::uint64_t revision = 4; revision <= 6; ++revision)
+        worker.request(gpuRequest(revision, revision % 2 ? tape : deeper, layout, 2));
     auto burst = results();
     ASSERT_FALSE(burst.empty());
     EXPECT_EQ(burst.back()->revision, 6u);
     EXPECT_TRUE(burst.back()->complete);
-    for (std::size_t i = 1; i < burst.size(); ++i) EXPECT_LT(burst[i - 1]->version, burst[i]->version);
+    for (std::size_t i = 1; i < burst.size(); ++i)
+        EXPECT_LT(burst[i - 1]->version, burst[i]->version);
 
     // An empty part: an empty result at once.
-    worker.request({.revision = 7, .tape = std::make_shared<const Tape>(), .layout = GridLayout{}, .coarseLevelDrop = 2, .memoryBudget = 0, .dirtyTiles = std::nullopt});
+    worker.request(gpuRequest(7, std::make_shared<const Tape>(), GridLayout{}, 2));
     auto empty = results();
     ASSERT_EQ(empty.size(), 1u);
     EXPECT_EQ(empty.front()->voxels->surfaceTiles, 0u);
     EXPECT_EQ(empty.front()->voxels->addresses(1).tiles, 0u) << "the tracer draws nothing";
 
     // Beyond the memory budget: refused in words, with its revision, nothing published.
-    vk::GpuVoxelRequest tooBig{
-        .revision = 8, .tape = tape, .layout = GridLayout::choose(tape->bounds(), 0.1), .coarseLevelDrop = 0, .memoryBudget = 0, .dirtyTiles = std::nullopt};
+    vk::GpuVoxelRequest tooBig = gpuRequest(8, tape, GridLayout::choose(tape->bounds(), 0.1), 0);
     tooBig.memoryBudget = 1 << 20;
     worker.request(tooBig);
     EXPECT_TRUE(results().empty());

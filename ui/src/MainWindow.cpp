@@ -361,7 +361,9 @@ void MainWindow::voxelize(const Document& doc, std::shared_ptr<const Tape> tape)
         if (gpuDocument_ && gpuLayout_ && *gpuLayout_ == layout) dirty = tilesAnEditReaches(*gpuDocument_, doc, layout);
         gpuLayout_ = layout;
         gpuDocument_ = doc;
-        viewport_->setGpuVoxelSource(std::move(tape), layout, ++gpuRevision_, memoryBudgetBytes(), std::move(dirty));
+        const std::uint64_t since = gpuRevision_;
+        viewport_->setGpuVoxelSource(std::move(tape), layout, ++gpuRevision_, memoryBudgetBytes(), std::move(dirty),
+                                     since);
         return;
     }
     gpuLayout_.reset();

@@ -33,8 +33,11 @@ void GpuVoxelWorker::request(GpuVoxelRequest request)
 {
     {
         std::lock_guard lock(mutex_);
-        if (!request.dirtyTiles) everythingDirty_ = true;
-        else dirtySinceBase_.insert(request.dirtyTiles->begin(), request.dirtyTiles->end());
+        if (!request.dirtyTiles || request.dirtySince != lastRequested_)
+            everythingDirty_ = true;
+        else
+            dirtySinceBase_.insert(request.dirtyTiles->begin(), request.dirtyTiles->end());
+        lastRequested_ = request.revision;
         pending_ = std::make_unique<GpuVoxelRequest>(std::move(request));
         pendingSince_ = Clock::now();
         if (building_) cancel_ = true;
@@ -44,9 +47,13 @@ void GpuVoxelWorker::request(GpuVoxelRequest request)
 
 void GpuVoxelWorker::cancel()
 {
-    std::lock_guard lock(mutex_);
-    pending_.reset();
-    if (building_) cancel_ = true;
+    {
+        std::lock_guard lock(mutex_);
+        pending_.reset();
+        if (building_) cancel_ = true;
+        release_ = true;
+    }
+    wake_.notify_all();
 }
 
 std::unique_ptr<GpuVoxelResult> GpuVoxelWorker::take()
@@ -58,8 +65,11 @@ std::unique_ptr<GpuVoxelResult> GpuVoxelWorker::take()
 void GpuVoxelWorker::recycle(std::unique_ptr<GpuVoxelResult> old)
 {
     if (!old) return;
-    std::lock_guard lock(mutex_);
-    returned_.push_back(std::move(old->voxels));
+    {
+        std::lock_guard lock(mutex_);
+        returned_.push_back(std::move(old->voxels));
+    }
+    wake_.notify_all();
 }
 
 bool GpuVoxelWorker::busy() const
@@ -80,25 +90,61 @@ std::uint64_t GpuVoxelWorker::refusedRevision() const
     return refusedRevision_;
 }
 
+void GpuVoxelWorker::recycleBuild(std::shared_ptr<GpuVoxels>& build)
+{
+    if (build && build.use_count() == 1) voxelizer_.recycle(std::move(*build));
+    build.reset();
+}
+
+void GpuVoxelWorker::takeInReturned()
+{
+    std::vector<std::shared_ptr<GpuVoxels>> returned;
+    {
+        std::lock_guard lock(mutex_);
+        returned.swap(returned_);
+    }
+    for (auto& v : returned)
+        recycleBuild(v);
+}
+
 void GpuVoxelWorker::run()
 {
     for (;;) {
         GpuVoxelRequest request;
         Clock::time_point requested;
+        // What changed since the base build: taken with the request, given back if its build does not finish.
+        std::set<long> dirty;
+        bool everything = false;
         {
             std::unique_lock lock(mutex_);
-            wake_.wait(lock, [&] { return stop_ || pending_; });
+            wake_.wait(lock, [&] { return stop_ || pending_ || release_ || !returned_.empty(); });
             if (stop_) return;
+            if (!pending_) {
+                // Housekeeping: builds handed back; after cancel(), the device memory let go.
+                released_ = released_ || std::exchange(release_, false);
+                const bool free = released_;
+                lock.unlock();
+                takeInReturned();
+                if (free) {
+                    recycleBuild(base_);
+                    voxelizer_.releaseSpares();
+                }
+                continue;
+            }
             request = std::move(*pending_);
             requested = pendingSince_;
             pending_.reset();
+            release_ = released_ = false;
             building_ = true;
             cancel_ = false;
             refusal_.clear();
             refusedRevision_ = 0;
+            dirty.swap(dirtySinceBase_);
+            everything = std::exchange(everythingDirty_, false);
         }
+        bool finished = false;
         try {
-            build(request, requested);
+            build(request, requested, dirty, everything, finished);
         } catch (const std::exception& e) {
             // A device error: the viewport says so and the CPU voxelizer takes over.
             std::lock_guard lock(mutex_);
@@ -107,28 +153,19 @@ void GpuVoxelWorker::run()
         }
         {
             std::lock_guard lock(mutex_);
+            if (!finished) {
+                dirtySinceBase_.insert(dirty.begin(), dirty.end());
+                everythingDirty_ = everythingDirty_ || everything;
+            }
             building_ = false;
         }
         if (onChange_) onChange_();
     }
 }
 
-void GpuVoxelWorker::build(const GpuVoxelRequest& request, Clock::time_point requested)
+void GpuVoxelWorker::build(const GpuVoxelRequest& request, Clock::time_point requested, std::set<long>& dirty,
+                           bool& everything, bool& finished)
 {
-    // A build nobody holds any more goes back to the pools (those it shares
-    // with the base build stay there).
-    const auto recycle = [&](std::shared_ptr<GpuVoxels>& v) {
-        if (v && v.use_count() == 1) voxelizer_.recycle(std::move(*v));
-        v.reset();
-    };
-    const auto takeInReturned = [&] {
-        std::vector<std::shared_ptr<GpuVoxels>> returned;
-        {
-            std::lock_guard lock(mutex_);
-            returned.swap(returned_);
-        }
-        for (auto& v : returned) recycle(v);
-    };
     const auto publish = [&](std::shared_ptr<GpuVoxels> voxels, bool complete, const GpuVoxelizeReport& report) {
         auto result = std::make_unique<GpuVoxelResult>();
         result->revision = request.revision;
@@ -144,38 +181,16 @@ void GpuVoxelWorker::build(const GpuVoxelRequest& request, Clock::time_point req
             superseded = std::move(ready_); // never shown: straight back to the pools
             ready_ = std::move(result);
         }
-        if (superseded) recycle(superseded->voxels);
+        if (superseded) recycleBuild(superseded->voxels);
         if (onChange_) onChange_();
     };
-    // What changed since the base build: taken for this build, given back if it does not finish.
-    std::set<long> dirty;
-    bool everything = false;
-    {
-        std::lock_guard lock(mutex_);
-        dirty.swap(dirtySinceBase_);
-        everything = std::exchange(everythingDirty_, false);
-    }
-    bool finished = false;
-    struct GiveBack {
-        GpuVoxelWorker& w;
-        std::set<long>& dirty;
-        bool& everything;
-        bool& finished;
-        ~GiveBack()
-        {
-            if (finished) return;
-            std::lock_guard lock(w.mutex_);
-            w.dirtySinceBase_.insert(dirty.begin(), dirty.end());
-            w.everythingDirty_ = w.everythingDirty_ || everything;
-        }
-    } giveBack{*this, dirty, everything, finished};
 
     takeInReturned();
     if (!request.tape || request.tape->empty() || request.layout.tileCount() == 0) {
         // Nothing to build: an empty picture, at once.
         auto none = std::make_shared<GpuVoxels>();
         none->layout = request.layout;
-        recycle(base_);
+        recycleBuild(base_);
         finished = true;
         publish(std::move(none), true, {});
         return;
@@ -201,6 +216,12 @@ void GpuVoxelWorker::build(const GpuVoxelRequest& request, Clock::time_point req
         if (levels == full && edit && !everything) {
             const std::vector<long> tiles(dirty.begin(), dirty.end());
             voxels = voxelizer_.update(*base_, *request.tape, tiles, options, &report);
+            // The base's pools count whole, replaced records included: a
+            // refused update may still fit as a whole build.
+            if (!voxels && !report.cancelled) {
+                recycleBuild(base_);
+                voxels = voxelizer_.build(*request.tape, request.layout, options, &report);
+            }
         } else {
             voxels = voxelizer_.build(*request.tape, request.layout, options, &report);
         }
@@ -213,7 +234,7 @@ void GpuVoxelWorker::build(const GpuVoxelRequest& request, Clock::time_point req
         }
         auto shared = std::make_shared<GpuVoxels>(std::move(*voxels));
         if (levels == full) {
-            recycle(base_);
+            recycleBuild(base_);
             base_ = shared;
             finished = true;
         }

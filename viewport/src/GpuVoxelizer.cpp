@@ -52,12 +52,12 @@ struct TilePlan {
 // Everything the host sends for one build, laid out in one staging buffer.
 struct HostData {
     std::vector<std::uint32_t> plannedTiles; // the tiles planned (every tile for a whole build), in order
-    std::vector<std::uint32_t> tiles;      // per planned tile: empty / full markers, host-built tiles' entries;
-                                           // the device's surface tiles are set by the finish pass
-    std::vector<TileEntry> entries;        // per surface tile
-    std::vector<std::uint32_t> entryTiles; // per surface tile: its tile
-    std::vector<std::uint32_t> tapes;      // concatenated
-    std::vector<std::uint32_t> roots;      // the first job list: each entry's root
+    std::vector<std::uint32_t> tiles;        // per planned tile: empty / full markers, host-built tiles' entries;
+                                             // the device's surface tiles are set by the finish pass
+    std::vector<TileEntry> entries;          // per surface tile
+    std::vector<std::uint32_t> entryTiles;   // per surface tile: its tile
+    std::vector<std::uint32_t> tapes;        // concatenated
+    std::vector<std::uint32_t> roots;        // the first job list: each entry's root
     // Tiles the host built (tapes beyond the shaders' limits), in the format's
     // own tile-relative layout: they take the first records of each pool.
     std::vector<voxel::Node> nodes;
@@ -83,10 +83,12 @@ HostData planTiles(const Tape& tape, const GridLayout& layout, int levels, int t
                    const std::vector<long>* only = nullptr, const RecordBases& bases = {})
 {
     HostData host;
-    if (only) host.plannedTiles.assign(only->begin(), only->end());
+    if (only)
+        host.plannedTiles.assign(only->begin(), only->end());
     else {
         host.plannedTiles.resize(std::size_t(layout.tileCount()));
-        for (std::size_t i = 0; i < host.plannedTiles.size(); ++i) host.plannedTiles[i] = std::uint32_t(i);
+        for (std::size_t i = 0; i < host.plannedTiles.size(); ++i)
+            host.plannedTiles[i] = std::uint32_t(i);
     }
     std::vector<TilePlan> plans(host.plannedTiles.size());
     {
@@ -161,6 +163,16 @@ HostData planTiles(const Tape& tape, const GridLayout& layout, int levels, int t
     return host;
 }
 
+// Transfers recorded after it see the writes of the transfers before it.
+void transferBarrier(VkCommandBuffer cb)
+{
+    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    mb.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, nullptr, 0,
+                         nullptr);
+}
+
 void computeBarrier(VkCommandBuffer cb)
 {
     VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
@@ -225,14 +237,14 @@ FlatVoxelBuffers GpuVoxels::readBack(const Context& ctx) const
         void* to;
         std::size_t bytes;
     };
-    const Part parts[] = {
-        {&tiles, out.tiles.data(), out.tiles.size() * 4},
-        {&entries, out.entries.data(), out.entries.size() * sizeof(TileEntry)},
-        {nodes.get(), out.nodes.data(), out.nodes.size() * sizeof(voxel::Node)},
-        {leafIndirections.get(), out.leafIndirections.data(), out.leafIndirections.size() * sizeof(voxel::LeafIndirection)},
-        {leafData.get(), out.leafData.data(), out.leafData.size() * sizeof(voxel::LeafData)},
-        {vertices.get(), out.vertices.data(), out.vertices.size() * sizeof(voxel::Vertex)},
-        {&tapes, out.tapes.data(), out.tapes.size() * 4}};
+    const Part parts[] = {{&tiles, out.tiles.data(), out.tiles.size() * 4},
+                          {&entries, out.entries.data(), out.entries.size() * sizeof(TileEntry)},
+                          {nodes.get(), out.nodes.data(), out.nodes.size() * sizeof(voxel::Node)},
+                          {leafIndirections.get(), out.leafIndirections.data(),
+                           out.leafIndirections.size() * sizeof(voxel::LeafIndirection)},
+                          {leafData.get(), out.leafData.data(), out.leafData.size() * sizeof(voxel::LeafData)},
+                          {vertices.get(), out.vertices.data(), out.vertices.size() * sizeof(voxel::Vertex)},
+                          {&tapes, out.tapes.data(), out.tapes.size() * 4}};
     std::size_t total = 0;
     for (const Part& p : parts)
         total += p.bytes;
@@ -355,8 +367,8 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
     out.tiles = GpuBuffer(ctx_, std::size_t(layout.tileCount()) * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "tiles");
     out.entries = GpuBuffer(ctx_, (bases.entries + host.entries.size()) * sizeof(TileEntry), kStorage,
                             GpuBuffer::Kind::DeviceLocal, "entries");
-    out.tapes = GpuBuffer(ctx_, (bases.tapeWords + host.tapes.size()) * 4, kStorage, GpuBuffer::Kind::DeviceLocal,
-                          "tapes");
+    out.tapes =
+        GpuBuffer(ctx_, (bases.tapeWords + host.tapes.size()) * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "tapes");
     const GpuBuffer entryTiles(ctx_, surface * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "entry tiles");
     const GpuBuffer entryVoxels(ctx_, surface * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "entry voxels");
     const GpuBuffer counters(ctx_, KERF_COUNT_WORDS * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "counters");
@@ -374,7 +386,7 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
     const std::size_t perBuffer = ctx_.maxAllocationBytes();
     struct Pool {
         std::shared_ptr<GpuBuffer> buffer = std::make_shared<GpuBuffer>(); // shared with the base of an update
-        std::size_t capacity = 0; // records
+        std::size_t capacity = 0;                                          // records
         std::size_t recordBytes = 0;
         const char* name = "";
     };
@@ -405,7 +417,7 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
         std::shared_ptr<GpuBuffer> from, to;
         std::size_t bytes;
     };
-    std::vector<Copy> copies;       // contents to carry into grown pools, in the next submission
+    std::vector<Copy> copies;                        // contents to carry into grown pools, in the next submission
     std::vector<std::shared_ptr<GpuBuffer>> retired; // pools replaced: kept until that submission has run
     // A pool no other build shares goes to the spares.
     const auto release = [&](std::shared_ptr<GpuBuffer>& b) {
@@ -469,7 +481,8 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
         !grow(vertices, count[KERF_COUNT_VERTICES] + 1, bases.vertices))
         return std::nullopt;
     if (!base) {
-        for (auto& b : retired) release(b);
+        for (auto& b : retired)
+            release(b);
         retired.clear();
     }
 
@@ -556,11 +569,7 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
                             const VkBufferCopy region{0, 0, from->size()};
                             vkCmdCopyBuffer(cb, from->buffer(), to->buffer(), 1, &region);
                         }
-                    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-                    mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-                    mb.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-                    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb,
-                                         0, nullptr, 0, nullptr);
+                    transferBarrier(cb);
                     for (std::size_t i = 0; i < host.plannedTiles.size(); ++i)
                         vkCmdUpdateBuffer(cb, out.tiles.buffer(), host.plannedTiles[i] * 4u, 4, &host.tiles[i]);
                 }
@@ -572,10 +581,15 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
                     at += u.bytes;
                 }
                 vkCmdFillBuffer(cb, entryVoxels.buffer(), 0, VK_WHOLE_SIZE, 0);
+                transferBarrier(cb);
             }
+            // Grown pools, in the order they grew: a pool grown twice before
+            // a submission is copied on from the copy before (and uploads
+            // into the older buffer carried along).
             for (const Copy& c : copies) {
                 const VkBufferCopy region{0, 0, c.bytes};
                 vkCmdCopyBuffer(cb, c.from->buffer(), c.to->buffer(), 1, &region);
+                transferBarrier(cb);
             }
             vkCmdUpdateBuffer(cb, params.buffer(), 0, sizeof p, &p);
             vkCmdUpdateBuffer(cb, counters.buffer(), 0, sizeof count, count);
@@ -593,7 +607,8 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
         });
         r.deviceMilliseconds += millisecondsSince(deviceStart);
         copies.clear();
-        for (auto& b : retired) release(b);
+        for (auto& b : retired)
+            release(b);
         retired.clear();
     };
     const auto push = [&](VkCommandBuffer cb, std::uint32_t pass, int level) {
@@ -605,8 +620,10 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
     for (int level = 0; level < levels && surface > 0; ++level) {
         if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
             // Asked to stop (a newer request): the pools serve the next build.
-            for (Pool* p : all) release(p->buffer);
-            for (auto& b : retired) release(b);
+            for (Pool* p : all)
+                release(p->buffer);
+            for (auto& b : retired)
+                release(b);
             r.cancelled = true;
             r.whyNot = "cancelled";
             return std::nullopt;

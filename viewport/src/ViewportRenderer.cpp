@@ -153,7 +153,8 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
         index = m.swapchain.acquire(m.acquired);
         if (!index) return st;
     }
-    while (m.rendered.size() <= *index) m.rendered.push_back(makeSemaphore(m.ctx.device()));
+    while (m.rendered.size() <= *index)
+        m.rendered.push_back(makeSemaphore(m.ctx.device()));
     const int w = m.swapchain.width(), h = m.swapchain.height();
     const double scale = std::clamp(scene.resolutionScale, 0.05, 1.0);
     const int tw = std::max(1, int(std::lround(w * scale))), th = std::max(1, int(std::lround(h * scale)));
@@ -168,10 +169,10 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
     const auto& shown = m.streamer.residentSnapshot();
     const GpuVoxelResult* gpu = m.gpuShown.get();
     static const std::vector<Feature> kNoFeatures;
-    const std::vector<Feature>& features = gpu ? (gpu->features ? *gpu->features : kNoFeatures)
+    const std::vector<Feature>& features = gpu                        ? (gpu->features ? *gpu->features : kNoFeatures)
                                            : shown && shown->features ? *shown->features
                                                                       : kNoFeatures;
-    const Aabb bounds = gpu ? (gpu->voxels->surfaceTiles > 0 ? gpu->voxels->layout.bounds() : Aabb::empty())
+    const Aabb bounds = gpu ? (gpu->voxels->entryCount() > 0 ? gpu->voxels->layout.bounds() : Aabb::empty())
                         : resident.valid() ? resident.layout.bounds()
                                            : Aabb::empty();
     const Camera camera = scene.view.camera(tw, th, bounds);
@@ -185,7 +186,7 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
         for (std::uint32_t i = 0; i < features.size(); ++i)
             if (scene.selectedFeatureNodes->count(features[i].nodeId)) options.selectedFeatures.push_back(i);
     // GPU builds count their versions from the top of the range, apart from the snapshots'.
-    const VoxelAddresses voxels = gpu ? gpu->voxels->addresses(~std::uint64_t(0) - gpu->version)
+    const VoxelAddresses voxels = gpu                ? gpu->voxels->addresses(~std::uint64_t(0) - gpu->version)
                                   : resident.valid() ? VoxelAddresses::of(resident)
                                                      : VoxelAddresses{};
     m.scene.record(m.cb, m.tracer, voxels, camera, features, options, scene.section);
@@ -245,9 +246,10 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
 
     if (st.traced) st.traceGpuMs = m.tracer.lastTiming().gpuMilliseconds;
     if (readDepth)
-        st.picture = std::make_shared<const OcclusionMap>(OcclusionMap::fromDepths(
-            *scene.occlusionView, tw, th,
-            std::span<const float>(static_cast<const float*>(m.depthReadback.mapped()), std::size_t(tw) * std::size_t(th))));
+        st.picture = std::make_shared<const OcclusionMap>(
+            OcclusionMap::fromDepths(*scene.occlusionView, tw, th,
+                                     std::span<const float>(static_cast<const float*>(m.depthReadback.mapped()),
+                                                            std::size_t(tw) * std::size_t(th))));
     if (gpu) {
         st.gpuVoxels = true;
         // The worker wakes the owner when it has more; back on the CPU's

@@ -219,7 +219,7 @@ bool ViewportWidget::hasHardwareGpu() const { return status_.vulkan && backend_ 
 
 void ViewportWidget::setGpuVoxelSource(std::shared_ptr<const Tape> tape, const GridLayout& layout,
                                        std::uint64_t revision, std::size_t memoryBudget,
-                                       std::optional<std::vector<long>> dirtyTiles)
+                                       std::optional<std::vector<long>> dirtyTiles, std::uint64_t dirtySince)
 {
     if (!canVoxelizeOnGpu()) return;
     auto request = std::make_shared<vk::GpuVoxelRequest>();
@@ -228,6 +228,7 @@ void ViewportWidget::setGpuVoxelSource(std::shared_ptr<const Tape> tape, const G
     request->layout = layout;
     request->memoryBudget = memoryBudget;
     request->dirtyTiles = std::move(dirtyTiles);
+    request->dirtySince = dirtySince;
     gpuRequest_ = std::move(request);
     frameOnFirstPart();
     refitIfRescaled();

@@ -49,9 +49,12 @@ struct GpuVoxelRequest {
     /// Device memory the build's pools may take (the user's voxel budget);
     /// 0: half the device-local memory.
     std::size_t memoryBudget = 0;
-    /// The tiles this document differs in from the previous request's (same
-    /// grid; DirtyRegion.hpp's tilesAnEditReaches); none: unknown, all.
+    /// The tiles this document differs in from the document of request
+    /// `dirtySince` (same grid; DirtyRegion.hpp's tilesAnEditReaches); none:
+    /// unknown, all. Used only when `dirtySince` is the request the worker
+    /// was given last (a request the viewport skipped leaves a gap: all).
     std::optional<std::vector<long>> dirtyTiles;
+    std::uint64_t dirtySince = 0;
 };
 
 struct GpuVoxelResult {
@@ -73,7 +76,9 @@ public:
 
     /// Builds `request` next (replaces one not started, stops one under way).
     void request(GpuVoxelRequest request);
-    /// Stops the build under way and forgets any request not started.
+    /// Stops the build under way, forgets any request not started, and lets
+    /// go of the device memory it keeps (its last build, its spare pools)
+    /// once the builds handed out come back.
     void cancel();
     /// The newest result not taken yet, else null.
     std::unique_ptr<GpuVoxelResult> take();
@@ -88,7 +93,11 @@ public:
 
 private:
     void run();
-    void build(const GpuVoxelRequest& request, std::chrono::steady_clock::time_point requested);
+    // `dirty`, `everything`: what changed since the base build, taken with the request.
+    void build(const GpuVoxelRequest& request, std::chrono::steady_clock::time_point requested, std::set<long>& dirty,
+               bool& everything, bool& finished);
+    void recycleBuild(std::shared_ptr<GpuVoxels>& build); // to the pools, unless another build still holds it
+    void takeInReturned();
 
     std::function<void()> onChange_;
     GpuVoxelizer voxelizer_; // the worker thread's only
@@ -106,6 +115,9 @@ private:
     // The tiles changed since the base build's request (guarded by mutex_).
     std::set<long> dirtySinceBase_;
     bool everythingDirty_ = true;
+    std::uint64_t lastRequested_ = 0; // the revision of the last request
+    bool release_ = false;            // cancel() asked to let go of the device memory
+    bool released_ = false;           // ... and it was: builds coming back are freed, not kept
     std::string refusal_;
     std::uint64_t refusedRevision_ = 0;
     std::uint64_t version_ = 0;

@@ -130,6 +130,8 @@ public:
     /// screen): its pools serve the next build instead of new allocations,
     /// which on a discrete GPU cost about as much as the build itself.
     void recycle(GpuVoxels&& old);
+    /// Lets go of the spare pools (the viewport went back to the CPU).
+    void releaseSpares() { spare_.clear(); }
 
 private:
     std::optional<GpuVoxels> make(const Tape& tape, const GridLayout& layout, const GpuVoxelizeOptions& options,

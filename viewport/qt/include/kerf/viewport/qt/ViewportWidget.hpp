@@ -126,10 +126,11 @@ public:
     /// viewport shows the GPU's builds from now on (its preview, then full
     /// depth) instead of the snapshots. A refusal (beyond the budget) comes
     /// as gpuVoxelizerRefused(); the caller falls back. `dirtyTiles`: the
-    /// tiles this revision differs in from the last one given (same grid),
-    /// rebuilt alone into the build on screen; none: every tile.
+    /// tiles this revision differs in from revision `dirtySince` (same
+    /// grid), rebuilt alone into the build on screen; none: every tile.
     void setGpuVoxelSource(std::shared_ptr<const Tape> tape, const GridLayout& layout, std::uint64_t revision,
-                           std::size_t memoryBudget = 0, std::optional<std::vector<long>> dirtyTiles = {});
+                           std::size_t memoryBudget = 0, std::optional<std::vector<long>> dirtyTiles = {},
+                           std::uint64_t dirtySince = 0);
     /// Back to the CPU voxelizer's snapshots (the GPU's last build stays on
     /// screen until they are on the device).
     void clearGpuVoxelSource();
