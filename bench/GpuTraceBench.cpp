@@ -94,16 +94,18 @@ Document showcase()
         R"({"format":"kerf","version":1,"root":{"id":"all","type":"union","children":[)" + kids + "]}}", "showcase");
 }
 
-// A request for the GPU voxelizer's worker (every other field at its default).
-vk::GpuVoxelRequest gpuRequest(std::uint64_t revision, std::shared_ptr<const Tape> tape, const GridLayout& layout,
-                               int coarseLevelDrop)
+// The voxelizer benchmarks' scenes: the chair and the showcase, each at the
+// feature sizes issue 18 asks for.
+struct Scene {
+    std::string name;
+    Document doc;
+    std::vector<double> featureSizes;
+};
+
+std::vector<Scene> benchScenes(const std::string& examples)
 {
-    vk::GpuVoxelRequest r;
-    r.revision = revision;
-    r.tape = std::move(tape);
-    r.layout = layout;
-    r.coarseLevelDrop = coarseLevelDrop;
-    return r;
+    return {{"chair", Document::load(examples + "/side-chair.kerf"), {1.0, 0.5, 0.25, 0.1}},
+            {"showcase", showcase(), {0.1, 0.01}}};
 }
 
 double median(std::vector<double> v)
@@ -150,13 +152,7 @@ int voxelizeBench(const std::vector<std::string>& args)
     }
     vk::Context ctx;
     std::cout << "device: " << ctx.deviceDescription() << "\n";
-    struct Scene {
-        std::string name;
-        Document doc;
-        std::vector<double> featureSizes;
-    };
-    std::vector<Scene> scenes{{"chair", Document::load(examples + "/side-chair.kerf"), {1.0, 0.5, 0.25, 0.1}},
-                              {"showcase", showcase(), {0.1, 0.01}}};
+    std::vector<Scene> scenes = benchScenes(examples);
     nlohmann::ordered_json results = nlohmann::ordered_json::array();
     std::printf("%-9s %6s %11s %5s %9s %9s %8s %8s %8s %9s %8s %7s %10s %10s %8s\n", "scene", "fs", "voxels", "host",
                 "gpu cold", "gpu warm", "prepare", "alloc", "upload", "device", "pool MB", "reruns", "cpu all", "cpu 1",
@@ -316,13 +312,7 @@ int editBench(const std::vector<std::string>& args)
     }
     vk::Context ctx;
     std::cout << "device: " << ctx.deviceDescription() << "\n";
-    struct Scene {
-        std::string name;
-        Document doc;
-        std::vector<double> featureSizes;
-    };
-    std::vector<Scene> scenes{{"chair", Document::load(examples + "/side-chair.kerf"), {1.0, 0.5, 0.25, 0.1}},
-                              {"showcase", showcase(), {0.1, 0.01}}};
+    std::vector<Scene> scenes = benchScenes(examples);
     std::mutex m;
     std::condition_variable changed;
     vk::GpuVoxelWorker worker(ctx, [&] {
@@ -359,7 +349,7 @@ int editBench(const std::vector<std::string>& args)
             Document doc = scene.doc;
             const Tape first = compileTape(doc);
             const GridLayout layout = GridLayout::choose(first.bounds(), fs);
-            worker.request(gpuRequest(++revision, std::make_shared<const Tape>(first), layout, 0));
+            worker.request(vk::GpuVoxelRequest::of(++revision, std::make_shared<const Tape>(first), layout, 0));
             waitFor(revision);
             std::vector<double> updateMs, wholeMs, updateDevice, traceMs;
             std::size_t dirtyCount = 0;
@@ -369,7 +359,8 @@ int editBench(const std::vector<std::string>& args)
                 const auto t0 = std::chrono::steady_clock::now();
                 const Document next = applyTypicalEdit(doc, *typical, offset);
                 auto tape = std::make_shared<const Tape>(compileTape(next));
-                vk::GpuVoxelRequest request = gpuRequest(++revision, tape, GridLayout::choose(tape->bounds(), fs), 0);
+                vk::GpuVoxelRequest request =
+                    vk::GpuVoxelRequest::of(++revision, tape, GridLayout::choose(tape->bounds(), fs), 0);
                 if (update && request.layout == layout) {
                     request.dirtyTiles = tilesAnEditReaches(doc, next, layout);
                     request.dirtySince = revision - 1;

@@ -196,18 +196,6 @@ void expectSameVoxels(const VoxelComparison& c)
     EXPECT_LE(c.normalOff, c.both / 200 + 2);
 }
 
-// A request for the GPU voxelizer's worker (every other field at its default).
-vk::GpuVoxelRequest gpuRequest(std::uint64_t revision, std::shared_ptr<const Tape> tape, const GridLayout& layout,
-                               int coarseLevelDrop)
-{
-    vk::GpuVoxelRequest r;
-    r.revision = revision;
-    r.tape = std::move(tape);
-    r.layout = layout;
-    r.coarseLevelDrop = coarseLevelDrop;
-    return r;
-}
-
 Tape sphereTape(double radius)
 {
     return compileTape(Document::parse(R"({"format":"kerf","version":1,"root":{"id":"s","type":"sphere","radius":)" +
@@ -584,7 +572,7 @@ TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequ
     const GridLayout layout = GridLayout::choose(tape->bounds(), 0.5, fewTiles);
     ASSERT_GE(layout.levels, 3);
 
-    worker.request(gpuRequest(1, tape, layout, 2));
+    worker.request(vk::GpuVoxelRequest::of(1, tape, layout, 2));
     auto first = results();
     // Taken as they come: the preview, then full depth (a slow poll may see only the second).
     ASSERT_FALSE(first.empty());
@@ -607,7 +595,7 @@ TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequ
     const auto deeper = std::make_shared<const Tape>(compileTape(movedDoc));
     ASSERT_EQ(GridLayout::choose(deeper->bounds(), 0.5, fewTiles), layout);
     worker.recycle(std::move(first.front()));
-    vk::GpuVoxelRequest edit = gpuRequest(2, deeper, layout, 2);
+    vk::GpuVoxelRequest edit = vk::GpuVoxelRequest::of(2, deeper, layout, 2);
     edit.dirtyTiles = tilesAnEditReaches(firstDoc, movedDoc, layout);
     edit.dirtySince = 1;
     ASSERT_LT(4 * edit.dirtyTiles->size(), std::size_t(layout.tileCount()));
@@ -623,7 +611,7 @@ TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequ
 
     // Dirty tiles against a request the worker never saw (the viewport skipped
     // one): not trusted, the part is built whole.
-    vk::GpuVoxelRequest gap = gpuRequest(3, tape, layout, 2);
+    vk::GpuVoxelRequest gap = vk::GpuVoxelRequest::of(3, tape, layout, 2);
     gap.dirtyTiles = edit.dirtyTiles;
     gap.dirtySince = 99;
     worker.request(gap);
@@ -640,7 +628,7 @@ TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequ
 
     // Requests one after the other, faster than builds: the last one is what stays.
     for (std::uint64_t revision = 4; revision <= 6; ++revision)
-        worker.request(gpuRequest(revision, revision % 2 ? tape : deeper, layout, 2));
+        worker.request(vk::GpuVoxelRequest::of(revision, revision % 2 ? tape : deeper, layout, 2));
     auto burst = results();
     ASSERT_FALSE(burst.empty());
     EXPECT_EQ(burst.back()->revision, 6u);
@@ -649,14 +637,14 @@ TEST_F(GpuVoxelizerTest, TheViewportsWorkerBuildsPreviewThenFullAndTheNewestRequ
         EXPECT_LT(burst[i - 1]->version, burst[i]->version);
 
     // An empty part: an empty result at once.
-    worker.request(gpuRequest(7, std::make_shared<const Tape>(), GridLayout{}, 2));
+    worker.request(vk::GpuVoxelRequest::of(7, std::make_shared<const Tape>(), GridLayout{}, 2));
     auto empty = results();
     ASSERT_EQ(empty.size(), 1u);
     EXPECT_EQ(empty.front()->voxels->surfaceTiles, 0u);
     EXPECT_EQ(empty.front()->voxels->addresses(1).tiles, 0u) << "the tracer draws nothing";
 
     // Beyond the memory budget: refused in words, with its revision, nothing published.
-    vk::GpuVoxelRequest tooBig = gpuRequest(8, tape, GridLayout::choose(tape->bounds(), 0.1), 0);
+    vk::GpuVoxelRequest tooBig = vk::GpuVoxelRequest::of(8, tape, GridLayout::choose(tape->bounds(), 0.1), 0);
     tooBig.memoryBudget = 1 << 20;
     worker.request(tooBig);
     EXPECT_TRUE(results().empty());

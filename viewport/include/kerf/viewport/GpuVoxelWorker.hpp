@@ -55,6 +55,18 @@ struct GpuVoxelRequest {
     /// was given last (a request the viewport skipped leaves a gap: all).
     std::optional<std::vector<long>> dirtyTiles;
     std::uint64_t dirtySince = 0;
+
+    /// A request for every tile (the other fields at their defaults).
+    static GpuVoxelRequest of(std::uint64_t revision, std::shared_ptr<const Tape> tape, const GridLayout& layout,
+                              int coarseLevelDrop = 2)
+    {
+        GpuVoxelRequest r;
+        r.revision = revision;
+        r.tape = std::move(tape);
+        r.layout = layout;
+        r.coarseLevelDrop = coarseLevelDrop;
+        return r;
+    }
 };
 
 struct GpuVoxelResult {
