@@ -94,6 +94,26 @@ Document showcase()
         R"({"format":"kerf","version":1,"root":{"id":"all","type":"union","children":[)" + kids + "]}}", "showcase");
 }
 
+// The options the voxelize and edit forms share; true when args[i] was one
+// (i then at its value).
+bool takeSceneOption(const std::vector<std::string>& args, std::size_t& i, std::string& examples, std::string& jsonPath,
+                     std::string& onlyScene, double& onlyFeatureSize)
+{
+    const std::string& a = args[i];
+    if (i + 1 >= args.size()) return false;
+    if (a == "--json")
+        jsonPath = args[++i];
+    else if (a == "--examples")
+        examples = args[++i];
+    else if (a == "--scene")
+        onlyScene = args[++i];
+    else if (a == "--feature-size")
+        onlyFeatureSize = std::atof(args[++i].c_str());
+    else
+        return false;
+    return true;
+}
+
 // The voxelizer benchmarks' scenes: the chair and the showcase, each at the
 // feature sizes issue 18 asks for.
 struct Scene {
@@ -128,15 +148,8 @@ int voxelizeBench(const std::vector<std::string>& args)
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         const bool more = i + 1 < args.size();
-        if (a == "--json" && more)
-            jsonPath = args[++i];
-        else if (a == "--examples" && more)
-            examples = args[++i];
-        else if (a == "--scene" && more)
-            onlyScene = args[++i];
-        else if (a == "--feature-size" && more)
-            onlyFeatureSize = std::atof(args[++i].c_str());
-        else if (a == "--repeats" && more)
+        if (takeSceneOption(args, i, examples, jsonPath, onlyScene, onlyFeatureSize)) continue;
+        if (a == "--repeats" && more)
             repeats = std::max(1, std::atoi(args[++i].c_str()));
         else if (a == "--one-thread-up-to" && more)
             oneThreadUpTo = std::atof(args[++i].c_str());
@@ -294,15 +307,8 @@ int editBench(const std::vector<std::string>& args)
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         const bool more = i + 1 < args.size();
-        if (a == "--json" && more)
-            jsonPath = args[++i];
-        else if (a == "--examples" && more)
-            examples = args[++i];
-        else if (a == "--scene" && more)
-            onlyScene = args[++i];
-        else if (a == "--feature-size" && more)
-            onlyFeatureSize = std::atof(args[++i].c_str());
-        else if (a == "--edits" && more)
+        if (takeSceneOption(args, i, examples, jsonPath, onlyScene, onlyFeatureSize)) continue;
+        if (a == "--edits" && more)
             edits = std::max(1, std::atoi(args[++i].c_str()));
         else {
             std::cerr << "usage: kerf_gpu_bench edit [--scene chair|showcase] [--feature-size MM] [--edits N] "
