@@ -144,12 +144,15 @@ int voxelizeBench(const std::vector<std::string>& args)
     std::string examples = KERF_EXAMPLES_DIR, jsonPath, onlyScene;
     double onlyFeatureSize = 0.0, oneThreadUpTo = 3e7;
     int repeats = 5;
+    bool cpu = true;
     std::vector<int> threadSweep;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         const bool more = i + 1 < args.size();
         if (takeSceneOption(args, i, examples, jsonPath, onlyScene, onlyFeatureSize)) continue;
-        if (a == "--repeats" && more)
+        if (a == "--no-cpu")
+            cpu = false;
+        else if (a == "--repeats" && more)
             repeats = std::max(1, std::atoi(args[++i].c_str()));
         else if (a == "--one-thread-up-to" && more)
             oneThreadUpTo = std::atof(args[++i].c_str());
@@ -159,7 +162,7 @@ int voxelizeBench(const std::vector<std::string>& args)
                 threadSweep.push_back(std::max(1, std::atoi(t.c_str())));
         } else {
             std::cerr << "usage: kerf_gpu_bench voxelize [--scene chair|showcase] [--feature-size MM] [--repeats N] "
-                         "[--json OUT.json] [--examples DIR] [--one-thread-up-to VOXELS] [--cpu-threads 1,2,4,...]\n";
+                         "[--json OUT.json] [--examples DIR] [--one-thread-up-to VOXELS] [--cpu-threads 1,2,4,...] [--no-cpu]\n";
             return 2;
         }
     }
@@ -218,6 +221,17 @@ int voxelizeBench(const std::vector<std::string>& args)
                 uploadMs.push_back(warm.uploadMilliseconds);
                 deviceMs.push_back(warm.deviceMilliseconds);
             }
+            const auto list = [](const auto& values, int digits = 1) {
+                std::string s;
+                for (const auto v : values) {
+                    char one[32];
+                    std::snprintf(one, sizeof one, "%s%.*f", s.empty() ? "" : ", ", digits, double(v));
+                    s += one;
+                }
+                return s;
+            };
+            std::printf("    levels' nodes: %s\n    submissions (ms), cold: %s; warm: %s\n", list(cold.levelJobs, 0).c_str(),
+                        list(cold.submissionMilliseconds).c_str(), list(warm.submissionMilliseconds).c_str());
             // What the per-tile tape simplification buys: the same rebuilds
             // with the whole tape in every tile (the same voxels).
             std::vector<double> wholeTapeMs, wholeTapeDeviceMs;
@@ -239,13 +253,13 @@ int voxelizeBench(const std::vector<std::string>& args)
             // CPU: every core, then one (the same code, an arena of one thread).
             std::vector<double> cpuAll, cpuOne;
             std::size_t cpuVoxels = 0;
-            for (int r = 0; r < std::max(1, repeats / 2); ++r) {
+            for (int r = 0; cpu && r < std::max(1, repeats / 2); ++r) {
                 t0 = std::chrono::steady_clock::now();
                 const VoxelSnapshot snap = voxelize(tape, layout, {.threads = 0});
                 cpuAll.push_back(millisecondsSince(t0));
                 cpuVoxels = snap.populatedVoxels();
             }
-            if (double(cpuVoxels) <= oneThreadUpTo) {
+            if (cpu && double(cpuVoxels) <= oneThreadUpTo) {
                 t0 = std::chrono::steady_clock::now();
                 (void)voxelize(tape, layout, {.threads = 1});
                 cpuOne.push_back(millisecondsSince(t0));

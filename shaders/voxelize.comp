@@ -6,12 +6,19 @@
 //
 // Inner pass: one workgroup per node of the level; thread c tests child c's
 // box with the tile's tape in interval arithmetic (tape.glsl). Children
-// that may hold surface become the node's mask; one atomic claims their
+// that may hold surface become the node's mask (subgroup ORs, no thread
+// looping over the others); one atomic claims their
 // node range (contiguous, in mask order, as the format wants) and another
 // their jobs for the next level. Leaf pass: one workgroup per leaf node;
 // the 125 lattice points are evaluated once, voxels whose corners change
 // sign are populated, their corners become vertices (value, exact normal
 // by forward differentiation, deciding feature), each once per leaf.
+//
+// Compiled twice (viewport/CMakeLists.txt): with KERF_VOXELIZE_INNER the
+// inner pass, with KERF_VOXELIZE_LEAF the leaf and finish passes; each
+// pipeline then has the registers of its own evaluator only (one shader
+// for all passes gave the leaves the interval evaluator's register count,
+// and fewer groups per multiprocessor).
 //
 // Offsets: a tile's entry has its root node's index as `node` and 0 for
 // the other three bases, so node pointers are relative to the root and
@@ -19,6 +26,7 @@
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 
 #include "VoxelizeShared.h"
 #include "voxel_format.glsl"
@@ -69,13 +77,33 @@ bool claim(uint counter, uint count, uint capacity, out uint first)
     return first + count <= capacity && first + count >= first;
 }
 
-shared uint sFlag[125]; // inner: child c may hold surface; leaf: point used (bit 0), its vertex (bits 2..)
 shared uint sPopulated[64];
-shared uint sMaskLo, sMaskHi, sFirstNode, sFirstJob, sFirstData, sFirstVertex, sOk;
+shared uint sMaskLo, sMaskHi, sFirstNode, sFirstJob, sFirstData, sFirstVertex, sOk, sUsedPoints;
 shared float sValue[125];
+
+// Bit masks over the group's threads without a serial loop: each subgroup
+// ORs its threads' bits (subgroupOr: no assumption on which threads share
+// a subgroup) into its own slot, and after a barrier the slots are ORed.
+// KERF_MASK_WORDS words per slot; subgroups of at least 4 threads (checked
+// by the host) make at most KERF_VOXELIZE_GROUP / 4 slots.
+#define KERF_MASK_WORDS 6
+#define KERF_MAX_SUBGROUPS (KERF_VOXELIZE_GROUP / 4)
+shared uint sSlots[KERF_MAX_SUBGROUPS * KERF_MASK_WORDS];
+shared uint sMask[KERF_MASK_WORDS];
+
+// Thread's share of mask word w: bit `bit` when `on`.
+uint bitIn(bool on, uint bit, uint w) { return on && (bit >> 5) == w ? 1u << (bit & 31u) : 0u; }
+// After a barrier: the group's mask word w.
+uint groupMaskWord(uint w)
+{
+    uint word = 0u;
+    for (uint s = 0u; s < gl_NumSubgroups; ++s) word |= sSlots[s * KERF_MASK_WORDS + w];
+    return word;
+}
 
 uint groupIndex() { return gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x; }
 
+#ifdef KERF_VOXELIZE_INNER
 void innerPass(uint job)
 {
     const uint64_t jobs = jobList(pc.list);
@@ -89,19 +117,20 @@ void innerPass(uint job)
     const uint childEdge = 1u << (2u * (P.limits.z - pc.level - 1u)); // in finest voxels
     const uint c = gl_LocalInvocationID.x;
     const uvec3 clo = lo + childEdge * uvec3(c & 3u, (c >> 2) & 3u, c >> 4);
+    bool kept = false;
     if (c < 64u) {
         const float margin = P.sizes.z;
         const vec2 iv = evaluateTileTapeInterval(tape, latticeMm(clo) - margin, latticeMm(clo + childEdge) + margin);
         // Pruned only when provably empty or full (a NaN interval is kept, as in C++).
-        sFlag[c] = (iv.x > 0.0 || iv.y < 0.0) ? 0u : 1u;
+        kept = !(iv.x > 0.0 || iv.y < 0.0);
+    }
+    for (uint w = 0u; w < 2u; ++w) {
+        const uint word = subgroupOr(bitIn(kept, c, w));
+        if (subgroupElect()) sSlots[gl_SubgroupID * KERF_MASK_WORDS + w] = word;
     }
     barrier();
     if (c == 0u) {
-        uint lo32 = 0u, hi32 = 0u;
-        for (uint i = 0u; i < 32u; ++i) {
-            lo32 |= sFlag[i] << i;
-            hi32 |= sFlag[i + 32u] << i;
-        }
+        uint lo32 = groupMaskWord(0u), hi32 = groupMaskWord(1u);
         const uint count = uint(bitCount(lo32) + bitCount(hi32));
         uint firstNode = 0u, firstJob = 0u;
         bool ok = true;
@@ -132,7 +161,44 @@ void innerPass(uint job)
     }
 }
 
+#else
+
 uint latticeIndex(uint x, uint y, uint z) { return x + 5u * (y + 5u * z); }
+
+// The position of the i-th (from 0) set bit of `word`, which has more than i.
+uint selectBit(uint word, uint i)
+{
+    uint at = 0u;
+    for (uint width = 16u; width > 0u; width >>= 1) {
+        const uint low = uint(bitCount(word & ((1u << width) - 1u)));
+        if (i >= low) {
+            i -= low;
+            word >>= width;
+            at += width;
+        }
+    }
+    return at;
+}
+
+// The lattice point of the i-th used point (i < sUsedPoints).
+uint usedPoint(uint i)
+{
+    for (uint w = 2u; w < KERF_MASK_WORDS; ++w) {
+        const uint n = uint(bitCount(sMask[w]));
+        if (i < n) return 32u * w + selectBit(sMask[w], i) - 64u;
+        i -= n;
+    }
+    return 0u; // not reached
+}
+
+// Lattice point i's vertex: its rank among the used points (mask bits 64..).
+uint usedRank(uint i)
+{
+    const uint bit = i + 64u, w = bit >> 5;
+    uint rank = uint(bitCount(sMask[w] & ((1u << (bit & 31u)) - 1u)));
+    for (uint k = 2u; k < w; ++k) rank += uint(bitCount(sMask[k]));
+    return rank;
+}
 
 void leafPass(uint job)
 {
@@ -147,13 +213,9 @@ void leafPass(uint job)
     const uint t = gl_LocalInvocationID.x;
     const uvec3 l = uvec3(t % 5u, (t / 5u) % 5u, t / 25u);
     const vec3 at = latticeMm(lo + l);
-    if (t < 125u) {
-        sValue[t] = evaluateTileTape(tape, at);
-        sFlag[t] = 0u;
-    }
+    if (t < 125u) sValue[t] = evaluateTileTape(tape, at);
     barrier();
-    // Voxel t: populated when its corners change sign (0 counts as outside);
-    // its corners are marked used (every writer writes the same 1).
+    // Voxel t: populated when its corners change sign (0 counts as outside).
     bool populated = false;
     if (t < 64u) {
         const uvec3 v = uvec3(t & 3u, (t >> 2) & 3u, t >> 4);
@@ -161,33 +223,35 @@ void leafPass(uint job)
         for (uint q = 0u; q < 8u; ++q)
             inside += sValue[latticeIndex(v.x + (q & 1u), v.y + ((q >> 1) & 1u), v.z + (q >> 2))] < 0.0 ? 1u : 0u;
         populated = inside != 0u && inside != 8u;
-        if (populated)
-            for (uint q = 0u; q < 8u; ++q) sFlag[latticeIndex(v.x + (q & 1u), v.y + ((q >> 1) & 1u), v.z + (q >> 2))] = 1u;
+        sPopulated[t] = populated ? 1u : 0u;
     }
-    if (t < 64u) sPopulated[t] = populated ? 1u : 0u;
+    barrier();
+    // Lattice point t is used (gets a vertex) when a voxel it is a corner of is populated.
+    bool used = false;
+    if (t < 125u)
+        for (uint q = 0u; q < 8u; ++q) {
+            const ivec3 v = ivec3(l) - ivec3(q & 1u, (q >> 1) & 1u, q >> 2);
+            if (all(greaterThanEqual(v, ivec3(0))) && all(lessThan(v, ivec3(4))))
+                used = used || sPopulated[uint(v.x + 4 * (v.y + 4 * v.z))] != 0u;
+        }
+    // Mask bits 0 to 63: the populated voxels; 64 to 188: the used points.
+    for (uint w = 0u; w < KERF_MASK_WORDS; ++w) {
+        const uint word = subgroupOr(bitIn(populated, t, w) | bitIn(used, t + 64u, w));
+        if (subgroupElect()) sSlots[gl_SubgroupID * KERF_MASK_WORDS + w] = word;
+    }
     barrier();
     if (t == 0u) {
-        uint lo32 = 0u, hi32 = 0u;
-        for (uint i = 0u; i < 32u; ++i) {
-            lo32 |= sPopulated[i] << i;
-            hi32 |= sPopulated[i + 32u] << i;
-        }
-        // Vertices are numbered in lattice order; a used point's number goes
-        // in its flag's upper bits.
-        uint used = 0u;
-        for (uint i = 0u; i < 125u; ++i) {
-            if ((sFlag[i] & 1u) != 0u) {
-                sFlag[i] |= used << 2;
-                ++used;
-            }
-        }
+        for (uint w = 0u; w < KERF_MASK_WORDS; ++w) sMask[w] = groupMaskWord(w);
+        uint lo32 = sMask[0], hi32 = sMask[1];
+        // Vertices are numbered in lattice order (the rank of a used point among the used).
+        const uint usedPoints = uint(bitCount(sMask[2]) + bitCount(sMask[3]) + bitCount(sMask[4]) + bitCount(sMask[5]));
         const uint count = uint(bitCount(lo32) + bitCount(hi32));
         uint indirection = 0u, firstData = 0u, firstVertex = 0u;
         bool ok = true;
         if (count != 0u) { // every claim always made: each counter then says what the level needs
             const bool leafFits = claim(KERF_COUNT_LEAF_INDIRECTIONS, 1u, P.capacity.y, indirection);
             const bool dataFits = claim(KERF_COUNT_LEAF_DATA, count, P.capacity.z, firstData);
-            const bool verticesFit = claim(KERF_COUNT_VERTICES, used, P.capacity.w, firstVertex);
+            const bool verticesFit = claim(KERF_COUNT_VERTICES, usedPoints, P.capacity.w, firstVertex);
             ok = leafFits && dataFits && verticesFit;
         }
         if (!ok) lo32 = hi32 = 0u;
@@ -196,6 +260,7 @@ void leafPass(uint job)
         sFirstData = firstData;
         sFirstVertex = firstVertex;
         sOk = ok && count != 0u ? 1u : 0u;
+        sUsedPoints = usedPoints;
         Words(P.nodes).w[node * 3u] = kLeafFlag | (sOk != 0u ? indirection : 0u);
         Words(P.nodes).w[node * 3u + 1u] = lo32;
         Words(P.nodes).w[node * 3u + 2u] = hi32;
@@ -211,47 +276,64 @@ void leafPass(uint job)
         const uvec3 v = uvec3(t & 3u, (t >> 2) & 3u, t >> 4);
         uint packed[2] = uint[2](0u, 0u);
         for (uint q = 0u; q < 8u; ++q) {
-            const uint corner = sFlag[latticeIndex(v.x + (q & 1u), v.y + ((q >> 1) & 1u), v.z + (q >> 2))] >> 2;
+            const uint corner = usedRank(latticeIndex(v.x + (q & 1u), v.y + ((q >> 1) & 1u), v.z + (q >> 2)));
             packed[q >> 2] |= corner << (8u * (q & 3u));
         }
         const uint d = sFirstData + childRank(sMaskLo, sMaskHi, int(t));
         Words(P.leafData).w[d * 2u] = packed[0];
         Words(P.leafData).w[d * 2u + 1u] = packed[1];
     }
-    if (t < 125u && (sFlag[t] & 1u) != 0u) {
+    // The used points' vertices, one thread each in lattice order (their
+    // ranks): the exact gradients run on the first warps only, not on a
+    // few lanes of every warp.
+    if (t < sUsedPoints) {
+        const uint point = usedPoint(t);
         uint feature;
-        const vec4 dual = evaluateTileTapeGradient(tape, at, feature);
+        const vec4 dual =
+            evaluateTileTapeGradient(tape, latticeMm(lo + uvec3(point % 5u, (point / 5u) % 5u, point / 25u)), feature);
         vec3 n = dual.yzw;
         const float len = length(n);
         n = len > 0.0 && !isinf(len) && !isnan(len) ? n / len : vec3(0.0, 0.0, 1.0);
-        const uint vtx = sFirstVertex + (sFlag[t] >> 2);
+        const uint vtx = sFirstVertex + t;
         Words(P.vertices).w[vtx * 2u] = encodeNormal(n);
         // The stored distance is the value whose sign populated the voxel.
-        Words(P.vertices).w[vtx * 2u + 1u] = encodeDistanceFeature(sValue[t], voxel, feature);
+        Words(P.vertices).w[vtx * 2u + 1u] = encodeDistanceFeature(sValue[point], voxel, feature);
     }
 }
+
+// Finish pass: one thread per entry: its tile's word.
+void finishPass()
+{
+    const uint k = gl_GlobalInvocationID.x; // this build's k-th entry
+    if (k >= P.limits.y) return;
+    const uint entry = uint(P.firstEntry) + k;
+    const uint tile = Words(P.entryTiles).w[k];
+    if (Words(P.entryVoxels).w[k] != 0u) {
+        Words(P.tiles).w[tile] = entry;
+        return;
+    }
+    // Ambiguous to intervals but nothing populated: which side is it on?
+    const uint tape = Words(P.entries).w[entry * 8u + 5u];
+    const float c = 0.5 * P.sizes.y;
+    Words(P.tiles).w[tile] = evaluateTileTape(tape, vec3(c)) < 0.0 ? kFullTile : kEmptyTile;
+}
+#endif
 
 void main()
 {
     P = ParamsRef(pc.params).p;
+#ifndef KERF_VOXELIZE_INNER
     if (pc.pass == KERF_PASS_FINISH) {
-        const uint k = gl_GlobalInvocationID.x; // this build's k-th entry
-        if (k >= P.limits.y) return;
-        const uint entry = uint(P.firstEntry) + k;
-        const uint tile = Words(P.entryTiles).w[k];
-        if (Words(P.entryVoxels).w[k] != 0u) {
-            Words(P.tiles).w[tile] = entry;
-            return;
-        }
-        // Ambiguous to intervals but nothing populated: which side is it on?
-        const uint tape = Words(P.entries).w[entry * 8u + 5u];
-        const float c = 0.5 * P.sizes.y;
-        Words(P.tiles).w[tile] = evaluateTileTape(tape, vec3(c)) < 0.0 ? kFullTile : kEmptyTile;
+        finishPass();
         return;
     }
+#endif
     const uint job = groupIndex();
     const uint count = Words(P.counters).w[KERF_COUNT_JOBS + pc.list];
     if (job >= min(count, jobCapacity(pc.list))) return; // uniform over the group
-    if (pc.pass == KERF_PASS_INNER) innerPass(job);
-    else leafPass(job);
+#ifdef KERF_VOXELIZE_INNER
+    innerPass(job);
+#else
+    leafPass(job);
+#endif
 }

@@ -10,7 +10,8 @@
 #include "kerf/voxelizer/WorkerArena.hpp"
 
 #include "VoxelizeShared.h"
-#include "voxelize.comp.h"
+#include "voxelize.comp.inner.h"
+#include "voxelize.comp.leaf.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -36,6 +37,9 @@ double millisecondsSince(Clock::time_point start)
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+// Every device buffer of a build: read and written by the shaders, copied when a pool grows.
+constexpr VkBufferUsageFlags kStorage =
+    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
 constexpr std::size_t kJobBytes = KERF_VOXELIZE_JOB_WORDS * sizeof(std::uint32_t);
 constexpr std::size_t kMaxRecords = std::size_t(1) << 31; // pointers are 31 bits
 // A level whose nodes could all have 64 children in this many bytes of
@@ -194,6 +198,24 @@ std::size_t deviceLocalHeapBytes(const Context& ctx)
     return std::size_t(largest);
 }
 
+// Why the shaders cannot run here (empty: they can). voxelize.comp builds
+// its masks with subgroupOr in groups of at most KERF_VOXELIZE_GROUP / 4
+// subgroups.
+std::string subgroupShortfall(const Context& ctx)
+{
+    VkPhysicalDeviceSubgroupProperties subgroups{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    properties.pNext = &subgroups;
+    vkGetPhysicalDeviceProperties2(ctx.physicalDevice(), &properties);
+    if (!(subgroups.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) ||
+        !(subgroups.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT))
+        return "this device has no subgroup arithmetic in compute shaders";
+    if (subgroups.subgroupSize < 4)
+        return "this device's subgroups have " + std::to_string(subgroups.subgroupSize) +
+               " threads (the voxelizer needs 4 or more)";
+    return {};
+}
+
 std::string megabytes(std::size_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MB"; }
 
 } // namespace
@@ -272,9 +294,22 @@ FlatVoxelBuffers GpuVoxels::readBack(const Context& ctx) const
 }
 
 GpuVoxelizer::GpuVoxelizer(const Context& ctx)
-    : ctx_(ctx), compute_(makeComputePipeline(ctx.device(), kVoxelizeComp, sizeof(kVoxelizeComp), sizeof(VoxelizePush),
-                                              "voxelize.comp"))
+    : ctx_(ctx),
+      inner_(makeComputePipeline(ctx.device(), kVoxelizeInnerComp, sizeof(kVoxelizeInnerComp), sizeof(VoxelizePush),
+                                 "voxelize.comp (inner)")),
+      leaf_(makeComputePipeline(ctx.device(), kVoxelizeLeafComp, sizeof(kVoxelizeLeafComp), sizeof(VoxelizePush),
+                                "voxelize.comp (leaf)")),
+      unsupported_(subgroupShortfall(ctx))
 {
+    // The scratch a part of a few thousand surface tiles needs, made with
+    // the pipelines rather than in the first build.
+    constexpr std::size_t kTiles = 8192;
+    scratch(scratch_.entryTiles, kTiles * 4, kStorage, GpuBuffer::Kind::DeviceLocal);
+    scratch(scratch_.entryVoxels, kTiles * 4, kStorage, GpuBuffer::Kind::DeviceLocal);
+    scratch(scratch_.counters, KERF_COUNT_WORDS * 4, kStorage, GpuBuffer::Kind::DeviceLocal);
+    scratch(scratch_.params, sizeof(gpu::VoxelizeParams), kStorage, GpuBuffer::Kind::DeviceLocal);
+    scratch(scratch_.countsBack, KERF_COUNT_WORDS * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback);
+    scratch(scratch_.staging, std::size_t(1) << 20, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GpuBuffer::Kind::HostVisible);
 }
 
 GpuVoxelizer::~GpuVoxelizer() = default;
@@ -307,6 +342,16 @@ GpuBuffer GpuVoxelizer::takeSpare(std::size_t bytes)
         return b;
     }
     return {};
+}
+
+const GpuBuffer& GpuVoxelizer::scratch(GpuBuffer& buffer, std::size_t bytes, VkBufferUsageFlags usage,
+                                       GpuBuffer::Kind kind)
+{
+    // Grown by half again beyond the need, so that a slightly larger part does not make another.
+    // (Made even for 0 bytes: every buffer a submission names must exist.)
+    if (buffer.size() == 0 || buffer.size() < bytes)
+        buffer = GpuBuffer(ctx_, bytes + bytes / 2, usage, kind, "voxelizer scratch");
+    return buffer;
 }
 
 std::optional<GpuVoxels> GpuVoxelizer::build(const Tape& tape, const GridLayout& layout,
@@ -349,6 +394,10 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
         bases.tapeWords = std::uint32_t(base->tapes.size() / 4);
     }
     r.updatedTiles = dirty ? dirty->size() : 0;
+    if (!unsupported_.empty()) {
+        r.whyNot = unsupported_;
+        return std::nullopt;
+    }
 
     // The host's share: tile intervals in double, exactly as the CPU voxelizer.
     const auto prepareStart = Clock::now();
@@ -361,20 +410,34 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
     out.layout = layout;
     out.levels = levels;
     out.surfaceTiles = host.entries.size();
-    constexpr VkBufferUsageFlags kStorage =
-        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    const std::size_t budget = options.memoryBudget > 0 ? options.memoryBudget : deviceLocalHeapBytes(ctx_) / 2;
+    const std::size_t perBuffer = ctx_.maxAllocationBytes();
+    // What the leaf level will probably ask for: the last build's voxels per
+    // leaf node processed (empty leaves included: a leaf level's nodes are
+    // what the host knows before it runs) and vertices per voxel, a little
+    // above. A fresh voxelizer takes what the chair (1 to 0.1 mm) and the
+    // showcase (0.1, 0.01) have, 13.2 to 14.2 voxels per leaf node and 3.12
+    // to 3.13 vertices per voxel, a little above again: its leaf level then
+    // fits the first time without pools far beyond the need (making them is
+    // a third of a cold build).
+    const double voxelsPerLeafJob = (voxelsPerLeafJob_ > 0.0 ? voxelsPerLeafJob_ : 15.0) * 1.05;
+    const double verticesPerVoxel = (verticesPerVoxel_ > 0.0 ? verticesPerVoxel_ : 3.2) * 1.05;
+
     const auto allocateStart = Clock::now();
     out.tiles = GpuBuffer(ctx_, std::size_t(layout.tileCount()) * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "tiles");
     out.entries = GpuBuffer(ctx_, (bases.entries + host.entries.size()) * sizeof(TileEntry), kStorage,
                             GpuBuffer::Kind::DeviceLocal, "entries");
     out.tapes =
         GpuBuffer(ctx_, (bases.tapeWords + host.tapes.size()) * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "tapes");
-    const GpuBuffer entryTiles(ctx_, surface * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "entry tiles");
-    const GpuBuffer entryVoxels(ctx_, surface * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "entry voxels");
-    const GpuBuffer counters(ctx_, KERF_COUNT_WORDS * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "counters");
-    const GpuBuffer params(ctx_, sizeof(gpu::VoxelizeParams), kStorage, GpuBuffer::Kind::DeviceLocal, "params");
-    const GpuBuffer countsBack(ctx_, KERF_COUNT_WORDS * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback,
-                               "counters read-back");
+    // The build's own scratch: kept by the voxelizer between builds (each
+    // allocation costs a fraction of a millisecond; a build made nine).
+    const GpuBuffer& entryTiles = scratch(scratch_.entryTiles, surface * 4, kStorage, GpuBuffer::Kind::DeviceLocal);
+    const GpuBuffer& entryVoxels = scratch(scratch_.entryVoxels, surface * 4, kStorage, GpuBuffer::Kind::DeviceLocal);
+    const GpuBuffer& counters = scratch(scratch_.counters, KERF_COUNT_WORDS * 4, kStorage, GpuBuffer::Kind::DeviceLocal);
+    const GpuBuffer& params =
+        scratch(scratch_.params, sizeof(gpu::VoxelizeParams), kStorage, GpuBuffer::Kind::DeviceLocal);
+    const GpuBuffer& countsBack = scratch(scratch_.countsBack, KERF_COUNT_WORDS * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                          GpuBuffer::Kind::Readback);
 
     // The pools. Each level runs in its own submission, and the host reads
     // the counters after it: a level that asked for more records than a pool
@@ -382,8 +445,6 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
     // has its pools grown to exactly what it asked, their contents kept, and
     // runs again. So a build needs at most one rerun per level, and what it
     // holds is known before each level starts.
-    const std::size_t budget = options.memoryBudget > 0 ? options.memoryBudget : deviceLocalHeapBytes(ctx_) / 2;
-    const std::size_t perBuffer = ctx_.maxAllocationBytes();
     struct Pool {
         std::shared_ptr<GpuBuffer> buffer = std::make_shared<GpuBuffer>(); // shared with the base of an update
         std::size_t capacity = 0;                                          // records
@@ -466,14 +527,10 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
     count[KERF_COUNT_JOBS] = std::uint32_t(surface);
     const std::uint32_t started[KERF_COUNT_WORDS] = {count[0], count[1], count[2], count[3]};
     // Every level's nodes are about 16 times the last's (a surface, four
-    // times finer each way); the leaves' records follow what the last build
-    // of this depth had per leaf.
-    // Measured on the chair and the showcase at every size: 16 voxels per
-    // leaf, 3.1 vertices per voxel; a little above, so that a fresh
-    // voxelizer's leaf level fits the first time.
-    const double voxelsPerLeaf = voxelsPerLeaf_ > 0.0 ? voxelsPerLeaf_ : 18.0;
+    // times finer each way); the leaves' records as `voxelsPerLeafJob` and
+    // `verticesPerVoxel` (above) say.
     const double guessScale = std::clamp(options.poolGuessScale, 1e-3, 1.0);
-    const double verticesPerVoxel = verticesPerVoxel_ > 0.0 ? verticesPerVoxel_ : 3.3;
+    std::size_t leafJobs = 0;
     if (!grow(nodes, count[KERF_COUNT_NODES] + 16 * surface, bases.nodes) || !grow(jobs[0], surface, 0) ||
         !grow(jobs[1], 16 * surface, 0) ||
         !grow(leafIndirections, count[KERF_COUNT_LEAF_INDIRECTIONS] + 1, bases.leafIndirections) ||
@@ -512,8 +569,8 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
     std::size_t stagingBytes = 0;
     for (const Upload& u : uploads)
         stagingBytes += u.bytes;
-    const GpuBuffer staging(ctx_, stagingBytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GpuBuffer::Kind::HostVisible,
-                            "voxelizer staging");
+    const GpuBuffer& staging =
+        scratch(scratch_.staging, stagingBytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GpuBuffer::Kind::HostVisible);
     r.allocateMilliseconds = millisecondsSince(allocateStart);
     const auto uploadStart = Clock::now();
     {
@@ -594,7 +651,6 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
             vkCmdUpdateBuffer(cb, params.buffer(), 0, sizeof p, &p);
             vkCmdUpdateBuffer(cb, counters.buffer(), 0, sizeof count, count);
             computeBarrier(cb);
-            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, compute_.pipeline);
             record(cb);
             computeBarrier(cb);
             const VkBufferCopy region{0, 0, KERF_COUNT_WORDS * 4};
@@ -605,7 +661,8 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
             vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr,
                                  0, nullptr);
         });
-        r.deviceMilliseconds += millisecondsSince(deviceStart);
+        r.submissionMilliseconds.push_back(millisecondsSince(deviceStart));
+        r.deviceMilliseconds += r.submissionMilliseconds.back();
         copies.clear();
         for (auto& b : retired)
             release(b);
@@ -613,7 +670,9 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
     };
     const auto push = [&](VkCommandBuffer cb, std::uint32_t pass, int level) {
         const VoxelizePush pc{params.address(), pass, std::uint32_t(level), std::uint32_t(level & 1), 0};
-        vkCmdPushConstants(cb, compute_.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
+        const ComputePipeline& pipeline = pass == KERF_PASS_INNER ? inner_ : leaf_;
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline);
+        vkCmdPushConstants(cb, pipeline.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
     };
 
     bool first = true;
@@ -632,22 +691,26 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
         const int in = level & 1, next = 1 - in;
         const std::uint32_t jobsIn = count[KERF_COUNT_JOBS + in];
         if (jobsIn == 0) break;
+        r.levelJobs.push_back(jobsIn);
         // What this level will probably ask for.
         bool fits = true;
         if (leaf) {
-            const std::size_t voxelsGuess = std::size_t(voxelsPerLeaf * 1.1 * guessScale * jobsIn);
+            leafJobs = jobsIn;
+            const std::size_t voxelsGuess = std::size_t(voxelsPerLeafJob * guessScale * jobsIn);
             fits =
                 grow(leafIndirections, count[KERF_COUNT_LEAF_INDIRECTIONS] + jobsIn,
                      count[KERF_COUNT_LEAF_INDIRECTIONS], true) &&
                 grow(leafData, count[KERF_COUNT_LEAF_DATA] + voxelsGuess, count[KERF_COUNT_LEAF_DATA], true) &&
-                grow(vertices, count[KERF_COUNT_VERTICES] + std::size_t(verticesPerVoxel * 1.1 * double(voxelsGuess)),
+                grow(vertices, count[KERF_COUNT_VERTICES] + std::size_t(verticesPerVoxel * double(voxelsGuess)),
                      count[KERF_COUNT_VERTICES], true);
         } else {
-            // Learned, else 16 (a surface, four times finer each way); but
-            // where all 64 children of every node cost little (the coarse
-            // levels), room for all of them: such a level never runs twice.
+            // Learned, else 20 (a surface, four times finer each way, has
+            // about 16: measured 15.9 to 17.9 on the chair and the showcase,
+            // and a level run twice costs more than the room); where all 64
+            // children of every node cost little (the coarse levels), room
+            // for all of them: such a level never runs twice.
             const double ratio =
-                childrenPerNode_[std::size_t(level)] > 0.0 ? 1.1 * childrenPerNode_[std::size_t(level)] : 16.0;
+                childrenPerNode_[std::size_t(level)] > 0.0 ? 1.1 * childrenPerNode_[std::size_t(level)] : 20.0;
             std::size_t children = std::size_t(std::ceil(ratio * guessScale * double(jobsIn)));
             if (guessScale >= 1.0 && 64 * std::size_t(jobsIn) * (sizeof(voxel::Node) + kJobBytes) <= kAllChildrenBytes)
                 children = 64 * std::size_t(jobsIn);
@@ -705,10 +768,9 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
     out.vertexCount = count[KERF_COUNT_VERTICES];
     out.wholeBuildNodes = base ? base->wholeBuildNodes : out.nodeCount;
     r.poolBytes = poolBytes();
-    const std::size_t deviceLeaves = out.leafCount - started[KERF_COUNT_LEAF_INDIRECTIONS];
     const std::size_t deviceVoxels = out.populatedVoxels - started[KERF_COUNT_LEAF_DATA];
-    if (deviceLeaves > 0 && deviceVoxels > 0) {
-        voxelsPerLeaf_ = double(deviceVoxels) / double(deviceLeaves);
+    if (leafJobs > 0 && deviceVoxels > 0) {
+        voxelsPerLeafJob_ = double(deviceVoxels) / double(leafJobs);
         verticesPerVoxel_ = double(out.vertexCount - started[KERF_COUNT_VERTICES]) / double(deviceVoxels);
     }
     return out;

@@ -99,6 +99,8 @@ struct GpuVoxelizeReport {
     double poolAllocateMilliseconds = 0.0; // pools made (not taken from the spares), first ones and grown alike
     double uploadMilliseconds = 0.0;   // tapes, entries and first jobs into the staging buffer
     double deviceMilliseconds = 0.0;   // the submissions, from recording to completion (one per level)
+    std::vector<double> submissionMilliseconds; // each of them, in order (a level run again: twice; the finish pass last)
+    std::vector<std::uint32_t> levelJobs;       // the nodes each level processed (the roots', then each level's children)
     int levelReruns = 0;               // levels run twice because they asked for more than a pool held
     std::size_t hostBuiltTiles = 0;    // surface tiles whose tape the shaders cannot hold: built by the CPU's builder
     std::size_t poolBytes = 0;         // the pools' device memory at the end
@@ -131,7 +133,11 @@ public:
     /// which on a discrete GPU cost about as much as the build itself.
     void recycle(GpuVoxels&& old);
     /// Lets go of the spare pools (the viewport went back to the CPU).
-    void releaseSpares() { spare_.clear(); }
+    void releaseSpares()
+    {
+        spare_.clear();
+        scratch_ = {};
+    }
 
 private:
     std::optional<GpuVoxels> make(const Tape& tape, const GridLayout& layout, const GpuVoxelizeOptions& options,
@@ -140,14 +146,20 @@ private:
     void giveSpare(GpuBuffer&& buffer);
     GpuBuffer takeSpare(std::size_t bytes); // an empty buffer when no spare fits
     const Context& ctx_;
-    ComputePipeline compute_;
-    /// What the last build had per leaf and per node: the next one sizes
-    /// its pools from them (an edit's rebuild then runs every level once).
-    double voxelsPerLeaf_ = 0.0;
+    ComputePipeline inner_, leaf_; // voxelize.comp's two compilations
+    std::string unsupported_; // why this device cannot run the shaders (empty: it can)
+    /// What the last build had per leaf node and per voxel: the next one
+    /// sizes its pools from them (an edit's rebuild then runs every level once).
+    double voxelsPerLeafJob_ = 0.0;
     double verticesPerVoxel_ = 0.0;
     /// Per level, the children an ambiguous node had in the last build.
     std::array<double, voxel::kMaxLevels + 1> childrenPerNode_{};
     std::vector<GpuBuffer> spare_; // largest first
+    /// Buffers every build uses and none keeps: made once, grown when too small.
+    struct Scratch {
+        GpuBuffer entryTiles, entryVoxels, counters, params, countsBack, staging;
+    } scratch_;
+    const GpuBuffer& scratch(GpuBuffer& buffer, std::size_t bytes, VkBufferUsageFlags usage, GpuBuffer::Kind kind);
 };
 
 } // namespace kerf::vk
