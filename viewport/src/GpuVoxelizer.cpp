@@ -420,8 +420,8 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
     // to 3.13 vertices per voxel, a little above again: its leaf level then
     // fits the first time without pools far beyond the need (making them is
     // a third of a cold build).
-    const double voxelsPerLeafJob = (voxelsPerLeafJob_ > 0.0 ? voxelsPerLeafJob_ : 15.0) * 1.05;
-    const double verticesPerVoxel = (verticesPerVoxel_ > 0.0 ? verticesPerVoxel_ : 3.2) * 1.05;
+    const double voxelsPerLeafJob = (voxelsPerLeafJob_ > 0.0 ? voxelsPerLeafJob_ : 14.3) * 1.05;
+    const double verticesPerVoxel = (verticesPerVoxel_ > 0.0 ? verticesPerVoxel_ : 3.15) * 1.05;
 
     const auto allocateStart = Clock::now();
     out.tiles = GpuBuffer(ctx_, std::size_t(layout.tileCount()) * 4, kStorage, GpuBuffer::Kind::DeviceLocal, "tiles");
@@ -675,7 +675,13 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
         vkCmdPushConstants(cb, pipeline.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
     };
 
-    bool first = true;
+    // Each surface tile's word: its entry, or empty or full when no voxel of it was populated.
+    const auto recordFinish = [&](VkCommandBuffer cb) {
+        if (surface == 0) return;
+        push(cb, KERF_PASS_FINISH, 0);
+        vkCmdDispatch(cb, std::uint32_t((surface + KERF_VOXELIZE_GROUP - 1) / KERF_VOXELIZE_GROUP), 1, 1);
+    };
+    bool first = true, finished = false;
     for (int level = 0; level < levels && surface > 0; ++level) {
         if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
             // Asked to stop (a newer request): the pools serve the next build.
@@ -723,7 +729,14 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
             submit(first, [&](VkCommandBuffer cb) {
                 push(cb, leaf ? KERF_PASS_LEAF : KERF_PASS_INNER, level);
                 vkCmdDispatch(cb, std::min(jobsIn, row), (jobsIn + row - 1) / row, 1);
+                if (leaf) {
+                    // The tile words in the same submission (a leaf level run
+                    // again runs it again: it only reads the voxel counts).
+                    computeBarrier(cb);
+                    recordFinish(cb);
+                }
             });
+            finished = leaf;
             first = false;
             std::uint32_t back[KERF_COUNT_WORDS];
             std::memcpy(back, countsBack.mapped(), sizeof back);
@@ -750,11 +763,7 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
                 return std::nullopt;
         }
     }
-    submit(first, [&](VkCommandBuffer cb) {
-        if (surface == 0) return;
-        push(cb, KERF_PASS_FINISH, 0);
-        vkCmdDispatch(cb, std::uint32_t((surface + KERF_VOXELIZE_GROUP - 1) / KERF_VOXELIZE_GROUP), 1, 1);
-    });
+    if (!finished) submit(first, recordFinish); // no leaf level ran
 
     release(jobs[0].buffer);
     release(jobs[1].buffer);
