@@ -100,7 +100,7 @@ public:
                         if (!(cost(c.a, c.b, c.at) <= limits_.maxMeanSquaredError)) continue;
                     }
                 }
-                if (!legal(c.a, c.b, c.at, normal)) continue;
+                if (!legal(c.a, c.b, c.at, normal, c.second)) continue;
                 collapse(c.a, c.b, c.at, normal);
                 if (!errors_.empty())
                     for (const auto& [t, e] : pending_)
@@ -127,6 +127,7 @@ private:
         std::uint32_t a, b;
         glm::dvec3 at; // b's position after the collapse
         bool moves;    // at differs from b's position
+        bool second = false; // not a's cheapest: made only if it keeps its triangles within the tolerance
         bool operator<(const Candidate& o) const { return cost < o.cost || (cost == o.cost && a < o.a); }
     };
 
@@ -182,16 +183,19 @@ private:
                     if (u != a && !m_.held[u]) neighbours_.push_back(u);
             std::sort(neighbours_.begin(), neighbours_.end());
             neighbours_.erase(std::unique(neighbours_.begin(), neighbours_.end()), neighbours_.end());
-            Candidate best{std::numeric_limits<double>::infinity(), a, kNone, glm::dvec3(0.0), false};
+            // Every half-edge collapse of a within the limit, and where the
+            // planes of a and a neighbour meet (on a sharp edge between
+            // them) unless a half-edge collapse is free (a flat).
+            options_.clear();
+            double cheapest = std::numeric_limits<double>::infinity();
             for (const std::uint32_t u : neighbours_) {
                 if (limits_.maxEdgeLength > 0.0 && !(glm::length(m_.positions[u] - m_.positions[a]) < limits_.maxEdgeLength))
                     continue;
                 const double c = cost(a, u, m_.positions[u]);
-                if (c < best.cost) best = {c, a, u, m_.positions[u], false};
+                cheapest = std::min(cheapest, c);
+                if (c <= limits_.maxMeanSquaredError) options_.push_back({c, a, u, m_.positions[u], false});
             }
-            // Unless a half-edge collapse is free (a flat), where the planes
-            // meet may be cheaper: on a sharp edge between a and u.
-            const bool free = best.b != kNone && best.cost <= 1e-9 * limits_.maxMeanSquaredError;
+            const bool free = cheapest <= 1e-9 * limits_.maxMeanSquaredError;
             if (!free && limits_.placement > 0.0 && !(limits_.maxEdgeLength > 0.0)) {
                 for (const std::uint32_t u : neighbours_) {
                     Quadric q = m_.quadrics[a];
@@ -200,28 +204,26 @@ private:
                     const glm::dvec3 x = q.minimizer(mid);
                     if (glm::length(x - mid) > glm::length(m_.positions[a] - m_.positions[u])) continue; // not local
                     const double c = cost(a, u, x);
-                    if (c < best.cost) best = {c, a, u, x, true};
+                    if (c <= limits_.maxMeanSquaredError) options_.push_back({c, a, u, x, true});
                 }
             }
-            if (best.b != kNone && best.cost <= limits_.maxMeanSquaredError) out.push_back(best);
-            // On a flat, other free collapses of a too (up to three more), in
-            // the same pass: a vertex whose first proposal is refused (a
-            // fold, a crossing) would otherwise wait until a neighbour
-            // changes, and may never (a board at 0.1 mm cells kept 5,362
-            // triangles, 468 with these; docs/benchmarks.md).
-            if (free) {
-                int more = 0;
-                for (const std::uint32_t u : neighbours_) {
-                    if (u == best.b || more == 3) continue;
-                    if (limits_.maxEdgeLength > 0.0 && !(glm::length(m_.positions[u] - m_.positions[a]) < limits_.maxEdgeLength))
-                        continue;
-                    const double c = cost(a, u, m_.positions[u]);
-                    if (c <= 1e-9 * limits_.maxMeanSquaredError) {
-                        out.push_back({c, a, u, m_.positions[u], false});
-                        ++more;
-                    }
-                }
-            }
+            // The cheapest, and up to three more in the same pass: a vertex
+            // whose first proposal is refused (a fold, a crossing, a new
+            // triangle off the surface) would otherwise wait until a
+            // neighbour changes, and may never (a board at 0.1 mm cells kept
+            // 5,362 triangles, 468 with these on flats; the walls of shelf-pin
+            // holes kept columns of vertices whose cheapest collapse crossed
+            // the curvature while one along the wall was free;
+            // docs/benchmarks.md).
+            const std::size_t keep = std::min<std::size_t>(options_.size(), 4);
+            std::partial_sort(options_.begin(), options_.begin() + long(keep), options_.end(),
+                              [](const Candidate& x, const Candidate& y) { return x.cost < y.cost; });
+            // (The others only where they keep the tolerance: where the
+            // marching cubes are over it, more collapses than the cheapest
+            // left shapes the refinement could not split without folds.)
+            for (std::size_t i = 1; i < keep; ++i)
+                options_[i].second = true;
+            out.insert(out.end(), options_.begin(), options_.begin() + long(keep));
         }
     }
 
@@ -336,7 +338,7 @@ private:
         return false;
     }
 
-    bool legal(std::uint32_t a, std::uint32_t b, const glm::dvec3& at, const glm::dvec3& normal)
+    bool legal(std::uint32_t a, std::uint32_t b, const glm::dvec3& at, const glm::dvec3& normal, bool strict)
     {
         gather(a, trisA_);
         // The edge's two triangles and their third vertices.
@@ -400,7 +402,7 @@ private:
                 if (!keepsShape(tri, b, at, normal)) return false;
             }
         }
-        if (limits_.tolerance > 0.0 && !withinTolerance(a, b, at, normal, moves)) return false;
+        if (limits_.tolerance > 0.0 && !withinTolerance(a, b, at, normal, moves, strict)) return false;
         return (!moves && retilesItsPlane(a, b)) || !wouldCross(a, b, at);
     }
 
@@ -437,10 +439,11 @@ private:
     // tolerance already (a marching-cubes mesh coarser than the curvature
     // asks), no further from it than the triangles it replaces (a sliver
     // goes) and, off a smooth patch, no longer than the longest of them
-    // over the tolerance (a cut-off edge does not spread). Inside a plane
-    // nothing is sampled.
+    // over the tolerance (a cut-off edge does not spread); `strict`: within
+    // the tolerance, whatever was there. Inside a plane nothing is sampled.
     // The new triangles' errors are kept for the commit (pending_).
-    bool withinTolerance(std::uint32_t a, std::uint32_t b, const glm::dvec3& at, const glm::dvec3& normal, bool moves)
+    bool withinTolerance(std::uint32_t a, std::uint32_t b, const glm::dvec3& at, const glm::dvec3& normal, bool moves,
+                         bool strict)
     {
         const glm::dvec3 n = m_.normals[a];
         bool planar = n != glm::dvec3(0.0) && normal != glm::dvec3(0.0) && glm::dot(n, normal) > 1.0 - 1e-12;
@@ -486,7 +489,7 @@ private:
         }
         values_.resize(samples_.size());
         surface_.field(samples_.data(), samples_.size(), values_.data());
-        const double allowed = std::max(limits_.tolerance, before);
+        const double allowed = strict ? limits_.tolerance : std::max(limits_.tolerance, before);
         // The longest edge of the triangles around a and b over the
         // tolerance, found when first needed (few collapses need it).
         double longestOver = -1.0;
@@ -604,6 +607,7 @@ private:
     std::uint32_t clock_ = 0;
     std::vector<std::uint8_t> touched_, dirty_;
     std::vector<std::uint32_t> trisA_, trisB_, trisC_, neighbours_;
+    std::vector<Candidate> options_; // one vertex's collapses within the limit (propose)
     TriangleTree grid_;
     std::uint32_t triangleCount_ = 0; // tree entries from here on are obstacles
     std::vector<Triangle> changed_;

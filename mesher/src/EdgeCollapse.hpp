@@ -23,8 +23,8 @@
 // more than the limit, lean away from the surface's normals at its
 // vertices, or lose its area.
 //
-// Passes: each pass proposes, for every vertex, its cheapest collapse (on a
-// flat, up to four free ones, so that a refused one has a second); sorts
+// Passes: each pass proposes, for every vertex, its four cheapest collapses
+// within the limit (so that a refused one has a second); sorts
 // the proposals; makes them in order, skipping any that touches a vertex an
 // earlier collapse of the pass changed (its neighbourhood is then stale);
 // and repeats until a pass finds (almost) nothing. No priority queue, no
