@@ -180,18 +180,27 @@ void VulkanViewWindow::renderLoop()
                 const auto messages = context_->validationMessages();
                 if (!messages.empty()) s.lastValidationMessage = QString::fromStdString(messages.back());
             }
+            bool grabNow = false;
             {
                 std::lock_guard lock(mutex_);
                 s.frames = ++frames_;
                 // Keep going while tiles stream in; a frame that could not be
                 // presented (no area) waits for the next expose or resize.
                 if (!f.upToDate && f.presented) dirty_ = true;
-                if (grab && f.presented) {
-                    grabbedImage_ = toQImage(renderer_->lastPicture());
-                    grabRequested_ = false;
-                    grabDone_ = true;
-                    grabbed_.notify_all();
-                }
+                grabNow = grab && f.presented;
+            }
+            if (grabNow) {
+                // Read back outside the window's lock: the read-back takes the
+                // device's command pool and queue locks, and holding the
+                // window's around them closed a lock cycle through the GPU
+                // voxelizer's thread, presentation and the GUI thread
+                // (ThreadSanitizer, the GPU voxelizer scenario).
+                QImage picture = toQImage(renderer_->lastPicture());
+                std::lock_guard lock(mutex_);
+                grabbedImage_ = std::move(picture);
+                grabRequested_ = false;
+                grabDone_ = true;
+                grabbed_.notify_all();
             }
             emit frameDrawn(s);
         } catch (const std::exception& e) {
