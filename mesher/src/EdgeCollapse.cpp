@@ -72,32 +72,37 @@ public:
             std::size_t made = 0;
             for (Candidate& c : candidates) {
                 if (touched_[c.a] || touched_[c.b] || m_.removed[c.a] || m_.removed[c.b]) continue;
-                if (c.moves && !(std::abs(fieldAt(c.at)) <= limits_.placement)) {
-                    // Off the surface (a curved patch, where the planes meet
-                    // outside it): keep b where it is, if that is cheap enough.
-                    c.at = m_.positions[c.b];
-                    c.moves = false;
-                    if (!(cost(c.a, c.b, c.at) <= limits_.maxMeanSquaredError)) continue;
-                }
-                glm::dvec3 normal = c.moves ? mergedNormal(c.a, c.b) : m_.normals[c.b];
-                if (c.moves && normal == glm::dvec3(0.0)) {
-                    // Where the planes of two sheets meet: the vertex becomes
-                    // a feature vertex only on the sharp edge itself (a point
-                    // merely on the surface near it would stay off the edge).
-                    const glm::dvec3 &na = m_.normals[c.a], &nb = m_.normals[c.b];
-                    // (A vertex already on an edge or corner is not moved: its
-                    // planes and a curved sheet's meet off the edge, at a
-                    // point of the surface that is no corner.)
-                    std::optional<glm::dvec3> onEdge;
-                    if (na != glm::dvec3(0.0) && nb != glm::dvec3(0.0))
-                        onEdge = surface_.snapToCrease(c.at, na, nb, glm::length(m_.positions[c.a] - m_.positions[c.b]));
-                    if (onEdge && glm::length(*onEdge - c.at) <= limits_.placement) {
-                        c.at = *onEdge;
-                    } else {
+                // Two vertices of one sharp edge: b already has its place on
+                // the edge between them (proposed so), and stays a feature vertex.
+                glm::dvec3 normal(0.0);
+                if (!c.onCrease) {
+                    if (c.moves && !(std::abs(fieldAt(c.at)) <= limits_.placement)) {
+                        // Off the surface (a curved patch, where the planes meet
+                        // outside it): keep b where it is, if that is cheap enough.
                         c.at = m_.positions[c.b];
                         c.moves = false;
-                        normal = m_.normals[c.b];
                         if (!(cost(c.a, c.b, c.at) <= limits_.maxMeanSquaredError)) continue;
+                    }
+                    normal = c.moves ? mergedNormal(c.a, c.b) : m_.normals[c.b];
+                    if (c.moves && normal == glm::dvec3(0.0)) {
+                        // Where the planes of two sheets meet: the vertex becomes
+                        // a feature vertex only on the sharp edge itself (a point
+                        // merely on the surface near it would stay off the edge).
+                        const glm::dvec3 &na = m_.normals[c.a], &nb = m_.normals[c.b];
+                        // (A vertex already on an edge or corner is not moved: its
+                        // planes and a curved sheet's meet off the edge, at a
+                        // point of the surface that is no corner.)
+                        std::optional<glm::dvec3> onEdge;
+                        if (na != glm::dvec3(0.0) && nb != glm::dvec3(0.0))
+                            onEdge = surface_.snapToCrease(c.at, na, nb, glm::length(m_.positions[c.a] - m_.positions[c.b]));
+                        if (onEdge && glm::length(*onEdge - c.at) <= limits_.placement) {
+                            c.at = *onEdge;
+                        } else {
+                            c.at = m_.positions[c.b];
+                            c.moves = false;
+                            normal = m_.normals[c.b];
+                            if (!(cost(c.a, c.b, c.at) <= limits_.maxMeanSquaredError)) continue;
+                        }
                     }
                 }
                 if (!legal(c.a, c.b, c.at, normal, c.second)) continue;
@@ -128,6 +133,7 @@ private:
         glm::dvec3 at; // b's position after the collapse
         bool moves;    // at differs from b's position
         bool second = false; // not a's cheapest: made only if it keeps its triangles within the tolerance
+        bool onCrease = false; // a and b on one sharp edge, b moved along it (alongCrease)
         bool operator<(const Candidate& o) const { return cost < o.cost || (cost == o.cost && a < o.a); }
     };
 
@@ -207,6 +213,23 @@ private:
                     if (c <= limits_.maxMeanSquaredError) options_.push_back({c, a, u, x, true});
                 }
             }
+            // Along a sharp edge: both vertices on it (no normal), b moved to
+            // the edge between them. Half-edge collapses alone cannot thin
+            // out evenly spaced vertices of a curved edge (the rim of a
+            // hole): removing one doubles a gap, moving its neighbour
+            // halfway makes two gaps of one and a half.
+            if (m_.normals[a] == glm::dvec3(0.0) && limits_.placement > 0.0 && !(limits_.maxEdgeLength > 0.0))
+                for (const std::uint32_t u : neighbours_) {
+                    if (m_.normals[u] != glm::dvec3(0.0)) continue;
+                    const std::optional<glm::dvec3> p = alongCrease(a, u);
+                    if (!p) continue;
+                    const double c = cost(a, u, *p);
+                    if (c <= limits_.maxMeanSquaredError) {
+                        Candidate along{c, a, u, *p, true};
+                        along.onCrease = true;
+                        options_.push_back(along);
+                    }
+                }
             // The cheapest, and up to three more in the same pass: a vertex
             // whose first proposal is refused (a fold, a crossing, a new
             // triangle off the surface) would otherwise wait until a
@@ -225,6 +248,34 @@ private:
                 options_[i].second = true;
             out.insert(out.end(), options_.begin(), options_.begin() + long(keep));
         }
+    }
+
+    // The point of the sharp edge through a and b (a's star gathered in
+    // trisA_) near their midpoint: the edge between the two sheets of a's
+    // star whose normals differ most (more than 30 degrees).
+    std::optional<glm::dvec3> alongCrease(std::uint32_t a, std::uint32_t b)
+    {
+        glm::dvec3 n1(0.0), n2(0.0);
+        double smallest = kCreaseCosine;
+        for (const std::uint32_t t : trisA_)
+            for (const std::uint32_t v : m_.triangles[t]) {
+                const glm::dvec3& nv = m_.normals[v];
+                if (nv == glm::dvec3(0.0)) continue;
+                for (const std::uint32_t s : trisA_)
+                    for (const std::uint32_t w : m_.triangles[s]) {
+                        const glm::dvec3& nw = m_.normals[w];
+                        if (nw == glm::dvec3(0.0) || !(glm::dot(nv, nw) < smallest)) continue;
+                        smallest = glm::dot(nv, nw);
+                        n1 = nv;
+                        n2 = nw;
+                    }
+            }
+        if (n1 == glm::dvec3(0.0)) return std::nullopt;
+        const glm::dvec3 mid = 0.5 * (m_.positions[a] + m_.positions[b]);
+        const double length = glm::length(m_.positions[a] - m_.positions[b]);
+        const std::optional<glm::dvec3> p = surface_.snapToCrease(mid, n1, n2, length);
+        if (!p || !(glm::length(*p - mid) <= 0.5 * length)) return std::nullopt;
+        return p;
     }
 
     // How well a triangle faces the way the surface does at its vertices:

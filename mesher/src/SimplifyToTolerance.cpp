@@ -43,6 +43,48 @@ std::vector<Quadric> tangentQuadrics(const std::vector<glm::dvec3>& positions, c
     return quadrics;
 }
 
+// Feature vertices (no normal) where the surface has no edge: the marching
+// cubes fit one wherever a cell's normals differ by more than the feature
+// angle, which a tightly curved smooth sheet does too (the wall of a 5 mm
+// hole at 1 mm cells). Held as a crease, such a vertex only ever collapses
+// along it, and the walls of the shelf-pin panel's holes kept a column of
+// them at every lattice plane. A vertex whose surface faces the same way
+// (within 10 degrees) a little towards each of its neighbours is on one
+// sheet: it gets that sheet's normal. A true edge or corner has neighbours
+// on sheets that face apart.
+void giveSmoothFeaturesTheirNormals(const std::vector<glm::dvec3>& positions, const std::vector<Triangle>& triangles,
+                                    std::vector<glm::dvec3>& normals, SurfaceQueries& field)
+{
+    constexpr double kSameSheetCosine = 0.984807753012208; // 10 degrees
+    std::vector<std::vector<std::uint32_t>> around(positions.size());
+    for (const Triangle& t : triangles)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = t[std::size_t(k)];
+            if (normals[v] != glm::dvec3(0.0)) continue;
+            around[v].push_back(t[std::size_t(k + 1) % 3]);
+            around[v].push_back(t[std::size_t(k + 2) % 3]);
+        }
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        if (around[v].empty()) continue;
+        double shortest = std::numeric_limits<double>::infinity();
+        for (const std::uint32_t w : around[v])
+            shortest = std::min(shortest, glm::length(positions[w] - positions[v]));
+        if (!(shortest > 0.0)) continue;
+        const glm::dvec3 here = field.unitNormal(positions[v]);
+        if (here == glm::dvec3(0.0)) continue;
+        bool oneSheet = true;
+        for (const std::uint32_t w : around[v]) {
+            const glm::dvec3 n =
+                field.unitNormal(positions[v] + 0.1 * shortest * glm::normalize(positions[w] - positions[v]));
+            if (!(glm::dot(n, here) >= kSameSheetCosine)) {
+                oneSheet = false;
+                break;
+            }
+        }
+        if (oneSheet) normals[v] = here;
+    }
+}
+
 // Whether any live triangle has an edge shorter than `length`: the micro
 // passes walk the whole mesh (the sequential one about a third of a second
 // on the chair at 4 mm), and a mesh without such edges can skip them.
@@ -77,6 +119,8 @@ std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, 
     for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
         work.positions[v] = mesh.vertices[v] - origin;
     work.triangles = mesh.triangles;
+    SurfaceQueries field(tape, origin, settings.placement, settings.regionSize);
+    giveSmoothFeaturesTheirNormals(work.positions, work.triangles, normals, field);
     work.quadrics = tangentQuadrics(work.positions, work.triangles, normals);
     work.normals = normals;
     work.held.assign(work.positions.size(), 0);
@@ -87,7 +131,6 @@ std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, 
     limits.placement = settings.placement;
     limits.tolerance = settings.tolerance;
     limits.clearance = settings.clearance;
-    SurfaceQueries field(tape, origin, settings.placement, settings.regionSize);
 
     std::uint64_t collapses = 0;
     if (settings.microLength > 0.0 && hasEdgeShorterThan(work, settings.microLength)) {

@@ -49,6 +49,16 @@ void SurfaceQueries::field(const glm::dvec3* p, std::size_t n, double* out)
     points_.evaluate(tape, x_.data(), y_.data(), z_.data(), n, out);
 }
 
+glm::dvec3 SurfaceQueries::unitNormal(const glm::dvec3& p)
+{
+    const Tape& tape = regions_->near(p + offset_, 0.0);
+    const glm::dvec3 q = p + offset_ - tape.origin();
+    const auto d = gradients_.evaluate(tape, q.x, q.y, q.z);
+    const glm::dvec3 g(d.d[0], d.d[1], d.d[2]);
+    const double length = glm::length(g);
+    return length > 0.0 && std::isfinite(length) ? g / length : glm::dvec3(0.0);
+}
+
 std::optional<glm::dvec3> SurfaceQueries::snapToCrease(const glm::dvec3& x, const glm::dvec3& nA, const glm::dvec3& nB,
                                                        double scale)
 {

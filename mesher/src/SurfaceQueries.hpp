@@ -43,6 +43,9 @@ public:
         field(&p, 1, &f);
         return f;
     }
+    /// The unit normal of the surface's sheet at p (the field's gradient),
+    /// or 0 where it has none.
+    glm::dvec3 unitNormal(const glm::dvec3& p);
     /// The point of the sharp edge between the sheets with normals nA and nB
     /// near x, within `scale` mm; nothing if none (CreaseSnap.hpp).
     std::optional<glm::dvec3> snapToCrease(const glm::dvec3& x, const glm::dvec3& nA, const glm::dvec3& nB,
