@@ -123,7 +123,8 @@ std::vector<FileCase> fileCases()
         // lattice centred on it: there the marching cubes cut its edges off
         // by up to 0.29 mm, the simplification grew the cuts into fans from
         // a vertex off the edge, and no split mended those (11 triangles up
-        // to 0.22 mm off at 0.01 mm). Now exact, in 98 triangles.
+        // to 0.22 mm off at 0.01 mm). Now exact, in its 12 triangles
+        // (ExportedFileSimplified.ABoardIsItsTwelveTriangles).
         {"board_on_lattice", R"({"id":"b","type":"box","size":[18,100,100],"transform":{"translate":[0,50,50]}})",
          1.0, 18.0 * 100.0 * 100.0},
         // A shelf-pin hole whose rim lies on the face's lattice plane and
@@ -312,6 +313,85 @@ TEST(ExportedFileSimplified, PocketCornersStayClearOfTheFacesAroundThem)
     EXPECT_TRUE(checkMesh(read).watertight());
     EXPECT_EQ(findSelfIntersections(read, 0).pairs, 0u);
     EXPECT_LT(read.triangles.size(), exported.stats.latticeTriangles / 3);
+}
+
+// A board is two triangles a face, at any cell size: every vertex of a flat
+// face has a free collapse until none is left (a refused first proposal
+// has others; it once stopped at 98 triangles at 1 mm cells, 468 at 0.1).
+TEST(ExportedFileSimplified, ABoardIsItsTwelveTriangles)
+{
+    const Document doc = parse(R"({"id":"b","type":"box","size":[18,100,100],"transform":{"translate":[0,50,50]}})");
+    MeshOptions o;
+    o.featureSize = 1.0;
+    o.tolerance = 0.01;
+    const auto file = scratch("board.stl");
+    const ExportedPart exported = exportPart(doc, o, file, MeshFileFormat::BinaryStl, "board");
+    ASSERT_TRUE(exported.report.solid()) << describeDefects(exported.report);
+    const Mesh read = test::readMeshFile(file);
+    EXPECT_TRUE(checkMesh(read).watertight());
+    EXPECT_EQ(read.triangles.size(), 12u);
+}
+
+// Twelve shelf-pin holes (5 mm, 12 deep) in a panel at 1 mm cells and
+// 0.01 mm: a hole takes about what its rims need (35 segments hold 0.01 mm
+// on a 5 mm circle), not the marching cubes' density. Its wall once kept
+// 300 triangles, held by feature vertices that the marching cubes fit on
+// the tightly curved wall (no edge there) and by rims whose evenly spaced
+// vertices no half-edge collapse could thin; the plain panel of
+// bench/data (94 holes) then took 39 k triangles, now 20 k
+// (docs/benchmarks.md). The file is read back: a closed solid of the
+// part's genus, and what the exporter reports over the tolerance is what
+// the file has. (Not held to the tolerance: at these holes' places against
+// the lattice, cells cut across the rims and 36 to 39 triangles, before and
+// after the change, stay up to 0.026 and 0.048 mm off, reported so; the
+// bench panel's holes all keep 0.01 mm. Issue 13 is open for it.)
+TEST(ExportedFileSimplified, ShelfPinHolesTakeTheTrianglesTheirRimsNeed)
+{
+    std::string holes;
+    int count = 0;
+    for (const double y : {23.0, 37.0})
+        for (int k = 0; k < 6; ++k) {
+            holes += R"(,{"id":"h)" + std::to_string(count++) +
+                     R"(","type":"cylinder","radius":2.5,"height":13,"transform":{"translate":[3.5,)" +
+                     std::to_string(y) + "," + std::to_string(20 + 32 * k) + R"(],"rotate":[0,90,0]}})";
+        }
+    const Document doc = parse(
+        R"({"id":"d","type":"difference","children":[{"id":"b","type":"box","size":[18,60,200],"transform":{"translate":[0,30,100]}})" +
+        holes + "]}");
+    const Tape tape = compileTape(doc);
+    MeshOptions o;
+    o.featureSize = 1.0;
+    o.tolerance = 0.01;
+    const auto file = scratch("shelf-pin-holes.stl");
+    const ExportedPart exported = exportPart(doc, o, file, MeshFileFormat::BinaryStl, "shelf-pin holes");
+    ASSERT_TRUE(exported.report.solid()) << describeDefects(exported.report);
+    EXPECT_EQ(exported.simplificationDefects, "");
+    const Mesh read = test::readMeshFile(file);
+    const MeshReport r = checkMesh(read);
+    EXPECT_TRUE(r.watertight());
+    EXPECT_EQ(r.components, 1u);
+    EXPECT_EQ(r.genus(), 0);
+    EXPECT_EQ(findSelfIntersections(read, 0).pairs, 0u);
+    PointEvaluator<double> eval;
+    double worst = 0.0;
+    for (const auto& t : read.triangles)
+        for (const glm::dvec3& w : {glm::dvec3(1, 1, 1) / 3.0, glm::dvec3(0.5, 0.5, 0), glm::dvec3(0, 0.5, 0.5),
+                                    glm::dvec3(0.5, 0, 0.5)}) {
+            const glm::dvec3 p =
+                w.x * read.vertices[t[0]] + w.y * read.vertices[t[1]] + w.z * read.vertices[t[2]] - tape.origin();
+            worst = std::max(worst, std::abs(eval.evaluate(tape, p.x, p.y, p.z)));
+        }
+    // The report does not understate the file (it samples more points than these).
+    EXPECT_LE(worst, std::max(o.tolerance, exported.stats.worstSample) + 2.0 * exported.report.spacing);
+    if (exported.stats.trianglesOverTolerance == 0) {
+        EXPECT_LE(worst, o.tolerance + 2.0 * exported.report.spacing);
+    }
+    // The panel's faces need a few hundred; each hole about 200 (its two
+    // rims' 35 to 60 vertices: the strip of its wall, the fans to the face
+    // and the bottom).
+    std::printf("%zu triangles for %d holes (marching cubes %zu), worst sample %.4f mm\n", read.triangles.size(),
+                count, exported.stats.latticeTriangles, worst);
+    EXPECT_LE(read.triangles.size(), std::size_t(count) * 230 + 300);
 }
 
 } // namespace

@@ -227,6 +227,7 @@ private:
                     if (c <= limits_.maxMeanSquaredError) {
                         Candidate along{c, a, u, *p, true};
                         along.onCrease = true;
+                        along.second = true; // within the tolerance, always: it moves a sharp edge's vertex
                         options_.push_back(along);
                     }
                 }
