@@ -289,6 +289,24 @@ TEST_P(ExampleFile, ReadsBackClosed)
     EXPECT_EQ(findSelfIntersections(read, 0).pairs, 0u) << GetParam();
 }
 
+// Exports `doc` as binary STL and reads the file back with the suite's own
+// reader (empty when the exporter found no solid to write, a failure).
+struct ReadBack {
+    ExportedPart exported;
+    Mesh read;
+};
+ReadBack exportAndReadBack(const Document& doc, double featureSize, double tolerance, const std::string& name)
+{
+    MeshOptions o;
+    o.featureSize = featureSize;
+    o.tolerance = tolerance;
+    const auto file = scratch(name + ".stl");
+    ReadBack r{exportPart(doc, o, file, MeshFileFormat::BinaryStl, name), {}};
+    EXPECT_TRUE(r.exported.report.solid()) << name << ": " << describeDefects(r.exported.report);
+    if (r.exported.report.solid()) r.read = test::readMeshFile(file);
+    return r;
+}
+
 // A board with rounded edges and two square pockets through its underside
 // (the table top's mortises, small): at 4 mm cells and 0.1 mm the
 // simplification once left a sliver at a pocket's corner touching a face
@@ -302,14 +320,8 @@ TEST(ExportedFileSimplified, PocketCornersStayClearOfTheFacesAroundThem)
         {"id":"b","type":"box","size":[300,200,28],"round":8,"transform":{"translate":[0,0,14]}},
         {"id":"m","type":"mirror","normal":[1,0,0],"offset":0,"children":[
             {"id":"p","type":"box","size":[40,40,19],"transform":{"translate":[110,60,8.5]}}]}]})");
-    MeshOptions o;
-    o.featureSize = 4.0;
-    o.tolerance = 0.1;
-    const auto file = scratch("pockets.stl");
-    const ExportedPart exported = exportPart(doc, o, file, MeshFileFormat::BinaryStl, "pockets");
-    ASSERT_TRUE(exported.report.solid()) << describeDefects(exported.report);
+    const auto [exported, read] = exportAndReadBack(doc, 4.0, 0.1, "pockets");
     EXPECT_EQ(exported.simplificationDefects, "");
-    const Mesh read = test::readMeshFile(file);
     EXPECT_TRUE(checkMesh(read).watertight());
     EXPECT_EQ(findSelfIntersections(read, 0).pairs, 0u);
     EXPECT_LT(read.triangles.size(), exported.stats.latticeTriangles / 3);
@@ -321,13 +333,7 @@ TEST(ExportedFileSimplified, PocketCornersStayClearOfTheFacesAroundThem)
 TEST(ExportedFileSimplified, ABoardIsItsTwelveTriangles)
 {
     const Document doc = parse(R"({"id":"b","type":"box","size":[18,100,100],"transform":{"translate":[0,50,50]}})");
-    MeshOptions o;
-    o.featureSize = 1.0;
-    o.tolerance = 0.01;
-    const auto file = scratch("board.stl");
-    const ExportedPart exported = exportPart(doc, o, file, MeshFileFormat::BinaryStl, "board");
-    ASSERT_TRUE(exported.report.solid()) << describeDefects(exported.report);
-    const Mesh read = test::readMeshFile(file);
+    const Mesh read = exportAndReadBack(doc, 1.0, 0.01, "board").read;
     EXPECT_TRUE(checkMesh(read).watertight());
     EXPECT_EQ(read.triangles.size(), 12u);
 }
@@ -359,14 +365,9 @@ TEST(ExportedFileSimplified, ShelfPinHolesTakeTheTrianglesTheirRimsNeed)
         R"({"id":"d","type":"difference","children":[{"id":"b","type":"box","size":[18,60,200],"transform":{"translate":[0,30,100]}})" +
         holes + "]}");
     const Tape tape = compileTape(doc);
-    MeshOptions o;
-    o.featureSize = 1.0;
-    o.tolerance = 0.01;
-    const auto file = scratch("shelf-pin-holes.stl");
-    const ExportedPart exported = exportPart(doc, o, file, MeshFileFormat::BinaryStl, "shelf-pin holes");
-    ASSERT_TRUE(exported.report.solid()) << describeDefects(exported.report);
+    constexpr double kTolerance = 0.01;
+    const auto [exported, read] = exportAndReadBack(doc, 1.0, kTolerance, "shelf-pin-holes");
     EXPECT_EQ(exported.simplificationDefects, "");
-    const Mesh read = test::readMeshFile(file);
     const MeshReport r = checkMesh(read);
     EXPECT_TRUE(r.watertight());
     EXPECT_EQ(r.components, 1u);
@@ -382,9 +383,9 @@ TEST(ExportedFileSimplified, ShelfPinHolesTakeTheTrianglesTheirRimsNeed)
             worst = std::max(worst, std::abs(eval.evaluate(tape, p.x, p.y, p.z)));
         }
     // The report does not understate the file (it samples more points than these).
-    EXPECT_LE(worst, std::max(o.tolerance, exported.stats.worstSample) + 2.0 * exported.report.spacing);
+    EXPECT_LE(worst, std::max(kTolerance, exported.stats.worstSample) + 2.0 * exported.report.spacing);
     if (exported.stats.trianglesOverTolerance == 0) {
-        EXPECT_LE(worst, o.tolerance + 2.0 * exported.report.spacing);
+        EXPECT_LE(worst, kTolerance + 2.0 * exported.report.spacing);
     }
     // The panel's faces need a few hundred; each hole about 200 (its two
     // rims' 35 to 60 vertices: the strip of its wall, the fans to the face
