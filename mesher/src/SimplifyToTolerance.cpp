@@ -7,7 +7,9 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <limits>
+#include <utility>
 
 namespace kerf::mesher {
 
@@ -56,30 +58,33 @@ void giveSmoothFeaturesTheirNormals(const std::vector<glm::dvec3>& positions, co
                                     std::vector<glm::dvec3>& normals, SurfaceQueries& field)
 {
     constexpr double kSameSheetCosine = 0.984807753012208; // 10 degrees
-    std::vector<std::vector<std::uint32_t>> around(positions.size());
+    // (feature vertex, neighbour) pairs, grouped by vertex: memory for the
+    // feature vertices only, not a list per vertex of the mesh.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
     for (const Triangle& t : triangles)
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t v = t[std::size_t(k)];
             if (normals[v] != glm::dvec3(0.0)) continue;
-            around[v].push_back(t[std::size_t(k + 1) % 3]);
-            around[v].push_back(t[std::size_t(k + 2) % 3]);
+            pairs.emplace_back(v, t[std::size_t(k + 1) % 3]);
+            pairs.emplace_back(v, t[std::size_t(k + 2) % 3]);
         }
-    for (std::size_t v = 0; v < positions.size(); ++v) {
-        if (around[v].empty()) continue;
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    for (std::size_t first = 0, last = 0; first < pairs.size(); first = last) {
+        const std::uint32_t v = pairs[first].first;
+        while (last < pairs.size() && pairs[last].first == v)
+            ++last;
         double shortest = std::numeric_limits<double>::infinity();
-        for (const std::uint32_t w : around[v])
-            shortest = std::min(shortest, glm::length(positions[w] - positions[v]));
+        for (std::size_t i = first; i < last; ++i)
+            shortest = std::min(shortest, glm::length(positions[pairs[i].second] - positions[v]));
         if (!(shortest > 0.0)) continue;
         const glm::dvec3 here = field.unitNormal(positions[v]);
         if (here == glm::dvec3(0.0)) continue;
         bool oneSheet = true;
-        for (const std::uint32_t w : around[v]) {
-            const glm::dvec3 n =
-                field.unitNormal(positions[v] + 0.1 * shortest * glm::normalize(positions[w] - positions[v]));
-            if (!(glm::dot(n, here) >= kSameSheetCosine)) {
-                oneSheet = false;
-                break;
-            }
+        for (std::size_t i = first; i < last && oneSheet; ++i) {
+            const glm::dvec3 n = field.unitNormal(positions[v] + 0.1 * shortest *
+                                                                    glm::normalize(positions[pairs[i].second] - positions[v]));
+            oneSheet = glm::dot(n, here) >= kSameSheetCosine;
         }
         if (oneSheet) normals[v] = here;
     }
