@@ -60,6 +60,49 @@ TEST(TriangleClearance, DistancesAgreeWithSampling)
     }
 }
 
+// The quick plane test around a shared vertex: whenever it says a segment
+// clears a triangle, the exact distance says so too; and it does decide the
+// common cases it is there for (a neighbour's far edge on a gently curved
+// sheet, and on the same flat face).
+TEST(TriangleClearance, TheQuickPlaneTestNeverClearsWhatIsClose)
+{
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), scale(1e-6, 1.0);
+    auto point = [&] { return glm::dvec3(u(rng), u(rng), u(rng)); };
+    int cleared = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const glm::dvec3 t[3] = {point(), point(), point()};
+        // Half the segments start at one of t's corners (a shared vertex),
+        // some nearly in t's plane (the flat face's neighbours).
+        glm::dvec3 p = point(), q = point();
+        if (trial % 2 == 0) p = t[trial % 3];
+        if (trial % 4 < 2) {
+            const glm::dvec3 n = glm::normalize(glm::cross(t[1] - t[0], t[2] - t[0]));
+            q -= n * glm::dot(n, q - t[0]) * (1.0 - 1e-3 * u(rng));
+        }
+        const double clearance = scale(rng) * scale(rng);
+        if (segmentClearOf(p, q, t, clearance)) {
+            ++cleared;
+            EXPECT_GT(segmentTriangleDistance(p, q, t[0], t[1], t[2]), clearance) << trial;
+        }
+    }
+    EXPECT_GT(cleared, 2000); // it decides many of them (3,682 of these)
+
+    // A strip of a cylinder of radius 20 (2 mm triangles around a shared
+    // vertex) and two neighbours on one flat face: cleared by the quick test.
+    const double clearance = 2.4e-4;
+    auto onCylinder = [](double angle, double z) { return glm::dvec3(20.0 * std::cos(angle), 20.0 * std::sin(angle), z); };
+    const glm::dvec3 s[3] = {onCylinder(0.0, 0.0), onCylinder(0.1, 0.0), onCylinder(0.0, 2.0)};
+    // The neighbour (s[1], at 0.2 low, at 0.2 high): its edge away from s[1].
+    EXPECT_TRUE(segmentClearOf(onCylinder(0.2, 0.0), onCylinder(0.2, 2.0), s, clearance));
+    const glm::dvec3 f[3] = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}};
+    // The neighbour ((2, 0, 0), (4, -1, 0), (3, 1.5, 0)) on f's face.
+    EXPECT_TRUE(segmentClearOf({4, -1, 0}, {3, 1.5, 0}, f, clearance));
+    EXPECT_FALSE(segmentClearOf({2, 0, 0}, {2, -2, 0}, f, clearance)); // touches f's corner
+    // The far edge of a neighbour folded back over the triangle: not cleared.
+    EXPECT_FALSE(segmentClearOf({0.5, 0.5, 1e-5}, {0.2, 1.2, 1e-5}, f, clearance));
+}
+
 TEST(TriangleClearance, ParallelAndDegenerateCases)
 {
     const glm::dvec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);

@@ -79,6 +79,27 @@ double segmentTriangleDistance(const glm::dvec3& p, const glm::dvec3& q, const g
     return d;
 }
 
+bool segmentClearOf(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3* t, double clearance)
+{
+    const glm::dvec3 n = glm::cross(t[1] - t[0], t[2] - t[0]);
+    const double length = glm::length(n);
+    if (!(length > 0.0)) return false;
+    const double slack = 1.0 + 1e-9;
+    const double margin = clearance * length * slack;
+    const double dp = glm::dot(n, p - t[0]), dq = glm::dot(n, q - t[0]);
+    if ((dp > margin && dq > margin) || (dp < -margin && dq < -margin)) return true;
+    for (int i = 0; i < 3; ++i) {
+        const glm::dvec3& a = t[i];
+        const glm::dvec3 axis = glm::cross(t[(i + 1) % 3] - a, n);
+        const double axisLength = glm::length(axis);
+        if (!(axisLength > 0.0)) return false;
+        if (glm::dot(axis, t[(i + 2) % 3] - a) > 0.0) continue; // t on the other side: not its outer plane
+        const double m = clearance * axisLength * slack;
+        if (glm::dot(axis, p - a) > m && glm::dot(axis, q - a) > m) return true;
+    }
+    return false;
+}
+
 namespace {
 
 // Whether t's corners all lie further than `clearance` from s's plane, on
@@ -142,6 +163,7 @@ bool trianglesTooClose(const std::array<std::uint32_t, 3>& A, const glm::dvec3* 
         for (int i = 0; i < 3; ++i) {
             const std::uint32_t u = S[std::size_t(i)], v = S[std::size_t(i + 1) % 3];
             if (hasIndex(T, u) || hasIndex(T, v)) continue;
+            if (segmentClearOf(s[i], s[(i + 1) % 3], t, clearance)) continue;
             if (segmentTriangleDistance(s[i], s[(i + 1) % 3], t[0], t[1], t[2]) < clearance) return false;
         }
         return true;

@@ -35,6 +35,16 @@ double segmentSegmentDistance(const glm::dvec3& p, const glm::dvec3& q, const gl
 double segmentTriangleDistance(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& a, const glm::dvec3& b,
                                const glm::dvec3& c);
 
+/// Whether segment pq is shown to lie further than `clearance` from
+/// triangle t by one plane with all of t on one side and p and q beyond it:
+/// t's own plane, or a plane through one of its edges square to it.
+/// Conservative (a hair more than the clearance is asked for, against
+/// rounding): true means segmentTriangleDistance exceeds the clearance;
+/// false decides nothing. Around a shared vertex, the far edge of a
+/// neighbour on a curved sheet clears the other's plane and one on the same
+/// flat face clears an edge, at a fraction of the distance's cost.
+bool segmentClearOf(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3* t, double clearance);
+
 /// Whether triangles A and B (vertex indices, corners a[3], b[3]) cross, or
 /// come within `clearance` of each other other than at what they share (see
 /// above).
