@@ -11,30 +11,56 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 
 namespace kerf::mesher {
 
-/// Whether triangle `tri` (vertex indices) with corners p[0..2] crosses, or
-/// comes within `clearance` of (TriangleClearance.hpp), a triangle t of
-/// `grid` for which skip(t) is false. corners(t, q) fills q with t's
-/// corners and returns t's vertex indices (shared indices are what two
-/// triangles may share).
+/// A triangle about to be made: vertex indices and corners.
+struct NewTriangle {
+    std::array<std::uint32_t, 3> tri;
+    glm::dvec3 p[3];
+};
+
+/// Whether any of the new triangles crosses, or comes within `clearance`
+/// of (TriangleClearance.hpp), a triangle t of `grid` for which skip(t) is
+/// false. corners(t, q) fills q with t's corners and returns t's vertex
+/// indices (shared indices are what two triangles may share). The new
+/// triangles of one change lie around one vertex: one walk of the tree
+/// over the box of them all finds every triangle that any of them could
+/// meet (a walk per triangle went down the same branches each time), and
+/// each is tested against the new triangles whose own box it meets. The
+/// new triangles among themselves are not tested here.
 template <class Skip, class Corners>
-bool crossesAnyInGrid(const TriangleTree& grid, const std::array<std::uint32_t, 3>& tri, const glm::dvec3 (&p)[3],
-                      double clearance, Skip&& skip, Corners&& corners)
+bool anyCrossesInGrid(const TriangleTree& grid, const NewTriangle* added, std::size_t count, double clearance,
+                      Skip&& skip, Corners&& corners)
 {
-    const glm::dvec3 lo = glm::min(p[0], glm::min(p[1], p[2])) - clearance;
-    const glm::dvec3 hi = glm::max(p[0], glm::max(p[1], p[2])) + clearance;
+    constexpr std::size_t kMax = 32;
+    glm::dvec3 lo[kMax], hi[kMax];
+    glm::dvec3 allLo(std::numeric_limits<double>::infinity()), allHi(-std::numeric_limits<double>::infinity());
+    for (std::size_t i = 0; i < count; ++i) {
+        const glm::dvec3* p = added[i].p;
+        lo[i % kMax] = glm::min(p[0], glm::min(p[1], p[2])) - clearance;
+        hi[i % kMax] = glm::max(p[0], glm::max(p[1], p[2])) + clearance;
+        allLo = glm::min(allLo, lo[i % kMax]);
+        allHi = glm::max(allHi, hi[i % kMax]);
+    }
+    if (count > kMax) { // (not expected: a fan of more than 32 triangles) one walk each
+        for (std::size_t i = 0; i < count; ++i)
+            if (anyCrossesInGrid(grid, added + i, 1, clearance, skip, corners)) return true;
+        return false;
+    }
     bool crossing = false;
-    grid.query(lo, hi, [&](std::uint32_t t) {
+    grid.query(allLo, allHi, [&](std::uint32_t t) {
         if (crossing || skip(t)) return;
         glm::dvec3 q[3];
         const std::array<std::uint32_t, 3> other = corners(t, q);
-        if (glm::any(glm::lessThan(hi, glm::min(q[0], glm::min(q[1], q[2])))) ||
-            glm::any(glm::greaterThan(lo, glm::max(q[0], glm::max(q[1], q[2])))))
-            return;
-        crossing = trianglesTooClose(tri, p, other, q, clearance);
+        const glm::dvec3 qlo = glm::min(q[0], glm::min(q[1], q[2])), qhi = glm::max(q[0], glm::max(q[1], q[2]));
+        for (std::size_t i = 0; i < count && !crossing; ++i) {
+            if (glm::any(glm::lessThan(hi[i], qlo)) || glm::any(glm::greaterThan(lo[i], qhi))) continue;
+            crossing = trianglesTooClose(added[i].tri, added[i].p, other, q, clearance);
+        }
     });
     return crossing;
 }

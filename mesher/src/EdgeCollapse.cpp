@@ -352,41 +352,38 @@ private:
                 if (tri[0] != a && tri[1] != a && tri[2] != a) changed_.push_back(tri);
             }
         const bool moves = at != m_.positions[b];
-        for (std::size_t i = 0; i < changed_.size(); ++i) {
-            const Triangle& tri = changed_[i];
-            const glm::dvec3 p[3] = {position(tri[0], b, at), position(tri[1], b, at), position(tri[2], b, at)};
-            const bool crossing = crossesAnyInGrid(
-                grid_, tri, p, limits_.clearance,
-                [&](std::uint32_t t) {
-                    if (t < triangleCount_ && removed(t)) return true;
-                    const Triangle& other = t < triangleCount_ ? m_.triangles[t] : m_.obstacles[t - triangleCount_];
-                    auto has = [&](std::uint32_t v) { return other[0] == v || other[1] == v || other[2] == v; };
-                    // a's triangles are replaced by changed_; b's are too
-                    // when b moves. b's that stay put are checked: a new
-                    // triangle of b's fan can fold over one of them.
-                    return has(a) || (moves && has(b));
-                },
-                [&](std::uint32_t t, glm::dvec3(&q)[3]) {
-                    if (t >= triangleCount_) {
-                        const auto& c = m_.obstacleCorners[t - triangleCount_];
-                        for (int k = 0; k < 3; ++k)
-                            q[k] = c[std::size_t(k)];
-                        return m_.obstacles[t - triangleCount_];
-                    }
-                    const Triangle& other = m_.triangles[t];
+        added_.clear();
+        for (const Triangle& tri : changed_)
+            added_.push_back({tri, {position(tri[0], b, at), position(tri[1], b, at), position(tri[2], b, at)}});
+        const bool crossing = anyCrossesInGrid(
+            grid_, added_.data(), added_.size(), limits_.clearance,
+            [&](std::uint32_t t) {
+                if (t < triangleCount_ && removed(t)) return true;
+                const Triangle& other = t < triangleCount_ ? m_.triangles[t] : m_.obstacles[t - triangleCount_];
+                auto has = [&](std::uint32_t v) { return other[0] == v || other[1] == v || other[2] == v; };
+                // a's triangles are replaced by changed_; b's are too
+                // when b moves. b's that stay put are checked: a new
+                // triangle of b's fan can fold over one of them.
+                return has(a) || (moves && has(b));
+            },
+            [&](std::uint32_t t, glm::dvec3(&q)[3]) {
+                if (t >= triangleCount_) {
+                    const auto& c = m_.obstacleCorners[t - triangleCount_];
                     for (int k = 0; k < 3; ++k)
-                        q[k] = m_.positions[other[std::size_t(k)]];
-                    return other;
-                });
-            if (crossing) return true;
-            // The new triangles among themselves.
-            for (std::size_t j = i + 1; j < changed_.size(); ++j) {
-                const Triangle& other = changed_[j];
-                const glm::dvec3 q[3] = {position(other[0], b, at), position(other[1], b, at),
-                                         position(other[2], b, at)};
-                if (trianglesTooClose(tri, p, other, q, limits_.clearance)) return true;
-            }
-        }
+                        q[k] = c[std::size_t(k)];
+                    return m_.obstacles[t - triangleCount_];
+                }
+                const Triangle& other = m_.triangles[t];
+                for (int k = 0; k < 3; ++k)
+                    q[k] = m_.positions[other[std::size_t(k)]];
+                return other;
+            });
+        if (crossing) return true;
+        // The new triangles among themselves.
+        for (std::size_t i = 0; i < added_.size(); ++i)
+            for (std::size_t j = i + 1; j < added_.size(); ++j)
+                if (trianglesTooClose(added_[i].tri, added_[i].p, added_[j].tri, added_[j].p, limits_.clearance))
+                    return true;
         return false;
     }
 
@@ -663,6 +660,7 @@ private:
     TriangleTree grid_;
     std::uint32_t triangleCount_ = 0; // tree entries from here on are obstacles
     std::vector<Triangle> changed_;
+    std::vector<NewTriangle> added_; // changed_ with their corners, for the crossing guard
     std::vector<glm::dvec3> samples_, errorSamples_;
     std::vector<double> values_;
     std::vector<double> errors_;                              // per triangle: sampled error, -1 unknown

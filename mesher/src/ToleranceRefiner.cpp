@@ -315,25 +315,22 @@ private:
     bool wouldCross(const std::array<Tri, N>& added, const glm::dvec3* pending, std::uint32_t t1,
                     std::uint32_t t2) const
     {
-        for (std::size_t i = 0; i < N; ++i) {
-            const Tri& a = added[i];
-            const glm::dvec3 pa[3] = {at(a[0], pending), at(a[1], pending), at(a[2], pending)};
-            const bool crossing = crossesAnyInGrid(
-                grid_, a, pa, clearance_, [&](std::uint32_t t) { return t == t1 || t == t2; },
-                [&](std::uint32_t t, glm::dvec3(&q)[3]) {
-                    const Tri& b = mesh_.triangles[t];
-                    for (int k = 0; k < 3; ++k)
-                        q[k] = mesh_.vertices[b[std::size_t(k)]];
-                    return b;
-                });
-            if (crossing) return true;
-            // The new triangles among themselves.
-            for (std::size_t j = i + 1; j < N; ++j) {
-                const Tri& b = added[j];
-                const glm::dvec3 pb[3] = {at(b[0], pending), at(b[1], pending), at(b[2], pending)};
-                if (trianglesTooClose(a, pa, b, pb, clearance_)) return true;
-            }
-        }
+        std::array<NewTriangle, N> made;
+        for (std::size_t i = 0; i < N; ++i)
+            made[i] = {added[i], {at(added[i][0], pending), at(added[i][1], pending), at(added[i][2], pending)}};
+        const bool crossing = anyCrossesInGrid(
+            grid_, made.data(), N, clearance_, [&](std::uint32_t t) { return t == t1 || t == t2; },
+            [&](std::uint32_t t, glm::dvec3(&q)[3]) {
+                const Tri& b = mesh_.triangles[t];
+                for (int k = 0; k < 3; ++k)
+                    q[k] = mesh_.vertices[b[std::size_t(k)]];
+                return b;
+            });
+        if (crossing) return true;
+        // The new triangles among themselves.
+        for (std::size_t i = 0; i < N; ++i)
+            for (std::size_t j = i + 1; j < N; ++j)
+                if (trianglesTooClose(made[i].tri, made[i].p, made[j].tri, made[j].p, clearance_)) return true;
         return false;
     }
 
