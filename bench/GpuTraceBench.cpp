@@ -145,6 +145,7 @@ int voxelizeBench(const std::vector<std::string>& args)
     double onlyFeatureSize = 0.0, oneThreadUpTo = 3e7;
     int repeats = 5;
     bool cpu = true;
+    bool prune = true; // --no-prune: every node on its tile's tape (the cold build's before)
     std::vector<int> threadSweep;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
@@ -152,6 +153,8 @@ int voxelizeBench(const std::vector<std::string>& args)
         if (takeSceneOption(args, i, examples, jsonPath, onlyScene, onlyFeatureSize)) continue;
         if (a == "--no-cpu")
             cpu = false;
+        else if (a == "--no-prune")
+            prune = false;
         else if (a == "--repeats" && more)
             repeats = std::max(1, std::atoi(args[++i].c_str()));
         else if (a == "--one-thread-up-to" && more)
@@ -162,7 +165,7 @@ int voxelizeBench(const std::vector<std::string>& args)
                 threadSweep.push_back(std::max(1, std::atoi(t.c_str())));
         } else {
             std::cerr << "usage: kerf_gpu_bench voxelize [--scene chair|showcase] [--feature-size MM] [--repeats N] "
-                         "[--json OUT.json] [--examples DIR] [--one-thread-up-to VOXELS] [--cpu-threads 1,2,4,...] [--no-cpu]\n";
+                         "[--json OUT.json] [--examples DIR] [--one-thread-up-to VOXELS] [--cpu-threads 1,2,4,...] [--no-cpu] [--no-prune]\n";
             return 2;
         }
     }
@@ -182,8 +185,9 @@ int voxelizeBench(const std::vector<std::string>& args)
             // GPU, cold: a fresh voxelizer guesses its pools from the surface tiles.
             vk::GpuVoxelizer fresh(ctx);
             vk::GpuVoxelizeReport cold;
+            const vk::GpuVoxelizeOptions usual{.pruneNodeTapes = prune};
             auto t0 = std::chrono::steady_clock::now();
-            std::optional<vk::GpuVoxels> gpu = fresh.build(tape, layout, {}, &cold);
+            std::optional<vk::GpuVoxels> gpu = fresh.build(tape, layout, usual, &cold);
             const double coldMs = millisecondsSince(t0);
             if (!gpu) {
                 std::printf("%-9s %6g  GPU build refused: %s\n", scene.name.c_str(), fs, cold.whyNot.c_str());
@@ -192,29 +196,30 @@ int voxelizeBench(const std::vector<std::string>& args)
             const std::size_t voxels = gpu->populatedVoxels;
             std::printf(
                 "    gpu cold: prepare %.1f, allocate %.1f (pools %.1f), submissions %.1f ms, %d levels run again; "
-                "%.1f voxels per leaf, %.2f vertices per voxel\n",
+                "%.1f voxels per leaf, %.2f vertices per voxel; %zu leaf nodes on a pruned tape%s\n",
                 cold.prepareMilliseconds, cold.allocateMilliseconds, cold.poolAllocateMilliseconds,
                 cold.deviceMilliseconds, cold.levelReruns,
                 double(gpu->populatedVoxels) / double(std::max<std::size_t>(gpu->leafCount, 1)),
-                double(gpu->vertexCount) / double(std::max<std::size_t>(gpu->populatedVoxels, 1)));
+                double(gpu->vertexCount) / double(std::max<std::size_t>(gpu->populatedVoxels, 1)),
+                cold.prunedLeafJobs, prune ? "" : " (--no-prune)");
             // Warm: rebuilds of the same part, as an edit that dirties every
             // tile asks for, while the last build is still on screen; the one
             // before it is recycled. The GPU's clocks first come up (300 ms of
             // the same work): a discrete GPU idles down between calls.
             std::optional<vk::GpuVoxels> previous;
             vk::GpuVoxelizeReport warm;
-            const auto rebuild = [&](const vk::GpuVoxelizeOptions& options = {}) {
+            const auto rebuild = [&](const vk::GpuVoxelizeOptions& options) {
                 if (previous) fresh.recycle(std::move(*previous));
                 previous = std::move(gpu);
                 gpu = fresh.build(tape, layout, options, &warm);
             };
             const auto warmUp = std::chrono::steady_clock::now();
             while (millisecondsSince(warmUp) < 300.0)
-                rebuild();
+                rebuild(usual);
             std::vector<double> warmMs, prepareMs, allocateMs, uploadMs, deviceMs;
             for (int r = 0; r < repeats; ++r) {
                 t0 = std::chrono::steady_clock::now();
-                rebuild();
+                rebuild(usual);
                 warmMs.push_back(millisecondsSince(t0));
                 prepareMs.push_back(warm.prepareMilliseconds);
                 allocateMs.push_back(warm.allocateMilliseconds);
@@ -238,7 +243,7 @@ int voxelizeBench(const std::vector<std::string>& args)
             std::size_t wholeTapeHostTiles = 0;
             for (int r = 0; r < repeats; ++r) {
                 t0 = std::chrono::steady_clock::now();
-                rebuild({.simplifyTileTapes = false});
+                rebuild({.simplifyTileTapes = false, .pruneNodeTapes = prune});
                 wholeTapeMs.push_back(millisecondsSince(t0));
                 wholeTapeDeviceMs.push_back(warm.deviceMilliseconds);
                 wholeTapeHostTiles = warm.hostBuiltTiles;
@@ -247,7 +252,24 @@ int voxelizeBench(const std::vector<std::string>& args)
                         "simplified per tile: warm %.1f ms (device %.1f ms)\n",
                         median(wholeTapeMs), median(wholeTapeDeviceMs), wholeTapeHostTiles, median(warmMs),
                         median(deviceMs));
-            rebuild(); // the last figures below are the simplified build's
+            // What pruning each node's tape on the device buys: the same
+            // rebuilds with every node on its tile's tape (the same voxels).
+            std::vector<double> unprunedMs, unprunedDeviceMs, unprunedLeafMs, leafMs;
+            for (int r = 0; prune && r < repeats; ++r) {
+                rebuild(usual);
+                leafMs.push_back(warm.submissionMilliseconds.empty() ? 0.0 : warm.submissionMilliseconds.back());
+                t0 = std::chrono::steady_clock::now();
+                rebuild({.pruneNodeTapes = false});
+                unprunedMs.push_back(millisecondsSince(t0));
+                unprunedDeviceMs.push_back(warm.deviceMilliseconds);
+                unprunedLeafMs.push_back(warm.submissionMilliseconds.empty() ? 0.0 : warm.submissionMilliseconds.back());
+            }
+            if (prune)
+                std::printf("    node tapes unpruned: warm %.1f ms (device %.1f ms, leaf level %.1f ms); pruned: warm "
+                            "%.1f ms (device %.1f ms, leaf level %.1f ms)\n",
+                            median(unprunedMs), median(unprunedDeviceMs), median(unprunedLeafMs), median(warmMs),
+                            median(deviceMs), median(leafMs));
+            rebuild(usual); // the last figures below are the usual build's
             gpu.reset();
             previous.reset();
             // CPU: every core, then one (the same code, an arena of one thread).
@@ -298,6 +320,12 @@ int voxelizeBench(const std::vector<std::string>& args)
                                {"gpu_whole_tape_device_ms", wholeTapeDeviceMs},
                                {"gpu_whole_tape_host_built_tiles", wholeTapeHostTiles},
                                {"gpu_pool_bytes", warm.poolBytes},
+                               {"gpu_pruned_node_tapes", prune},
+                               {"gpu_pruned_leaf_jobs", cold.prunedLeafJobs},
+                               {"gpu_unpruned_warm_ms", unprunedMs},
+                               {"gpu_unpruned_device_ms", unprunedDeviceMs},
+                               {"gpu_unpruned_leaf_level_ms", unprunedLeafMs},
+                               {"gpu_leaf_level_ms", leafMs},
                                {"cpu_all_threads_ms", cpuAll},
                                {"cpu_one_thread_ms", cpuOne},
                                {"cpu_threads_ms", sweep}});

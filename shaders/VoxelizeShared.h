@@ -25,8 +25,11 @@ struct vvec4_ {
 
 // Workgroup size of every pass: a node's 64 children, or a leaf's 125 lattice points.
 #define KERF_VOXELIZE_GROUP 128
-// Words per job: the entry, the node's index, the node's minimum corner in finest voxels (x, y, z).
-#define KERF_VOXELIZE_JOB_WORDS 5
+// Words per job: the entry, the node's index, the node's minimum corner in
+// finest voxels (x, y, z), and the instructions of the tile's tape that the
+// node's box leaves out (2 words, bit i: instruction i; tapes of more than 64
+// instructions leave none out): see "Tapes pruned per node" in voxelize.comp.
+#define KERF_VOXELIZE_JOB_WORDS 7
 
 // The counters' words (atomics).
 #define KERF_COUNT_NODES 0
@@ -34,6 +37,7 @@ struct vvec4_ {
 #define KERF_COUNT_LEAF_DATA 2
 #define KERF_COUNT_VERTICES 3
 #define KERF_COUNT_JOBS 4 // 4 and 5: the two job lists
+#define KERF_COUNT_PRUNED_LEAF_JOBS 6 // leaf jobs whose tape leaves instructions out
 #define KERF_COUNT_WORDS 8
 
 // Passes (push constant `pass`).

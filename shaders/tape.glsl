@@ -33,6 +33,32 @@ float tapeFloat(uint t, uint i) { return uintBitsToFloat(tapeWord(t, i)); }
 // that path writes it: the loop pays nothing per primitive.
 bool tapeUnknownKind = false;
 
+#ifdef KERF_TAPE_PRUNING
+// ---- Tapes pruned per box (the GPU voxelizer) ----
+// The instructions of the tape that the evaluators pass over (bit i:
+// instruction i; only tapes of at most 64 instructions have any): a min or
+// max that one operand decides everywhere in a box leaves the other operand
+// and itself out, the post-order stack then holding the deciding operand
+// where the operation's result would be. Set by the includer before an
+// evaluation; the interval evaluator adds to it what its box leaves out
+// when tapePruning is on (KERF_TAPE_RECORD_PRUNING).
+uvec2 tapeSkip = uvec2(0u);
+bool tapePruning = false;
+bool tapeSkipped(uint i) { return i < 64u && ((i < 32u ? tapeSkip.x >> i : tapeSkip.y >> (i - 32u)) & 1u) != 0u; }
+// Instructions first..last (< 64) left out.
+void tapeSkipRange(uint first, uint last)
+{
+    for (uint w = 0u; w < 2u; ++w) {
+        const uint lo = max(first, 32u * w), hi = min(last, 32u * w + 31u);
+        if (lo > hi) continue;
+        const uint width = hi - lo + 1u;
+        const uint bits = (width == 32u ? 0xFFFFFFFFu : (1u << width) - 1u) << (lo - 32u * w);
+        if (w == 0u) tapeSkip.x |= bits;
+        else tapeSkip.y |= bits;
+    }
+}
+#endif
+
 // ---- Values (float) and duals (vec4) ----
 // Dual arithmetic is vec4 arithmetic for +, - and scaling by a float; the
 // product, square root, abs, min and max follow Dual.hpp's rules.
@@ -186,8 +212,32 @@ vec2 shellT(vec2 a, float thickness)
     return widenBy(vec2(shellT(dMin, thickness), max(shellT(a.x, thickness), shellT(a.y, thickness))), thickness);
 }
 
+#ifdef KERF_TAPE_PRUNING
+// Which operand of binary operation `op` decides it everywhere in the box
+// of the intervals a and b: 1 (a), 2 (b) or 0 (both can). A smooth one
+// needs its operands k apart, where its blend term is exactly 0. The
+// point evaluators must then compute exactly what the whole tape does (the
+// voxels are compared bit for bit with the CPU's), so the operands must be
+// apart by more than their float evaluation can err: a relative 2^-16 more
+// (the intervals already hold the float values with a 2^-20 margin).
+uint tapeDecidingOperand(uint op, vec2 a, vec2 b, float k)
+{
+    const float m = (1.0 + max(max(abs(a.x), abs(a.y)), max(abs(b.x), abs(b.y)))) * (1.0 / 65536.0);
+    const float gap = op == KERF_TAPE_SMOOTH_MIN || op == KERF_TAPE_SMOOTH_MAX ? k + m : m;
+    if (op == KERF_TAPE_MIN || op == KERF_TAPE_SMOOTH_MIN) {
+        if (a.y + gap < b.x) return 1u;
+        if (b.y + gap < a.x) return 2u;
+    } else {
+        if (a.x > b.y + gap) return 1u;
+        if (b.x > a.y + gap) return 2u;
+    }
+    return 0u;
+}
+#define KERF_TAPE_RECORD_PRUNING
+#endif
 #define KERF_TAPE_EVALUATE evaluateTileTapeIntervalT
 #include "tape_machine.glsl"
+#undef KERF_TAPE_RECORD_PRUNING
 #undef T
 #undef cT
 #undef KERF_TAPE_EVALUATE

@@ -23,7 +23,17 @@ T KERF_TAPE_EVALUATE(uint t, T px, T py, T pz, out uint feature)
     uint f0 = 0u, f1 = 0u, f2 = 0u, f3 = 0u, f4 = 0u, f5 = 0u, f6 = 0u, f7 = 0u;
 #endif
     tapeUnknownKind = false;
+#ifdef KERF_TAPE_RECORD_PRUNING
+    // Where each stack entry's subexpression starts (its first instruction),
+    // top first like the stack: a binary operation whose one operand decides
+    // it over the whole box leaves the other operand's instructions out.
+    const bool recording = tapePruning && count <= 64u;
+    uint r0 = 0u, r1 = 0u, r2 = 0u, r3 = 0u, r4 = 0u, r5 = 0u, r6 = 0u, r7 = 0u;
+#endif
     for (uint i = 0u; i < count; ++i) {
+#ifdef KERF_TAPE_PRUNING
+        if (tapeSkipped(i)) continue; // uniform over the group: its node's mask
+#endif
         const uint code = tapeWord(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i);
         const float k = tapeFloat(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);
         const uint op = code & 0xFFu;
@@ -31,6 +41,9 @@ T KERF_TAPE_EVALUATE(uint t, T px, T py, T pz, out uint feature)
             const uint s = shapes + (code >> 8) * KERF_TAPE_SHAPE_WORDS;
             s7 = s6; s6 = s5; s5 = s4; s4 = s3; s3 = s2; s2 = s1; s1 = s0;
             s0 = primitiveT(t, s, px, py, pz);
+#ifdef KERF_TAPE_RECORD_PRUNING
+            r7 = r6; r6 = r5; r5 = r4; r4 = r3; r3 = r2; r2 = r1; r1 = r0; r0 = i;
+#endif
 #ifdef KERF_TAPE_FEATURES
             f7 = f6; f6 = f5; f5 = f4; f4 = f3; f3 = f2; f2 = f1; f1 = f0;
             f0 = tapeWord(t, s + 1u);
@@ -44,6 +57,15 @@ T KERF_TAPE_EVALUATE(uint t, T px, T py, T pz, out uint feature)
             else r = smoothMaxT(a, b, k);
             s0 = r;
             s1 = s2; s2 = s3; s3 = s4; s4 = s5; s5 = s6; s6 = s7;
+#ifdef KERF_TAPE_RECORD_PRUNING
+            if (recording) {
+                // b's subexpression is [r0, i - 1], a's [r1, r0 - 1].
+                const uint keep = tapeDecidingOperand(op, a, b, k);
+                if (keep == 1u) tapeSkipRange(r0, i); // b and the operation: a stays on top
+                else if (keep == 2u) { tapeSkipRange(r1, r0 - 1u); tapeSkipRange(i, i); }
+            }
+            r0 = r1; r1 = r2; r2 = r3; r3 = r4; r4 = r5; r5 = r6; r6 = r7;
+#endif
 #ifdef KERF_TAPE_FEATURES
             // The deciding feature: the operand the exact min/max would pick.
             const bool isMin = op == KERF_TAPE_MIN || op == KERF_TAPE_SMOOTH_MIN;

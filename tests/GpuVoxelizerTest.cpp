@@ -23,6 +23,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
@@ -475,6 +476,52 @@ TEST_F(GpuVoxelizerTest, TheWholeTapeEverywhereBuildsTheSameVoxels)
     EXPECT_GT(c.both, 10000u);
     EXPECT_EQ(c.onlyOneSideNearZero + c.onlyOneSideElsewhere, 0u);
     EXPECT_EQ(c.distanceOff, 0u) << "worst " << c.worstDistance << " mm";
+}
+
+// The node tapes pruned on the device (voxelize.comp, "Tapes pruned per
+// node"): most leaf nodes of the chair evaluate a pruned tape, and the
+// voxels are the unpruned build's bit for bit (corner distances, normals
+// and deciding features), on the chair and on generated parts with blends,
+// differences and shells.
+TEST_F(GpuVoxelizerTest, NodeTapesPrunedOnTheDeviceBuildTheSameVoxels)
+{
+    auto check = [&](const Tape& tape, double feature, const std::string& what) -> std::pair<std::size_t, std::size_t> {
+        const GridLayout layout = GridLayout::choose(tape.bounds(), feature);
+        vk::GpuVoxelizeReport pruned, whole;
+        const std::optional<vk::GpuVoxels> a = voxelizer->build(tape, layout, {}, &pruned);
+        const std::optional<vk::GpuVoxels> b = voxelizer->build(tape, layout, {.pruneNodeTapes = false}, &whole);
+        if (!a || !b) {
+            ADD_FAILURE() << what << ": " << pruned.whyNot << whole.whyNot;
+            return {0, 0};
+        }
+        EXPECT_EQ(whole.prunedLeafJobs, 0u) << what;
+        const FlatVoxelBuffers fa = a->readBack(*context), fb = b->readBack(*context);
+        const VoxelComparison c = compareVoxels(fa, fb, layout.voxelSize);
+        EXPECT_EQ(c.onlyOneSideNearZero + c.onlyOneSideElsewhere, 0u) << what;
+        EXPECT_EQ(c.distanceOff, 0u) << what << ": worst " << c.worstDistance << " mm";
+        EXPECT_EQ(c.normalOff, 0u) << what;
+        // Bit for bit: the same vertex words (normal, distance and feature;
+        // their order follows the atomics' claims, so compared sorted).
+        EXPECT_EQ(a->populatedVoxels, b->populatedVoxels) << what;
+        auto words = [](const FlatVoxelBuffers& f) {
+            std::vector<std::uint64_t> w;
+            for (const voxel::Vertex& v : f.vertices) w.push_back(std::uint64_t(v.normal) << 32 | v.distanceFeature);
+            std::sort(w.begin(), w.end());
+            return w;
+        };
+        EXPECT_TRUE(words(fa) == words(fb)) << what;
+        return {pruned.prunedLeafJobs, pruned.levelJobs.empty() ? 0u : pruned.levelJobs.back()};
+    };
+    const Tape chair = compileTape(Document::load(std::filesystem::path(KERF_EXAMPLES_DIR) / "side-chair.kerf"));
+    const auto [prunedChair, leafJobs] = check(chair, 2.0, "side chair at 2 mm");
+    EXPECT_GT(prunedChair * 4, leafJobs) << "a quarter of the chair's leaf nodes at least prune their tape";
+    test::RandomShapes shapes(20261127);
+    for (int i = 0; i < 6; ++i) {
+        const Tape tape = compileTape(test::RandomShapes::document(shapes.tree(3)));
+        if (tape.empty() || tape.bounds().isEmpty()) continue;
+        const glm::dvec3 extent = tape.bounds().max - tape.bounds().min;
+        check(tape, std::max({extent.x, extent.y, extent.z}) / 90.0, "generated part " + std::to_string(i));
+    }
 }
 
 // An edit rebuilds only the tiles it reaches, appended to the pools of the

@@ -28,7 +28,7 @@ namespace {
 
 struct VoxelizePush {
     std::uint64_t params;
-    std::uint32_t pass, level, list, pad;
+    std::uint32_t pass, level, list, prune;
 };
 
 using Clock = std::chrono::steady_clock;
@@ -144,7 +144,7 @@ HostData planTiles(const Tape& tape, const GridLayout& layout, int levels, int t
         e.tape = bases.tapeWords + std::uint32_t(host.tapes.size());
         host.tapes.insert(host.tapes.end(), plan.tape.begin(), plan.tape.end());
         host.entryTiles.push_back(host.plannedTiles[i]);
-        host.roots.insert(host.roots.end(), {bases.entries + index, bases.nodes + index, 0u, 0u, 0u});
+        host.roots.insert(host.roots.end(), {bases.entries + index, bases.nodes + index, 0u, 0u, 0u, 0u, 0u});
         host.entries.push_back(e);
     }
     const std::size_t surface = host.entries.size(); // built by the device
@@ -669,7 +669,8 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
         retired.clear();
     };
     const auto push = [&](VkCommandBuffer cb, std::uint32_t pass, int level) {
-        const VoxelizePush pc{params.address(), pass, std::uint32_t(level), std::uint32_t(level & 1), 0};
+        const VoxelizePush pc{params.address(), pass, std::uint32_t(level), std::uint32_t(level & 1),
+                              options.pruneNodeTapes ? 1u : 0u};
         const ComputePipeline& pipeline = pass == KERF_PASS_INNER ? inner_ : leaf_;
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline);
         vkCmdPushConstants(cb, pipeline.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
@@ -777,6 +778,7 @@ std::optional<GpuVoxels> GpuVoxelizer::make(const Tape& tape, const GridLayout& 
     out.vertexCount = count[KERF_COUNT_VERTICES];
     out.wholeBuildNodes = base ? base->wholeBuildNodes : out.nodeCount;
     r.poolBytes = poolBytes();
+    r.prunedLeafJobs = count[KERF_COUNT_PRUNED_LEAF_JOBS]; // (zero at the start of every build)
     const std::size_t deviceVoxels = out.populatedVoxels - started[KERF_COUNT_LEAF_DATA];
     if (leafJobs > 0 && deviceVoxels > 0) {
         voxelsPerLeafJob_ = double(deviceVoxels) / double(leafJobs);

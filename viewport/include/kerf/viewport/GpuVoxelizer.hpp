@@ -88,6 +88,10 @@ struct GpuVoxelizeOptions {
     /// box (as the CPU voxelizer does); false: the whole tape everywhere
     /// (benchmarks: what the simplification buys). The voxels are the same.
     bool simplifyTileTapes = true;
+    /// Each node's tape pruned further for its own box on the device
+    /// (voxelize.comp, "Tapes pruned per node"); false: every node of a
+    /// tile evaluates the tile's tape (benchmarks). The voxels are the same.
+    bool pruneNodeTapes = true;
     /// Checked before every level: when it reads true the build stops and
     /// returns nothing (report->cancelled), its pools kept as spares.
     const std::atomic<bool>* cancel = nullptr;
@@ -104,6 +108,7 @@ struct GpuVoxelizeReport {
     int levelReruns = 0;               // levels run twice because they asked for more than a pool held
     std::size_t hostBuiltTiles = 0;    // surface tiles whose tape the shaders cannot hold: built by the CPU's builder
     std::size_t poolBytes = 0;         // the pools' device memory at the end
+    std::size_t prunedLeafJobs = 0;    // leaf nodes whose tape was pruned for their box (pruneNodeTapes)
     bool cancelled = false;            // stopped by GpuVoxelizeOptions::cancel
     std::size_t updatedTiles = 0;      // an update: the tiles rebuilt (0: a whole build)
     std::string whyNot;                // set when build() returns nothing
