@@ -32,7 +32,9 @@ T KERF_TAPE_EVALUATE(uint t, T px, T py, T pz, out uint feature)
 #endif
     for (uint i = 0u; i < count; ++i) {
 #ifdef KERF_TAPE_PRUNING
-        if (tapeSkipped(i)) continue; // uniform over the group: its node's mask
+        // The same for the whole group (its node's mask: a recording
+        // evaluation only adds instructions it has passed).
+        if (tapeSkipped(i)) continue;
 #endif
         const uint code = tapeWord(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i);
         const float k = tapeFloat(t, KERF_TAPE_HEADER_WORDS + KERF_TAPE_INSTRUCTION_WORDS * i + 1u);

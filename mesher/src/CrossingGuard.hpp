@@ -65,4 +65,14 @@ bool anyCrossesInGrid(const TriangleTree& grid, const NewTriangle* added, std::s
     return crossing;
 }
 
+/// Whether two of the new triangles of one change cross or come within
+/// `clearance` of each other (the guard above leaves them out).
+inline bool newTrianglesTooClose(const NewTriangle* added, std::size_t count, double clearance)
+{
+    for (std::size_t i = 0; i < count; ++i)
+        for (std::size_t j = i + 1; j < count; ++j)
+            if (trianglesTooClose(added[i].tri, added[i].p, added[j].tri, added[j].p, clearance)) return true;
+    return false;
+}
+
 } // namespace kerf::mesher

@@ -378,13 +378,7 @@ private:
                     q[k] = m_.positions[other[std::size_t(k)]];
                 return other;
             });
-        if (crossing) return true;
-        // The new triangles among themselves.
-        for (std::size_t i = 0; i < added_.size(); ++i)
-            for (std::size_t j = i + 1; j < added_.size(); ++j)
-                if (trianglesTooClose(added_[i].tri, added_[i].p, added_[j].tri, added_[j].p, limits_.clearance))
-                    return true;
-        return false;
+        return crossing || newTrianglesTooClose(added_.data(), added_.size(), limits_.clearance);
     }
 
     bool legal(std::uint32_t a, std::uint32_t b, const glm::dvec3& at, const glm::dvec3& normal, bool strict)

@@ -326,12 +326,7 @@ private:
                     q[k] = mesh_.vertices[b[std::size_t(k)]];
                 return b;
             });
-        if (crossing) return true;
-        // The new triangles among themselves.
-        for (std::size_t i = 0; i < N; ++i)
-            for (std::size_t j = i + 1; j < N; ++j)
-                if (trianglesTooClose(made[i].tri, made[i].p, made[j].tri, made[j].p, clearance_)) return true;
-        return false;
+        return crossing || newTrianglesTooClose(made.data(), N, clearance_);
     }
 
     // p moved onto the surface (projectOntoSurface, CreaseSnap.hpp), and its
