@@ -1093,6 +1093,9 @@ void MainWindowTest::exportDialogWritesAClosedMesh()
     action(w.get(), "action.export")->trigger();
     auto* dialog = w->findChild<ExportDialog*>("exportDialog");
     QVERIFY(dialog);
+    auto* dismiss = dialog->findChild<QPushButton*>("export.dismiss");
+    QVERIFY(dismiss);
+    QCOMPARE(dismiss->text(), QString("Cancel"));
     const QString out = files_.path() + "/stool.stl";
     dialog->findChild<QLineEdit*>("export.path")->setText(out);
     dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(4.0);
@@ -1101,6 +1104,7 @@ void MainWindowTest::exportDialogWritesAClosedMesh()
     QVERIFY(done.wait(120000));
     QVERIFY2(dialog->outcome().written, qPrintable(dialog->outcome().message));
     QVERIFY(dialog->outcome().closed);
+    QCOMPARE(dismiss->text(), QString("Close")); // the file is written: nothing to cancel
 
     // The file itself, read back as a slicer reads it (welded by its float32
     // coordinates): every edge between two faces, the triangles reported.

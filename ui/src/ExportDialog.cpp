@@ -159,6 +159,8 @@ ExportDialog::ExportDialog(const Document& doc, const std::filesystem::path& sug
     exportButton_ = buttons->addButton(tr("Export"), QDialogButtonBox::AcceptRole);
     exportButton_->setObjectName("export.start");
     cancelButton_ = buttons->addButton(QDialogButtonBox::Cancel);
+    cancelButton_->setObjectName("export.dismiss");
+    cancelButton_->setText(tr("Cancel"));
     layout->addWidget(buttons);
     connect(exportButton_, &QPushButton::clicked, this, &ExportDialog::start);
     connect(cancelButton_, &QPushButton::clicked, this, [this] {
@@ -230,6 +232,7 @@ void ExportDialog::start()
     fraction_ = 0.0;
     finished_ = false;
     exportButton_->setEnabled(false);
+    cancelButton_->setText(tr("Cancel")); // stops the export
     result_->setText(tr("Meshing…"));
     progress_->setValue(0);
     timer_->start();
@@ -298,6 +301,9 @@ void ExportDialog::poll()
     // The report is several lines: grow to show them whole.
     adjustSize();
     exportButton_->setEnabled(true);
+    // Nothing runs any more: the button only closes the dialog (a newcomer
+    // read "Cancel" under a written file as "the file will be taken back").
+    cancelButton_->setText(tr("Close"));
     emit finished(outcome_);
 }
 
