@@ -37,19 +37,19 @@ bool anyCrossesInGrid(const TriangleTree& grid, const NewTriangle* added, std::s
                       Skip&& skip, Corners&& corners)
 {
     constexpr std::size_t kMax = 32;
+    if (count > kMax) { // a fan of more than 32 triangles (a hub of a flat face): one walk each
+        for (std::size_t i = 0; i < count; ++i)
+            if (anyCrossesInGrid(grid, added + i, 1, clearance, skip, corners)) return true;
+        return false;
+    }
     glm::dvec3 lo[kMax], hi[kMax];
     glm::dvec3 allLo(std::numeric_limits<double>::infinity()), allHi(-std::numeric_limits<double>::infinity());
     for (std::size_t i = 0; i < count; ++i) {
         const glm::dvec3* p = added[i].p;
-        lo[i % kMax] = glm::min(p[0], glm::min(p[1], p[2])) - clearance;
-        hi[i % kMax] = glm::max(p[0], glm::max(p[1], p[2])) + clearance;
-        allLo = glm::min(allLo, lo[i % kMax]);
-        allHi = glm::max(allHi, hi[i % kMax]);
-    }
-    if (count > kMax) { // (not expected: a fan of more than 32 triangles) one walk each
-        for (std::size_t i = 0; i < count; ++i)
-            if (anyCrossesInGrid(grid, added + i, 1, clearance, skip, corners)) return true;
-        return false;
+        lo[i] = glm::min(p[0], glm::min(p[1], p[2])) - clearance;
+        hi[i] = glm::max(p[0], glm::max(p[1], p[2])) + clearance;
+        allLo = glm::min(allLo, lo[i]);
+        allHi = glm::max(allHi, hi[i]);
     }
     bool crossing = false;
     grid.query(allLo, allHi, [&](std::uint32_t t) {
