@@ -48,12 +48,14 @@ of the mesh as read back from those coordinates.
 
 Options:
   -o, --output OUT       the file to write: .stl or .3mf (required)
-  --tolerance MM         simplify and refine the mesh to this largest
-                         distance from the exact surface (for instance
-                         0.01 mm: flat faces become a few large triangles).
-                         Slow on large parts (minutes on the examples; see
-                         docs/benchmarks.md). Default: none, the marching-
-                         cubes mesh at the feature size, sharp edges kept
+  --tolerance MM         the largest distance allowed between the mesh and
+                         the exact surface: the mesh is simplified and
+                         refined to it (flat faces become a few large
+                         triangles, curved faces get what the tolerance
+                         needs). Default: 0.05 mm, finer than a router or
+                         printer reproduces. 0: no simplification, the
+                         marching-cubes mesh at the feature size (quicker,
+                         hundreds of MB for a whole part)
   --feature-size MM      the smallest feature resolved: the cell edge of the
                          marching cubes (default: the document's feature
                          size, else about a thousandth of the part's largest
@@ -77,10 +79,6 @@ file, or a mesh larger than this machine allows (the reason, naming the
 file, goes to stderr; docs/cli.md has the limits).
 )";
 
-// No simplification unless asked: the tolerance pipeline still takes
-// minutes on the bundled examples (docs/benchmarks.md), too slow for a
-// default. 0 = the marching-cubes mesh at the feature size.
-constexpr double kDefaultTolerance = 0.0;
 
 // Ctrl-C (SIGINT) or SIGTERM while meshing cancels it: nothing is written.
 std::atomic<bool> interrupted{false};
@@ -132,8 +130,9 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         std::optional<double> requested;
         if (const auto v = a.value("--feature-size"))
             requested = Arguments::parseFeatureSize("--feature-size", *v);
-        double tolerance = kDefaultTolerance;
-        if (const auto v = a.value("--tolerance")) tolerance = Arguments::parseFeatureSize("--tolerance", *v);
+        const std::optional<std::string> toleranceText = a.value("--tolerance");
+        const double tolerance =
+            toleranceText ? Arguments::parseTolerance("--tolerance", *toleranceText) : kDefaultExportTolerance;
         const bool ascii = a.has("--ascii"), json = a.has("--json");
         file = a.positional()[0];
         const std::filesystem::path target = *output;
@@ -172,7 +171,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         options.featureSize = requested.value_or(doc.settings.featureSize.value_or(defaultFeatureSize(bounds)));
         options.tolerance = tolerance;
         // The output and the machine's budget, before any meshing.
-        preflightExport(doc, file, target, options.featureSize);
+        preflightExport(doc, file, target, options.featureSize, options.tolerance);
         if (interrupted) return interruptedMessage();
 
         const bool terminal = ::isatty(STDERR_FILENO);
@@ -243,6 +242,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             j["format"] = describe(*format);
             j["bytes"] = written.bytes;
             j["tolerance_mm"] = tolerance;
+            j["tolerance_source"] = toleranceText ? "option" : "default";
             j["feature_size_mm"] = stats.featureSize;
             j["feature_size_source"] = source;
             j["cell_size_mm"] = stats.cellSize;
@@ -260,7 +260,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             j["genus"] = report.genus().value_or(-1);
             j["volume_mm3"] = report.volume;
             j["area_mm2"] = report.area;
-            j["simplified"] = fallback.empty();
+            j["simplified"] = tolerance > 0.0 && fallback.empty();
             if (!fallback.empty()) j["simplification_defects"] = fallback;
             if (fallback.empty() && tolerance > 0.0) {
                 j["worst_sample_mm"] = stats.worstSample;
@@ -294,10 +294,10 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         out << printable(target.string()) << ": " << grouped(report.triangles) << " triangles, " << describe(*format)
             << " (" << megabytes(written.bytes) << "), from " << printable(file) << "\n";
         if (tolerance == 0.0)
-            out << "  tolerance:     none (marching cubes at the feature size; --tolerance simplifies)\n";
+            out << "  tolerance:     none (marching cubes at the feature size)\n";
         else if (fallback.empty())
-            out << "  tolerance:     " << mm(tolerance) << " mm; samples of every triangle within "
-                << significant(stats.worstSample, 2) << " mm\n";
+            out << "  tolerance:     " << mm(tolerance) << " mm" << (toleranceText ? "" : " (default)")
+                << "; samples of every triangle within " << significant(stats.worstSample, 2) << " mm\n";
         else
             out << "  tolerance:     " << mm(tolerance)
                 << " mm not reached (plain marching-cubes mesh written, see the warning)\n";

@@ -8,7 +8,7 @@
 namespace kerf {
 
 RequestCost preflightExport(const Document& doc, const std::string& file, const std::filesystem::path& target,
-                            double featureSize)
+                            double featureSize, double tolerance)
 {
     try {
         checkOutputFile(target);
@@ -16,7 +16,7 @@ RequestCost preflightExport(const Document& doc, const std::string& file, const 
         throw RefusedRequest(e.what());
     }
     const Tape tape = compileTape(doc);
-    const RequestCost cost = estimateRequest(tape, featureSize, RequestKind::Mesh);
+    const RequestCost cost = estimateRequest(tape, featureSize, meshRequestKind(tolerance));
     if (const auto over = overBudget(cost, RequestBudget::forThisMachine(), featureSize))
         throw RefusedRequest(printable(file, 400) + ": meshing at " + *over);
     return cost;

@@ -28,7 +28,8 @@ Commands:
                        bounding box, feature size and voxel memory
   export FILE.kerf -o OUT.stl|OUT.3mf [--tolerance MM] [--feature-size MM]
          [--ascii]     mesh the part (marching cubes on the exact field,
-                       sharp edges kept, simplified to the tolerance) and
+                       sharp edges kept, simplified to a tolerance: 0.05 mm
+                       unless told) and
                        write it as STL or 3MF; print the mesh as a reader
                        of the file gets it
   render FILE.kerf -o OUT.png [--size WxH] [--view iso|front|top|...]

@@ -631,6 +631,7 @@ void MainWindowTest::exportDialogSaysWhereDetailHidesBetweenTheCells()
     QVERIFY(dialog);
     dialog->findChild<QLineEdit*>("export.path")->setText(files_.path() + "/side.stl");
     dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(4.0);
+    dialog->findChild<QCheckBox*>("export.simplify")->setChecked(false); // the warning, not the simplification
     QSignalSpy done(dialog, &ExportDialog::finished);
     QTest::mouseClick(dialog->findChild<QPushButton*>("export.start"), Qt::LeftButton);
     QVERIFY(done.wait(120000));
@@ -1096,6 +1097,13 @@ void MainWindowTest::exportDialogWritesAClosedMesh()
     auto* dismiss = dialog->findChild<QPushButton*>("export.dismiss");
     QVERIFY(dismiss);
     QCOMPARE(dismiss->text(), QString("Cancel"));
+    // Someone who changes nothing gets the mesh simplified to the default
+    // tolerance; unticked, every cell's triangles (measured against below).
+    QVERIFY(dialog->findChild<QCheckBox*>("export.simplify")->isChecked());
+    QVERIFY(dialog->findChild<QuantityEdit*>("export.tolerance")->isEnabled());
+    QCOMPARE(dialog->findChild<QuantityEdit*>("export.tolerance")->value(), kDefaultExportTolerance);
+    dialog->findChild<QCheckBox*>("export.simplify")->setChecked(false);
+    QVERIFY(!dialog->findChild<QuantityEdit*>("export.tolerance")->isEnabled());
     const QString out = files_.path() + "/stool.stl";
     dialog->findChild<QLineEdit*>("export.path")->setText(out);
     dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(4.0);

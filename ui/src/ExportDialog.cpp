@@ -33,10 +33,6 @@ namespace {
 // The format box's entries, in this order.
 constexpr MeshFileFormat kFormats[] = {MeshFileFormat::BinaryStl, MeshFileFormat::AsciiStl, MeshFileFormat::ThreeMf};
 
-// The tolerance offered when the user ticks "Simplify": a hundredth of a
-// millimetre is below what a router or a printer reproduces.
-constexpr double kSuggestedTolerance = 0.01;
-
 QString extensionOf(MeshFileFormat format) { return format == MeshFileFormat::ThreeMf ? ".3mf" : ".stl"; }
 
 QString withExtension(const QString& path, MeshFileFormat format)
@@ -135,11 +131,11 @@ ExportDialog::ExportDialog(const Document& doc, const std::filesystem::path& sug
     simplify_ = new QCheckBox(tr("Simplify to within"), toleranceRow);
     simplify_->setObjectName("export.simplify");
     simplify_->setToolTip(tr("Flat faces become a few large triangles and curved faces get as many as the "
-                             "tolerance needs. Slow on large parts (minutes)"));
+                             "tolerance needs. Unticked: every cell's triangles (quicker, a much larger file)"));
+    simplify_->setChecked(true);
     tolerance_ = new QuantityEdit(QuantityEdit::Unit::Millimetres, toleranceRow);
     tolerance_->setObjectName("export.tolerance");
-    tolerance_->setValue(kSuggestedTolerance);
-    tolerance_->setEnabled(false);
+    tolerance_->setValue(kDefaultExportTolerance);
     tolerance_->setToolTip(tr("The largest distance allowed between the mesh and the exact surface"));
     th->addWidget(simplify_);
     th->addWidget(tolerance_, 1);
@@ -245,7 +241,7 @@ void ExportDialog::start()
             // cannot afford. On this thread: the estimate takes up to a
             // couple of seconds.
             checkOutputFile(file);
-            const RequestCost cost = estimateRequest(compileTape(doc_), featureSize, RequestKind::Mesh);
+            const RequestCost cost = estimateRequest(compileTape(doc_), featureSize, meshRequestKind(tolerance));
             if (const auto over = overBudget(cost, RequestBudget::forThisMachine(), featureSize)) {
                 o.message = tr("Not exported: meshing at %1").arg(QString::fromStdString(*over));
                 workerOutcome_ = o;

@@ -12,13 +12,20 @@ namespace kerf {
 
 namespace {
 
-// Measured on the 2-core development machine, Release (issue 14):
-// the side chair at 0.5 mm: 4.72 M populated voxels, 9.45 M triangles
-// (2.0 per voxel), export peak 789 MB (83 bytes per triangle and the
-// program), 12.1 s (3.7 times its voxelization's 3.3 s).
+// Measured on the 2-core development machine, Release, the six bundled
+// examples at their own feature sizes (2026-11-27, docs/benchmarks.md,
+// "A default tolerance"): 2.0 triangles per populated voxel (the side
+// chair at 0.5 mm: 9.49 M estimated, 9.48 M made); peaks of 170 to 241
+// bytes per marching-cubes triangle beyond the program for the plain mesh
+// (the read-back check's welding included) and 146 to 418 simplified to a
+// tolerance; 4 to 16 times the estimated voxelization's seconds plain, 15
+// to 38 times simplified. (Issue 14 measured 83 bytes and 3.7 times, before
+// the export checked the file as read back.)
 constexpr double kTrianglesPerVoxel = 2.0;
-constexpr double kMeshBytesPerTriangle = 90.0;
-constexpr double kMeshSecondsPerVoxelizeSecond = 4.0;
+constexpr double kMeshBytesPerTriangle = 250.0;
+constexpr double kMeshSecondsPerVoxelizeSecond = 10.0;
+constexpr double kSimplifiedMeshBytesPerTriangle = 430.0;
+constexpr double kSimplifiedMeshSecondsPerVoxelizeSecond = 25.0;
 // kerf render: the snapshot, its flattened copy for the tracer and, on
 // lavapipe, the device's copy in the same memory; 78 bytes per pixel with
 // lavapipe (4096x4096: 1.44 GB), 27 with the CPU tracer; about 1.9 us per
@@ -114,6 +121,11 @@ RequestCost estimateRequest(const Tape& tape, double featureSize, RequestKind ki
             c.triangles = kTrianglesPerVoxel * e.populatedVoxels;
             c.bytes = kMeshBytesPerTriangle * c.triangles;
             c.seconds = kMeshSecondsPerVoxelizeSecond * e.seconds;
+            break;
+        case RequestKind::SimplifiedMesh:
+            c.triangles = kTrianglesPerVoxel * e.populatedVoxels;
+            c.bytes = kSimplifiedMeshBytesPerTriangle * c.triangles;
+            c.seconds = kSimplifiedMeshSecondsPerVoxelizeSecond * e.seconds;
             break;
         }
         if (voxelsOut) *voxelsOut = std::move(e);

@@ -48,6 +48,9 @@ public:
     /// A feature size: positive millimetres within limits::kMinFeatureSize
     /// and kMaxFeatureSize; throws UsageError naming the option.
     static double parseFeatureSize(const std::string& option, const std::string& text);
+    /// A tolerance: 0 (none) or millimetres within the feature size's
+    /// limits; throws UsageError naming the option.
+    static double parseTolerance(const std::string& option, const std::string& text);
     /// WIDTHxHEIGHT in pixels, each in [1, 16384], at most kMaxImagePixels in
     /// all; throws UsageError naming the option.
     static ImageSize parseImageSize(const std::string& option, const std::string& text);

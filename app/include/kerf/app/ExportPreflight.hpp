@@ -18,6 +18,6 @@ namespace kerf {
 /// Throws RefusedRequest (exit 2) with the whole message line. Returns the
 /// estimate (its seconds tell whether to show progress).
 RequestCost preflightExport(const Document& doc, const std::string& file, const std::filesystem::path& target,
-                            double featureSize);
+                            double featureSize, double tolerance);
 
 } // namespace kerf

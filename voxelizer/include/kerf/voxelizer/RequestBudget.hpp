@@ -52,8 +52,15 @@ struct RequestCost {
 enum class RequestKind {
     Voxels, // voxelize the whole part (kerf check)
     Render, // voxelize, flatten for the tracer, trace a picture (kerf render)
-    Mesh,   // marching cubes on the exact field (kerf export, the export dialog)
+    Mesh,   // marching cubes on the exact field (kerf export --tolerance 0, the dialog unticked)
+    SimplifiedMesh, // the same, simplified and refined to a tolerance (an export by default)
 };
+
+/// The kind of an export to `tolerance` mm (0: none).
+inline RequestKind meshRequestKind(double tolerance)
+{
+    return tolerance > 0.0 ? RequestKind::SimplifiedMesh : RequestKind::Mesh;
+}
 
 /// Estimates a request at `featureSize` (mm) on the part `tape` describes.
 /// The estimate voxelizes a few coarse levels (at most about two million
