@@ -72,6 +72,11 @@ struct CollapseMesh {
     std::vector<std::array<glm::dvec3, 3>> obstacleCorners;
 
     std::size_t liveTriangles() const;
+    /// Drops removed triangles and the vertices no live triangle uses,
+    /// keeping the order of those that stay (so that a collapser, which
+    /// breaks ties by index, does what it would have done); the obstacles
+    /// must be empty.
+    void dropRemoved();
 };
 
 struct CollapseLimits {

@@ -40,8 +40,9 @@ struct SimplifySettings {
 
 /// Simplifies `mesh` (world coordinates), the surface of `tape`, whose vertex
 /// i has unit normal normals[i] (0 for a feature vertex; kept in step with
-/// the vertices). Returns the number of collapses, or nothing changed when
-/// cancelled.
+/// the vertices). Returns the number of collapses; when cancelled, 0 and
+/// `mesh` and `normals` emptied (their memory is given up as soon as the
+/// work has its own copy).
 std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape,
                                   const SimplifySettings& settings, tbb::task_arena& arena,
                                   const Progress& work = {});

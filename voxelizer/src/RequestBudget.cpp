@@ -15,16 +15,17 @@ namespace {
 // Measured on the 2-core development machine, Release, the six bundled
 // examples at their own feature sizes (2026-11-27, docs/benchmarks.md,
 // "A default tolerance"): 2.0 triangles per populated voxel (the side
-// chair at 0.5 mm: 9.49 M estimated, 9.48 M made); peaks of 170 to 241
+// chair at 0.5 mm: 9.49 M estimated, 9.48 M made); peaks of 170 to 246
 // bytes per marching-cubes triangle beyond the program for the plain mesh
-// (the read-back check's welding included) and 146 to 418 simplified to a
-// tolerance; 4 to 16 times the estimated voxelization's seconds plain, 15
-// to 38 times simplified. (Issue 14 measured 83 bytes and 3.7 times, before
-// the export checked the file as read back.)
+// (the read-back check's welding included) and 42 to 142 simplified to a
+// tolerance (the marching-cubes mesh is never held twice); 4 to 17 times
+// the estimated voxelization's seconds plain, 11 to 34 times simplified.
+// (Issue 14 measured 83 bytes and 3.7 times, before the export checked the
+// file as read back.)
 constexpr double kTrianglesPerVoxel = 2.0;
-constexpr double kMeshBytesPerTriangle = 250.0;
-constexpr double kMeshSecondsPerVoxelizeSecond = 10.0;
-constexpr double kSimplifiedMeshBytesPerTriangle = 430.0;
+constexpr double kMeshBytesPerTriangle = 260.0;
+constexpr double kMeshSecondsPerVoxelizeSecond = 12.0;
+constexpr double kSimplifiedMeshBytesPerTriangle = 160.0;
 constexpr double kSimplifiedMeshSecondsPerVoxelizeSecond = 25.0;
 // kerf render: the snapshot, its flattened copy for the tracer and, on
 // lavapipe, the device's copy in the same memory; 78 bytes per pixel with
