@@ -35,6 +35,7 @@
 #include <QMimeData>
 #include <QPainter>
 #include <QPushButton>
+#include <QProgressBar>
 #include <QComboBox>
 #include <QCompleter>
 #include <QAbstractItemView>
@@ -1148,6 +1149,7 @@ void MainWindowTest::exportDialogWritesAClosedMesh()
     dialog->findChild<QLineEdit*>("export.path")->setText(files_.path() + "/stool.obj");
     dialog->start();
     QVERIFY(!dialog->outcome().written);
+    QCOMPARE(dialog->findChild<QProgressBar*>("export.progress")->value(), 0); // not the 3MF's 100 %
     QVERIFY2(dialog->outcome().message.contains(".stl (STL) or .3mf (3MF)"), qPrintable(dialog->outcome().message));
     QVERIFY(!QFile::exists(files_.path() + "/stool.obj"));
     dialog->findChild<QCheckBox*>("export.simplify")->setChecked(false);

@@ -143,6 +143,7 @@ ExportDialog::ExportDialog(const Document& doc, const std::filesystem::path& sug
     connect(simplify_, &QCheckBox::toggled, tolerance_, &QWidget::setEnabled);
     layout->addLayout(form);
     progress_ = new QProgressBar(this);
+    progress_->setObjectName("export.progress");
     progress_->setRange(0, 1000);
     progress_->setValue(0);
     layout->addWidget(progress_);
@@ -213,6 +214,7 @@ void ExportDialog::start()
         outcome_ = ExportOutcome{};
         outcome_.message = why;
         result_->setText(why);
+        progress_->setValue(0); // not the last export's, which this one is not
         emit finished(outcome_);
     };
     if (file.empty()) return refuse(tr("Choose a file to export to."));
