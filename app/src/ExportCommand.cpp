@@ -79,7 +79,6 @@ file, or a mesh larger than this machine allows (the reason, naming the
 file, goes to stderr; docs/cli.md has the limits).
 )";
 
-
 // Ctrl-C (SIGINT) or SIGTERM while meshing cancels it: nothing is written.
 std::atomic<bool> interrupted{false};
 extern "C" void onInterrupt(int) { interrupted = true; }
