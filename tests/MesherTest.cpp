@@ -12,6 +12,7 @@
 #include "kerf/mesher/EdgeRoots.hpp"
 #include "kerf/mesher/FilePrecision.hpp"
 #include "kerf/mesher/MeshCheck.hpp"
+#include "kerf/mesher/MeshFile.hpp"
 #include "kerf/mesher/MeshPart.hpp"
 #include "kerf/mesher/OpenMeshAdapter.hpp"
 #include "kerf/mesher/StlWriter.hpp"
@@ -559,6 +560,56 @@ TEST(Mesher, ProgressRisesToOneAndCancelReturnsNothing)
     EXPECT_FALSE(meshPart(doc, o, Progress::cancelledWhen([] { return true; })).has_value());
     std::atomic<bool> cancel{false};
     const Progress partWay([&](double f) { cancel = cancel || f > 0.3; }, [&] { return cancel.load(); });
+    EXPECT_FALSE(meshPart(doc, o, partWay).has_value());
+}
+
+// The finest tolerance a file can hold is twice its coordinates' step where
+// the part reaches: float32's at the part's largest coordinate for STL,
+// float32's at its half extent for 3MF (written next to the part). Anything
+// finer is refused before meshing, with the finest it holds.
+TEST(MeshFile, RefusesAToleranceFinerThanItsCoordinatesHold)
+{
+    const Aabb nearOrigin{glm::dvec3(-500.0), glm::dvec3(500.0)};
+    const Aabb far{glm::dvec3(1e5), glm::dvec3(1e5 + 100.0)};
+    EXPECT_DOUBLE_EQ(finestTolerance(nearOrigin, MeshFileFormat::BinaryStl), 2.0 * std::ldexp(1.0, -15));
+    EXPECT_DOUBLE_EQ(finestTolerance(far, MeshFileFormat::BinaryStl), 2.0 * std::ldexp(1.0, -7));
+    EXPECT_DOUBLE_EQ(finestTolerance(far, MeshFileFormat::AsciiStl), 2.0 * std::ldexp(1.0, -7));
+    EXPECT_DOUBLE_EQ(finestTolerance(far, MeshFileFormat::ThreeMf), 2.0 * std::ldexp(1.0, -18));
+
+    EXPECT_FALSE(toleranceTheFileCannotHold(nearOrigin, MeshFileFormat::BinaryStl, kDefaultExportTolerance));
+    EXPECT_FALSE(toleranceTheFileCannotHold(nearOrigin, MeshFileFormat::BinaryStl, 0.0)); // no tolerance
+    EXPECT_FALSE(toleranceTheFileCannotHold(far, MeshFileFormat::ThreeMf, 0.001));
+    const auto stl = toleranceTheFileCannotHold(far, MeshFileFormat::BinaryStl, 0.001);
+    ASSERT_TRUE(stl);
+    EXPECT_NE(stl->find("a tolerance of 0.001 mm is finer than a binary STL file can hold"), std::string::npos) << *stl;
+    EXPECT_NE(stl->find("the finest tolerance it holds is 0.016 mm"), std::string::npos) << *stl;
+    const auto tiny = toleranceTheFileCannotHold(nearOrigin, MeshFileFormat::ThreeMf, 1e-6);
+    ASSERT_TRUE(tiny);
+    EXPECT_NE(tiny->find("3MF"), std::string::npos) << *tiny;
+}
+
+// A simplified mesh spends most of its time simplifying: the progress moves
+// through that step rather than standing still until it is over (the export
+// dialog sat at 51 % for most of an export).
+TEST(Mesher, ProgressMovesWhileSimplifying)
+{
+    const Document doc = parse(kBoardWithHoles);
+    MeshOptions o;
+    o.featureSize = 0.5;
+    o.tolerance = 0.05;
+    std::vector<double> seen;
+    ASSERT_TRUE(meshPart(doc, o, Progress([&](double f) { seen.push_back(f); })).has_value());
+    EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+    EXPECT_EQ(seen.back(), 1.0);
+    EXPECT_LE(seen.size(), 220u);
+    const auto within = [&](double lo, double hi) {
+        return std::count_if(seen.begin(), seen.end(), [&](double f) { return f > lo && f < hi; });
+    };
+    EXPECT_GE(within(0.0, 0.15), 5) << "the marching cubes";
+    EXPECT_GE(within(0.15, 0.8), 10) << "the simplification";
+    // Cancelled in the middle of the simplification: nothing comes back.
+    std::atomic<bool> cancel{false};
+    const Progress partWay([&](double f) { cancel = cancel || f > 0.4; }, [&] { return cancel.load(); });
     EXPECT_FALSE(meshPart(doc, o, partWay).has_value());
 }
 

@@ -169,6 +169,8 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         MeshOptions options;
         options.featureSize = requested.value_or(doc.settings.featureSize.value_or(defaultFeatureSize(bounds)));
         options.tolerance = tolerance;
+        if (const auto why = toleranceTheFileCannotHold(bounds, *format, tolerance))
+            throw RefusedRequest(printable(file) + ": " + *why);
         // The output and the machine's budget, before any meshing.
         preflightExport(doc, file, target, options.featureSize, options.tolerance);
         if (interrupted) return interruptedMessage();

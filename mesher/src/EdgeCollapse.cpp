@@ -892,6 +892,9 @@ std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits
     CollapseLimits cubeLimits = limits;
     cubeLimits.maxEdgeAfter = 0.25 * cube;
     std::atomic<std::size_t> total{0};
+    // Progress: the share of the triangles whose cube is done (cubes are
+    // small against the mesh, so the fraction moves steadily).
+    std::atomic<std::size_t> trianglesDone{0};
     for (const std::vector<std::size_t>& phase : phases)
     arena.execute([&] {
         tbb::parallel_for(std::size_t(0), phase.size(), [&](std::size_t member) {
@@ -979,6 +982,7 @@ std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits
                 mesh.positions[global[l]] = part.positions[l];
                 mesh.normals[global[l]] = part.normals[l];
             }
+            work.report(double(trianglesDone += last - first) / double(order.size()));
         });
     });
     return total;

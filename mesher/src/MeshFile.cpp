@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 namespace kerf {
@@ -74,6 +75,32 @@ glm::dvec3 fileOffsetFor(const Mesh& mesh, MeshFileFormat format, double toleran
     for (int a = 0; a < 3; ++a)
         centre[a] = double(float(centre[a]));
     return centre;
+}
+
+double finestTolerance(const Aabb& partBounds, MeshFileFormat format)
+{
+    double reach = 0.0;
+    for (int a = 0; a < 3; ++a)
+        reach = std::max({reach,
+                          format == MeshFileFormat::ThreeMf
+                              ? 0.5 * (partBounds.max[a] - partBounds.min[a]) + 1.0 // the offset is whole millimetres
+                              : std::max(std::abs(partBounds.min[a]), std::abs(partBounds.max[a]))});
+    return 2.0 * spacingAt(reach, format);
+}
+
+std::optional<std::string> toleranceTheFileCannotHold(const Aabb& partBounds, MeshFileFormat format,
+                                                      double tolerance)
+{
+    if (!(tolerance > 0.0) || partBounds.isEmpty()) return std::nullopt;
+    const double finest = finestTolerance(partBounds, format);
+    if (tolerance >= finest) return std::nullopt;
+    char text[512];
+    std::snprintf(text, sizeof text,
+                  "a tolerance of %.3g mm is finer than a %s file can hold for this part: its coordinates step by "
+                  "%.2g mm where the part reaches; the finest tolerance it holds is %.2g mm (or 0 for the "
+                  "marching-cubes mesh without simplification)",
+                  tolerance, describe(format), 0.5 * finest, finest);
+    return std::string(text);
 }
 
 MeshFileReport writeMeshFile(Mesh& mesh, const std::filesystem::path& file, MeshFileFormat format,

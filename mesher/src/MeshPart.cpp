@@ -171,7 +171,7 @@ std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layou
                     quiet[k].clear();
                 }
                 addSeconds(cellNanos, t0);
-                work.report(0.5 * double(++tilesDone) / double(tileCount));
+                work.report(0.9 * double(++tilesDone) / double(tileCount));
             }
         });
     });
@@ -206,7 +206,7 @@ std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layou
             });
         });
         if (stop || work.cancelled()) return std::nullopt;
-        work.report(std::min(0.55, 0.5 + 0.01 * stats.rounds));
+        work.report(std::min(0.95, 0.9 + 0.01 * stats.rounds));
     }
 
     // Merge: global vertex numbers in tile order, shared vertices resolved.
@@ -219,7 +219,7 @@ std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layou
     stats.cellSeconds = double(cellNanos.load()) * 1e-9;
     stats.featureFlips = flipFeatureEdges(out.mesh, out.normals);
     stats.latticeTriangles = out.mesh.triangles.size();
-    work.report(0.6);
+    work.report(1.0);
     return out;
 }
 
@@ -254,9 +254,14 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     stats.levels = layout.levels;
 
     tbb::task_arena arena = workerArena(options.threads);
-    std::optional<LatticeMesh> lattice = latticeMesh(tape, layout, options, work, arena, stats);
+    // The steps' shares of the progress, as they share the time: a
+    // simplified export spends most of it simplifying (the side chair at
+    // 0.5 mm and 0.05 mm: lattice 8 s, simplification 45 s, refinement 3 s).
+    const bool simplifying = options.tolerance > 0.0;
+    const Progress latticeWork = work.stage(0.0, simplifying ? 0.15 : 1.0);
+    std::optional<LatticeMesh> lattice = latticeMesh(tape, layout, options, latticeWork, arena, stats);
     if (!lattice) return std::nullopt;
-    if (options.tolerance == 0.0) {
+    if (!simplifying) {
         work.report(1.0);
         return finish(std::move(lattice->mesh));
     }
@@ -277,10 +282,9 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     simplify.placement = 0.25 * options.tolerance;
     simplify.tolerance = options.tolerance;
     simplify.microLength = 4.0 * stats.edgeMargin;
-    stats.collapses = simplifyToTolerance(mesh, normals, tape, simplify, arena, work);
+    stats.collapses = simplifyToTolerance(mesh, normals, tape, simplify, arena, work.stage(0.15, 0.8));
     if (work.cancelled()) return std::nullopt;
     stats.simplifySeconds = secondsSince(t0);
-    work.report(0.75);
     t0 = Clock::now();
     RefineSettings refineSettings;
     refineSettings.tolerance = options.tolerance;
@@ -289,18 +293,19 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     refineSettings.maxTriangles = std::max<std::size_t>(16 * mesh.triangles.size(), 1 << 20);
     refineSettings.regionSize = 8.0 * stats.cellSize;
     RefineStats refine;
-    if (!refineToTolerance(mesh, normals, tape, refineSettings, arena, refine, work)) return std::nullopt;
+    if (!refineToTolerance(mesh, normals, tape, refineSettings, arena, refine, work.stage(0.8, 0.92)))
+        return std::nullopt;
     stats.refineSeconds = secondsSince(t0);
     stats.splits = refine.splits;
     stats.creaseSplits = refine.creaseSplits;
     stats.worstSample = refine.worstSample;
     stats.trianglesOverTolerance = refine.trianglesOverTolerance;
     stats.worstSampleAt = refine.worstAt;
-    work.report(0.9);
+    work.report(0.92);
     t0 = Clock::now();
     simplify.microLength = 0.0;
     if (refine.splits > 0) {
-        stats.collapses += simplifyToTolerance(mesh, normals, tape, simplify, arena, work);
+        stats.collapses += simplifyToTolerance(mesh, normals, tape, simplify, arena, work.stage(0.92, 1.0));
         if (work.cancelled()) return std::nullopt;
         // The simplification may reshape a triangle left over the tolerance
         // (never beyond the worst it replaces): report the mesh as it is.

@@ -142,24 +142,31 @@ std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, 
     limits.tolerance = settings.tolerance;
     limits.clearance = settings.clearance;
 
+    // The passes' shares of the progress, as they share the time on the
+    // examples: the first partitioned pass over the whole marching-cubes
+    // mesh is most of it.
+    const Progress microPass = progress.stage(0.0, 0.1), firstPass = progress.stage(0.1, 0.75),
+                   secondPass = progress.stage(0.75, 0.9), lastPass = progress.stage(0.9, 1.0);
     std::uint64_t collapses = 0;
     if (settings.microLength > 0.0 && hasEdgeShorterThan(work, settings.microLength)) {
         CollapseLimits micro;
         micro.maxMeanSquaredError = std::numeric_limits<double>::infinity();
         micro.maxEdgeLength = settings.microLength;
         micro.checkGeometry = false;
-        collapses += collapsePartitioned(work, micro, settings.cube, lo - origin, arena, field, progress);
-        if (hasEdgeShorterThan(work, settings.microLength)) collapses += collapseEdges(work, micro, field, progress);
+        collapses += collapsePartitioned(work, micro, settings.cube, lo - origin, arena, field, microPass);
+        if (hasEdgeShorterThan(work, settings.microLength)) collapses += collapseEdges(work, micro, field, microPass);
     }
-    collapses += collapsePartitioned(work, limits, settings.cube, lo - origin, arena, field, progress);
+    collapses += collapsePartitioned(work, limits, settings.cube, lo - origin, arena, field, firstPass);
     // Most of the marching-cubes mesh is gone by now (the side chair at
     // 0.5 mm: 9.5 M triangles to about 0.2 M): what follows walks and
     // indexes only what is left.
     work.dropRemoved();
     collapses += collapsePartitioned(work, limits, settings.cube, lo - origin + glm::dvec3(0.5 * settings.cube), arena,
-                                     field, progress);
-    collapses += collapseEdges(work, limits, field, progress);
+                                     field, secondPass);
+    lastPass.report(0.0);
+    collapses += collapseEdges(work, limits, field, lastPass);
     if (progress.cancelled()) return 0;
+    progress.report(1.0);
 
     // Keep the live triangles and the vertices they use, in their order.
     std::vector<std::uint32_t> index(work.positions.size(), std::numeric_limits<std::uint32_t>::max());

@@ -1185,6 +1185,23 @@ void MainWindowTest::exportDialogWritesAClosedMesh()
                  dialog->outcome().message.contains("mm or more"),
              qPrintable(dialog->outcome().message));
     QVERIFY(!QFile::exists(tooFine));
+    // A tolerance finer than STL's float32 coordinates can hold: refused at
+    // once, with the finest it holds (it ran for minutes and came back with
+    // every triangle "over" it).
+    dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(4.0);
+    dialog->findChild<QCheckBox*>("export.simplify")->setChecked(true);
+    dialog->findChild<QuantityEdit*>("export.tolerance")->setValue(0.000001);
+    clock.restart();
+    dialog->start();
+    QVERIFY(done.wait(60000));
+    QVERIFY(clock.elapsed() < 20000);
+    QVERIFY(!dialog->outcome().written);
+    QVERIFY2(dialog->outcome().message.contains("Not exported: A tolerance of 1e-06 mm is finer than a binary STL "
+                                                "file can hold") &&
+                 dialog->outcome().message.contains("the finest tolerance it holds is"),
+             qPrintable(dialog->outcome().message));
+    QVERIFY(!QFile::exists(tooFine));
+    dialog->findChild<QCheckBox*>("export.simplify")->setChecked(false);
     QDir(files_.path()).mkdir("a-folder.stl");
     dialog->findChild<QLineEdit*>("export.path")->setText(files_.path() + "/a-folder.stl");
     dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(4.0);

@@ -243,7 +243,16 @@ void ExportDialog::start()
             // cannot afford. On this thread: the estimate takes up to a
             // couple of seconds.
             checkOutputFile(file);
-            const RequestCost cost = estimateRequest(compileTape(doc_), featureSize, meshRequestKind(tolerance));
+            const Tape tape = compileTape(doc_);
+            if (const auto why = toleranceTheFileCannotHold(tape.bounds(), format, tolerance)) {
+                std::string sentence = *why;
+                sentence[0] = char(std::toupper(static_cast<unsigned char>(sentence[0])));
+                o.message = tr("Not exported: %1.").arg(QString::fromStdString(sentence));
+                workerOutcome_ = o;
+                done_ = true;
+                return;
+            }
+            const RequestCost cost = estimateRequest(tape, featureSize, meshRequestKind(tolerance));
             if (const auto over = overBudget(cost, RequestBudget::forThisMachine(), featureSize)) {
                 o.message = tr("Not exported: meshing at %1").arg(QString::fromStdString(*over));
                 workerOutcome_ = o;

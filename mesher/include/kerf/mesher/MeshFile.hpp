@@ -11,6 +11,7 @@
 // gets it (STL welded by written position, 3MF by index), not the mesh in
 // memory.
 
+#include "kerf/document/Aabb.hpp"
 #include "kerf/mesher/Mesh.hpp"
 #include "kerf/mesher/MeshCheck.hpp"
 #include "kerf/mesher/MeshPart.hpp"
@@ -41,6 +42,19 @@ WrittenFormat writtenFormatOf(MeshFileFormat format);
 /// for 3MF a float32-exact point near the part once the part is so far from
 /// the origin that float32 would lose more than `tolerance` / 10 there.
 glm::dvec3 fileOffsetFor(const Mesh& mesh, MeshFileFormat format, double tolerance);
+
+/// The finest tolerance a file of `format` can hold for a part within
+/// `partBounds` (mm): twice the step of its written coordinates where the
+/// part reaches (a vertex rounds by up to half a step on each axis). STL
+/// steps by float32's spacing at the part's largest coordinate; 3MF, moved
+/// next to the part, by float32's at its half extent or its sixth decimal.
+double finestTolerance(const Aabb& partBounds, MeshFileFormat format);
+
+/// Why `tolerance` cannot be asked of a file of `format` for this part, or
+/// nothing when it can (0, no tolerance, always can). A tolerance finer than
+/// the file holds would only make every triangle "over" it, after minutes.
+std::optional<std::string> toleranceTheFileCannotHold(const Aabb& partBounds, MeshFileFormat format,
+                                                      double tolerance);
 
 struct MeshFileReport {
     WrittenFit fit;            // what fitting to the written coordinates changed
