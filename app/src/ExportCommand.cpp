@@ -169,7 +169,10 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         MeshOptions options;
         options.featureSize = requested.value_or(doc.settings.featureSize.value_or(defaultFeatureSize(bounds)));
         options.tolerance = tolerance;
-        if (const auto why = toleranceTheFileCannotHold(bounds, *format, tolerance))
+        // A tolerance asked for that the file cannot hold is refused; the
+        // default on a part far from the origin is written with a warning
+        // (below), as the issue asks of far parts.
+        if (const auto why = toleranceText ? toleranceTheFileCannotHold(bounds, *format, tolerance) : std::nullopt)
             throw RefusedRequest(printable(file) + ": " + *why);
         // The output and the machine's budget, before any meshing.
         preflightExport(doc, file, target, options.featureSize, options.tolerance);

@@ -77,7 +77,11 @@ glm::dvec3 fileOffsetFor(const Mesh& mesh, MeshFileFormat format, double toleran
     return centre;
 }
 
-double finestTolerance(const Aabb& partBounds, MeshFileFormat format)
+namespace {
+
+// How far the written coordinates reach for a part within `partBounds`: from
+// the origin for STL, from the part's middle for 3MF (written next to it).
+double writtenReach(const Aabb& partBounds, MeshFileFormat format)
 {
     double reach = 0.0;
     for (int a = 0; a < 3; ++a)
@@ -85,7 +89,14 @@ double finestTolerance(const Aabb& partBounds, MeshFileFormat format)
                           format == MeshFileFormat::ThreeMf
                               ? 0.5 * (partBounds.max[a] - partBounds.min[a]) + 1.0 // the offset is whole millimetres
                               : std::max(std::abs(partBounds.min[a]), std::abs(partBounds.max[a]))});
-    return 2.0 * spacingAt(reach, format);
+    return reach;
+}
+
+} // namespace
+
+double finestTolerance(const Aabb& partBounds, MeshFileFormat format)
+{
+    return 2.0 * spacingAt(writtenReach(partBounds, format), format);
 }
 
 std::optional<std::string> toleranceTheFileCannotHold(const Aabb& partBounds, MeshFileFormat format,
@@ -94,12 +105,17 @@ std::optional<std::string> toleranceTheFileCannotHold(const Aabb& partBounds, Me
     if (!(tolerance > 0.0) || partBounds.isEmpty()) return std::nullopt;
     const double finest = finestTolerance(partBounds, format);
     if (tolerance >= finest) return std::nullopt;
-    char text[512];
+    const bool stl = format != MeshFileFormat::ThreeMf;
+    char text[640];
     std::snprintf(text, sizeof text,
                   "a tolerance of %.3g mm is finer than a %s file can hold for this part: its coordinates step by "
-                  "%.2g mm where the part reaches; the finest tolerance it holds is %.2g mm (or 0 for the "
-                  "marching-cubes mesh without simplification)",
-                  tolerance, describe(format), 0.5 * finest, finest);
+                  "%.2g mm where the part reaches, %.3g mm from %s; the finest tolerance it holds is %.2g mm (or 0 "
+                  "for the marching-cubes mesh without simplification)%s",
+                  tolerance, describe(format), 0.5 * finest, writtenReach(partBounds, format),
+                  stl ? "the origin" : "its middle", finest,
+                  stl && tolerance >= finestTolerance(partBounds, MeshFileFormat::ThreeMf)
+                      ? "; a .3mf file holds it"
+                      : "");
     return std::string(text);
 }
 

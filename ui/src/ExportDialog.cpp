@@ -244,7 +244,11 @@ void ExportDialog::start()
             // couple of seconds.
             checkOutputFile(file);
             const Tape tape = compileTape(doc_);
-            if (const auto why = toleranceTheFileCannotHold(tape.bounds(), format, tolerance)) {
+            // (The default on a part far from the origin is written, with
+            // the warning the result gives; a tolerance typed in is refused.)
+            if (const auto why = tolerance != kDefaultExportTolerance
+                                     ? toleranceTheFileCannotHold(tape.bounds(), format, tolerance)
+                                     : std::nullopt) {
                 std::string sentence = *why;
                 sentence[0] = char(std::toupper(static_cast<unsigned char>(sentence[0])));
                 o.message = tr("Not exported: %1.").arg(QString::fromStdString(sentence));
