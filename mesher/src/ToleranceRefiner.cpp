@@ -438,6 +438,8 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
     std::vector<std::uint8_t> touched; // vertices of this round's changed triangles
     for (stats.rounds = 0; !dirty.empty(); ++stats.rounds) {
         if (work.cancelled()) return false;
+        // (Most refinements are done in a few rounds: the bar then jumps.)
+        work.report(double(stats.rounds) / double(settings.maxRounds + 1));
         const std::vector<Verdict> verdicts = judgeAll(mesh, tape, tolerance, dirty, samplers, arena);
         stats.samples += dirty.size() * kTriangleSamples;
         worst.resize(mesh.triangles.size(), 0.0);
