@@ -26,9 +26,9 @@
 // between the two grid values (default 0.001 mm: the vertices are on the
 // surface, what is left is the level set's own faceting; it costs a few
 // more evaluations per vertex, a small share of the grid's).
-import fs from 'node:fs';
 import Module from 'manifold-3d';
 import { loadTape, readTape } from './tape.mjs';
+import { writeBinaryStl } from './stl.mjs';
 
 const [file, edgeText, out, toleranceText] = process.argv.slice(2);
 if (!file || !edgeText || !out) {
@@ -74,18 +74,7 @@ const part = Manifold.levelSet(sdf, bounds, edge, 0, vertexTolerance);
 const mesh = part.getMesh();
 const seconds = Number(process.hrtime.bigint() - start) / 1e9;
 
-const triangles = mesh.triVerts.length / 3;
-const stride = mesh.numProp;
-const buffer = Buffer.alloc(84 + 50 * triangles);
-buffer.writeUInt32LE(triangles, 80);
-for (let t = 0; t < triangles; ++t) {
-  const at = 84 + 50 * t;
-  for (let k = 0; k < 3; ++k) {
-    const v = mesh.triVerts[3 * t + k];
-    for (let a = 0; a < 3; ++a) buffer.writeFloatLE(mesh.vertProperties[stride * v + a], at + 12 + 12 * k + 4 * a);
-  }
-}
-fs.writeFileSync(out, buffer);
+const triangles = writeBinaryStl(mesh, out);
 console.log(JSON.stringify({
   triangles, seconds, edge_mm: edge, vertex_tolerance_mm: vertexTolerance, grid, voxels, evaluations,
   genus: part.genus(), status: part.status(),

@@ -17,6 +17,7 @@
 // inscribed in a circle of radius r strays r(1 - cos(pi/n)) from it.
 import fs from 'node:fs';
 import Module from 'manifold-3d';
+import { writeBinaryStl } from './stl.mjs';
 
 const [file, toleranceText, out] = process.argv.slice(2);
 if (!file || !toleranceText || !out) {
@@ -117,16 +118,5 @@ const part = build(doc.root);
 const mesh = part.getMesh();
 const seconds = Number(process.hrtime.bigint() - start) / 1e9;
 
-const triangles = mesh.triVerts.length / 3;
-const stride = mesh.numProp;
-const buffer = Buffer.alloc(84 + 50 * triangles);
-buffer.writeUInt32LE(triangles, 80);
-for (let t = 0; t < triangles; ++t) {
-  const at = 84 + 50 * t;
-  for (let k = 0; k < 3; ++k) {
-    const v = mesh.triVerts[3 * t + k];
-    for (let a = 0; a < 3; ++a) buffer.writeFloatLE(mesh.vertProperties[stride * v + a], at + 12 + 12 * k + 4 * a);
-  }
-}
-fs.writeFileSync(out, buffer);
+const triangles = writeBinaryStl(mesh, out);
 console.log(JSON.stringify({ triangles, seconds, genus: part.genus(), volume: part.volume() }));
