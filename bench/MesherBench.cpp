@@ -178,6 +178,45 @@ BENCHMARK(BM_ChairMeshOnly)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The export a woodworker gets: meshed and simplified to a tolerance (the
+// default 0.05 mm, and 0.01), no check or file, for the thread scaling of
+// the whole simplified path (lattice, simplification, refinement).
+void BM_ChairSimplified(benchmark::State& state)
+{
+    MeshOptions options;
+    options.featureSize = double(state.range(0)) / 1000.0;
+    options.tolerance = double(state.range(1)) / 1000.0;
+    options.threads = int(state.range(2));
+    MeshStats stats;
+    double peak = 0;
+    for (auto _ : state) {
+        releaseFreedMemory();
+        if (!resetPeakMemory()) state.SkipWithError("cannot reset the peak-memory mark (/proc/self/clear_refs)");
+        std::optional<Mesh> mesh = meshPart(chairDocument(), options, {}, &stats);
+        benchmark::DoNotOptimize(mesh->triangles.data());
+        peak = std::max(peak, statusMegabytes("VmHWM"));
+    }
+    state.counters["triangles"] = double(stats.triangles);
+    state.counters["lattice_triangles"] = double(stats.latticeTriangles);
+    state.counters["lattice_s"] = stats.seconds - stats.simplifySeconds - stats.refineSeconds;
+    state.counters["simplify_s"] = stats.simplifySeconds;
+    state.counters["refine_s"] = stats.refineSeconds;
+    state.counters["over"] = double(stats.trianglesOverTolerance);
+    state.counters["peak_MB"] = peak;
+}
+BENCHMARK(BM_ChairSimplified)
+    ->ArgNames({"fs_um", "tol_um", "threads"})
+    ->Args({500, 50, 1})
+    ->Args({500, 50, 2})
+    ->Args({500, 50, 4})
+    ->Args({500, 50, 8})
+    ->Args({500, 50, 16})
+    ->Args({500, 10, 2})
+    ->Args({500, 10, 16})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 } // namespace
 } // namespace kerf
 
