@@ -5,7 +5,9 @@
 #include "TriangleSamples.hpp"
 #include "kerf/mesher/SelfIntersections.hpp"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <atomic>
@@ -838,18 +840,34 @@ std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits
         std::uint32_t triangle;
         bool operator<(const Keyed& o) const { return cube < o.cube || (cube == o.cube && triangle < o.triangle); }
     };
-    std::vector<Keyed> order;
-    order.reserve(mesh.triangles.size());
-    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
-        const Triangle& tri = mesh.triangles[t];
-        if (tri[0] == kRemoved) continue;
-        const glm::dvec3 centroid = (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3.0;
-        const glm::dvec3 q = glm::floor((centroid - shift) / cube);
-        // 21 bits per axis (cubes are large against any part): wrap-around only merges far cubes, which is harmless.
-        auto bits = [](double v) { return std::uint64_t(std::int64_t(v) & 0x1FFFFF); };
-        order.push_back({bits(q.x) | bits(q.y) << 21 | bits(q.z) << 42, t});
-    }
-    std::sort(order.begin(), order.end());
+    // Keyed and sorted on the arena's threads (the first pass sorts the
+    // whole marching-cubes mesh: 9.5 M triangles for the side chair at
+    // 0.5 mm, 1.2 s on one thread). Removed triangles get a key above any
+    // cube's and are cut off the end; the keys are unique, so the order is
+    // the one a sequential sort gives.
+    constexpr std::uint64_t kRemovedKey = ~std::uint64_t(0);
+    std::vector<Keyed> order(mesh.triangles.size());
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(mesh.triangles.size()), 4096),
+                          [&](const tbb::blocked_range<std::uint32_t>& r) {
+            for (std::uint32_t t = r.begin(); t != r.end(); ++t) {
+                const Triangle& tri = mesh.triangles[t];
+                if (tri[0] == kRemoved) {
+                    order[t] = {kRemovedKey, t};
+                    continue;
+                }
+                const glm::dvec3 centroid =
+                    (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3.0;
+                const glm::dvec3 q = glm::floor((centroid - shift) / cube);
+                // 21 bits per axis (cubes are large against any part): wrap-around only merges far cubes, which is harmless.
+                auto bits = [](double v) { return std::uint64_t(std::int64_t(v) & 0x1FFFFF); };
+                order[t] = {bits(q.x) | bits(q.y) << 21 | bits(q.z) << 42, t};
+            }
+        });
+        tbb::parallel_sort(order.begin(), order.end());
+    });
+    while (!order.empty() && order.back().cube == kRemovedKey)
+        order.pop_back();
     // A vertex whose triangles lie in two cubes is held still by both.
     constexpr std::uint64_t kUnset = ~std::uint64_t(0);
     std::vector<std::uint64_t> cubeOf(vertexCount, kUnset);
