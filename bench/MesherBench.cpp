@@ -141,14 +141,10 @@ BENCHMARK(BM_ChairExport)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// Meshing alone (no check, no file), for the scaling of the mesher itself.
-void BM_ChairMeshOnly(benchmark::State& state)
+// Meshes the chair once per iteration (no check, no file); returns the peak
+// resident memory in MB, the last mesh's figures in `stats`.
+double meshChairRepeatedly(benchmark::State& state, const MeshOptions& options, MeshStats& stats)
 {
-    MeshOptions options;
-    options.featureSize = double(state.range(0)) / 1000.0;
-    options.threads = int(state.range(1));
-    options.findHiddenDetail = state.range(2) != 0;
-    MeshStats stats;
     double peak = 0;
     for (auto _ : state) {
         releaseFreedMemory();
@@ -157,6 +153,18 @@ void BM_ChairMeshOnly(benchmark::State& state)
         benchmark::DoNotOptimize(mesh->triangles.data());
         peak = std::max(peak, statusMegabytes("VmHWM"));
     }
+    return peak;
+}
+
+// Meshing alone (no check, no file), for the scaling of the mesher itself.
+void BM_ChairMeshOnly(benchmark::State& state)
+{
+    MeshOptions options;
+    options.featureSize = double(state.range(0)) / 1000.0;
+    options.threads = int(state.range(1));
+    options.findHiddenDetail = state.range(2) != 0;
+    MeshStats stats;
+    const double peak = meshChairRepeatedly(state, options, stats);
     state.counters["triangles"] = double(stats.triangles);
     state.counters["tri_per_s"] =
         benchmark::Counter(double(stats.triangles), benchmark::Counter::kIsIterationInvariantRate);
@@ -188,14 +196,7 @@ void BM_ChairSimplified(benchmark::State& state)
     options.tolerance = double(state.range(1)) / 1000.0;
     options.threads = int(state.range(2));
     MeshStats stats;
-    double peak = 0;
-    for (auto _ : state) {
-        releaseFreedMemory();
-        if (!resetPeakMemory()) state.SkipWithError("cannot reset the peak-memory mark (/proc/self/clear_refs)");
-        std::optional<Mesh> mesh = meshPart(chairDocument(), options, {}, &stats);
-        benchmark::DoNotOptimize(mesh->triangles.data());
-        peak = std::max(peak, statusMegabytes("VmHWM"));
-    }
+    const double peak = meshChairRepeatedly(state, options, stats);
     state.counters["triangles"] = double(stats.triangles);
     state.counters["lattice_triangles"] = double(stats.latticeTriangles);
     state.counters["lattice_s"] = stats.seconds - stats.simplifySeconds - stats.refineSeconds;
