@@ -44,6 +44,7 @@ int main(int argc, char** argv)
         j["components"] = report.components;
         j["volume_mm3"] = report.volume;
         j["distance_max_mm"] = d.max;
+        j["distance_max_at_mm"] = {d.maxAt.x, d.maxAt.y, d.maxAt.z};
         j["distance_mean_mm"] = d.mean;
         j["distance_max_lower_bound_mm"] = d.maxLowerBound;
         j["unresolved_samples"] = d.unresolved;

@@ -4,7 +4,10 @@
 # drift falls on both: per part, feature size and tolerance, the triangles,
 # the triangles left over the tolerance and the worst sample (as kerf
 # export --json reports them for the file written) and the faster of the
-# two times of each build. Every run is a real `kerf export`.
+# two times of each build. Every run is a real `kerf export`. With
+# MESH_DISTANCE=path/to/kerf_mesh_distance, each build's first file is
+# also measured against the exact surface (the upper bound of the distance,
+# SurfaceDistance.hpp): the worst sample is each build's own judgement.
 #
 #   bash bench/export-before-after.sh BEFORE_KERF AFTER_KERF [PART:FEATURE:TOLERANCE ...]
 set -euo pipefail
@@ -17,18 +20,26 @@ cases=("$@")
   resources/examples/table-top.kerf:4:0.01)
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-run() { # kerf part feature tolerance -> "triangles over worst seconds"
-  "$1" export "$2" -o "$out/part.stl" --feature-size "$3" --tolerance "$4" --json 2>/dev/null |
+run() { # kerf part feature tolerance file -> "triangles over worst seconds"
+  "$1" export "$2" -o "$5" --feature-size "$3" --tolerance "$4" --json 2>/dev/null |
     python3 -c 'import json,sys; j=json.load(sys.stdin); print(j["triangles"], j["triangles_over_tolerance"], "%.4f" % j["worst_sample_mm"], "%.2f" % j["seconds"])'
 }
-echo "| part | cells mm | tolerance mm | triangles before → after | over tolerance before → after | worst sample mm before → after | time s before → after |"
-echo "|---|---|---|---|---|---|---|"
+distance() { # part file -> the largest distance at a sample (upper bound), mm
+  if [ -n "${MESH_DISTANCE:-}" ]; then
+    "$MESH_DISTANCE" "$1" "$2" | python3 -c 'import json,sys; print("%.4f" % json.load(sys.stdin)["distance_max_mm"])'
+  else
+    echo "-"
+  fi
+}
+echo "| part | cells mm | tolerance mm | triangles before → after | over tolerance before → after | worst sample mm before → after | distance max mm before → after | time s before → after |"
+echo "|---|---|---|---|---|---|---|---|"
 for c in "${cases[@]}"; do
   IFS=: read -r part feature tolerance <<<"$c"
-  read -r bt bo bw bs1 <<<"$(run "$before" "$part" "$feature" "$tolerance")"
-  read -r at ao aw as1 <<<"$(run "$after" "$part" "$feature" "$tolerance")"
-  read -r _ _ _ bs2 <<<"$(run "$before" "$part" "$feature" "$tolerance")"
-  read -r _ _ _ as2 <<<"$(run "$after" "$part" "$feature" "$tolerance")"
+  read -r bt bo bw bs1 <<<"$(run "$before" "$part" "$feature" "$tolerance" "$out/before.stl")"
+  read -r at ao aw as1 <<<"$(run "$after" "$part" "$feature" "$tolerance" "$out/after.stl")"
+  read -r _ _ _ bs2 <<<"$(run "$before" "$part" "$feature" "$tolerance" "$out/part.stl")"
+  read -r _ _ _ as2 <<<"$(run "$after" "$part" "$feature" "$tolerance" "$out/part.stl")"
   bs=$(python3 -c "print(min($bs1, $bs2))") as=$(python3 -c "print(min($as1, $as2))")
-  echo "| $(basename "$part" .kerf) | $feature | $tolerance | $bt → $at | $bo → $ao | $bw → $aw | $bs → $as |"
+  bd=$(distance "$part" "$out/before.stl") ad=$(distance "$part" "$out/after.stl")
+  echo "| $(basename "$part" .kerf) | $feature | $tolerance | $bt → $at | $bo → $ao | $bw → $aw | $bd → $ad | $bs → $as |"
 done

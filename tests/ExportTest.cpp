@@ -1,6 +1,7 @@
 // The export (issue 13): meshes sized by a tolerance, square edges, and
 // files that a slicer reads as one closed solid.
 
+#include "kerf/accuracy/SurfaceDistance.hpp"
 #include "kerf/evaluator/PointEvaluator.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/mesher/MeshCheck.hpp"
@@ -206,9 +207,11 @@ TEST_P(ExportedFile, ReadsBackAsTheClosedSolidInEveryFormat)
         // Every triangle near the exact surface at its samples: the
         // tolerance, plus the file's coordinate step (100 m away, float32
         // steps by 7.8 um: more than the tolerance allows for, and said so
-        // by kerf export).
-        PointEvaluator<double> eval;
-        double worst = 0.0;
+        // by kerf export). The distance is measured as the accuracy library
+        // does (SurfaceDistance.hpp: a walk to a point of the surface, an
+        // upper bound of the distance), not by |f|, which is only a lower
+        // bound of it in a blend.
+        std::vector<glm::dvec3> samples;
         for (const auto& t : read.triangles) {
             const glm::dvec3 a = read.vertices[t[0]], b = read.vertices[t[1]], d = read.vertices[t[2]];
             for (const glm::dvec3& w : {glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1),
@@ -219,10 +222,13 @@ TEST_P(ExportedFile, ReadsBackAsTheClosedSolidInEveryFormat)
                                         // exporter samples (TriangleSamples.hpp)
                                         glm::dvec3(3, 1, 0) / 4.0, glm::dvec3(1, 3, 0) / 4.0,
                                         glm::dvec3(0, 3, 1) / 4.0, glm::dvec3(0, 1, 3) / 4.0,
-                                        glm::dvec3(1, 0, 3) / 4.0, glm::dvec3(3, 0, 1) / 4.0}) {
-                const glm::dvec3 p = w.x * a + w.y * b + w.z * d - tape.origin();
-                worst = std::max(worst, std::abs(eval.evaluate(tape, p.x, p.y, p.z)));
-            }
+                                        glm::dvec3(1, 0, 3) / 4.0, glm::dvec3(3, 0, 1) / 4.0})
+                samples.push_back(w.x * a + w.y * b + w.z * d);
+        }
+        double worst = 0.0;
+        for (const PointDistance& d : distancesToSurface(tape, samples)) {
+            EXPECT_TRUE(d.resolved) << what;
+            worst = std::max(worst, d.upper);
         }
         // Where the exporter says every triangle is within the tolerance, it
         // is (as read back, up to the file's coordinate step: 100 m away

@@ -253,6 +253,7 @@ void measureChunk(const Tape& tape, Scratch& s, double margin)
 struct ChunkResult {
     std::uint64_t samples = 0, unresolved = 0;
     double max = 0.0, maxLower = 0.0, vertexMax = 0.0;
+    glm::dvec3 maxAt{0.0};
     double weighted = 0.0, area = 0.0;
 };
 
@@ -298,6 +299,7 @@ SurfaceDistance measureSurfaceDistance(const Mesh& mesh, const Tape& tape, int t
                     continue;
                 }
                 vertexDistance[first + i] = d.upper;
+                if (d.upper > r.max) r.maxAt = s.points[i];
                 r.max = std::max(r.max, d.upper);
                 r.vertexMax = std::max(r.vertexMax, d.upper);
                 r.maxLower = std::max(r.maxLower, d.lower);
@@ -332,6 +334,7 @@ SurfaceDistance measureSurfaceDistance(const Mesh& mesh, const Tape& tape, int t
                         resolved = false;
                         continue;
                     }
+                    if (d[k].upper > r.max) r.maxAt = s.points[4 * (t - first) + std::size_t(k)];
                     r.max = std::max(r.max, d[k].upper);
                     r.maxLower = std::max(r.maxLower, d[k].lower);
                 }
@@ -353,6 +356,7 @@ SurfaceDistance measureSurfaceDistance(const Mesh& mesh, const Tape& tape, int t
         for (const ChunkResult& r : *results) {
             result.samples += r.samples;
             result.unresolved += r.unresolved;
+            if (r.max > result.max) result.maxAt = r.maxAt;
             result.max = std::max(result.max, r.max);
             result.maxLowerBound = std::max(result.maxLowerBound, r.maxLower);
             result.vertexMax = std::max(result.vertexMax, r.vertexMax);

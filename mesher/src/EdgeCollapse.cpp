@@ -658,7 +658,7 @@ private:
             return true;
         }
         values_.resize(samples_.size());
-        surface_.field(samples_.data(), samples_.size(), values_.data());
+        surface_.distances(samples_.data(), samples_.size(), limits_.tolerance, values_.data());
         // Beyond the tolerance, no further than the worst triangle replaced
         // (unless strict): found only when a sample is beyond it, since the
         // replaced triangles' errors cost as many samples as the new ones.
@@ -725,7 +725,7 @@ private:
         errorSamples_.clear();
         appendTriangleSamples(m_.positions[tri[0]], m_.positions[tri[1]], m_.positions[tri[2]], errorSamples_);
         double values[kTriangleSamples];
-        surface_.field(errorSamples_.data(), kTriangleSamples, values);
+        surface_.distances(errorSamples_.data(), kTriangleSamples, limits_.tolerance, values);
         double worst = 0.0;
         for (const double v : values)
             worst = std::max(worst, std::isfinite(v) ? std::abs(v) : 1e300);

@@ -1,6 +1,7 @@
 #include "SurfaceQueries.hpp"
 
 #include "CreaseSnap.hpp"
+#include "SampleDistance.hpp"
 
 #include "kerf/evaluator/IntervalEvaluator.hpp"
 
@@ -28,15 +29,15 @@ SurfaceQueries SurfaceQueries::region(const glm::dvec3& lo, const glm::dvec3& hi
     return SurfaceQueries(std::move(simplified), offset_, creaseTolerance_, regionSize_);
 }
 
-void SurfaceQueries::field(const glm::dvec3* p, std::size_t n, double* out)
+// The tape near the points' box, and the points in its frame in x_, y_, z_.
+const Tape& SurfaceQueries::prepare(const glm::dvec3* p, std::size_t n, double reach)
 {
-    if (n == 0) return;
     glm::dvec3 lo(p[0]), hi(p[0]);
     for (std::size_t i = 1; i < n; ++i) {
         lo = glm::min(lo, p[i]);
         hi = glm::max(hi, p[i]);
     }
-    const Tape& tape = regions_->near(0.5 * (lo + hi) + offset_, 0.5 * glm::length(hi - lo));
+    const Tape& tape = regions_->near(0.5 * (lo + hi) + offset_, 0.5 * glm::length(hi - lo) + reach);
     x_.resize(n);
     y_.resize(n);
     z_.resize(n);
@@ -46,7 +47,21 @@ void SurfaceQueries::field(const glm::dvec3* p, std::size_t n, double* out)
         y_[i] = p[i].y + shift.y;
         z_[i] = p[i].z + shift.z;
     }
+    return tape;
+}
+
+void SurfaceQueries::field(const glm::dvec3* p, std::size_t n, double* out)
+{
+    if (n == 0) return;
+    const Tape& tape = prepare(p, n, 0.0);
     points_.evaluate(tape, x_.data(), y_.data(), z_.data(), n, out);
+}
+
+void SurfaceQueries::distances(const glm::dvec3* p, std::size_t n, double tolerance, double* out)
+{
+    if (n == 0) return;
+    const Tape& tape = prepare(p, n, sampleWalkReach(tolerance));
+    distances_.measure(tape, x_.data(), y_.data(), z_.data(), n, tolerance, out);
 }
 
 glm::dvec3 SurfaceQueries::unitNormal(const glm::dvec3& p)

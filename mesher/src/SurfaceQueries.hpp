@@ -13,6 +13,7 @@
 // Not thread-safe: one per thread (each holds its evaluators).
 
 #include "RegionTapes.hpp"
+#include "SampleDistance.hpp"
 
 #include "kerf/evaluator/PointEvaluator.hpp"
 #include "kerf/evaluator/Tape.hpp"
@@ -43,6 +44,9 @@ public:
         field(&p, 1, &f);
         return f;
     }
+    /// out[i] = how far p[i] is from the surface, as a triangle's sample is
+    /// judged against `tolerance` (SampleDistance.hpp).
+    void distances(const glm::dvec3* p, std::size_t n, double tolerance, double* out);
     /// The unit normal of the surface's sheet at p (the field's gradient),
     /// or 0 where it has none.
     glm::dvec3 unitNormal(const glm::dvec3& p);
@@ -52,6 +56,8 @@ public:
                                            double scale);
 
 private:
+    const Tape& prepare(const glm::dvec3* p, std::size_t n, double reach);
+
     SurfaceQueries(std::shared_ptr<const Tape> owned, const glm::dvec3& offset, double creaseTolerance,
                    double regionSize);
 
@@ -63,6 +69,7 @@ private:
     double creaseTolerance_;
     PointEvaluator<double> points_;
     GradientEvaluator<double> gradients_;
+    SampleDistance distances_;
     std::vector<double> x_, y_, z_;
 };
 

@@ -3,6 +3,7 @@
 #include "CreaseSnap.hpp"
 #include "CrossingGuard.hpp"
 #include "RegionTapes.hpp"
+#include "SampleDistance.hpp"
 #include "TriangleTree.hpp"
 #include "TriangleSamples.hpp"
 #include "kerf/mesher/SelfIntersections.hpp"
@@ -30,7 +31,7 @@ using Tri = std::array<std::uint32_t, 3>;
 constexpr double kCreaseCosine = 0.8660254037844387; // 30 degrees
 
 struct Verdict {
-    double worst = 0.0;         // largest |f| at a sample, mm
+    double worst = 0.0;         // largest distance at a sample (SampleDistance.hpp), mm
     std::array<int, 3> edges{}; // the edges to try splitting, best first (-1: none more)
 };
 
@@ -67,8 +68,9 @@ public:
             lo = glm::min(lo, p);
             hi = glm::max(hi, p);
         }
-        intervals_.simplify(tape, Aabb{lo, hi}, region_);
-        evaluator_.evaluate(region_, x_.data(), y_.data(), z_.data(), n, f_.data());
+        const glm::dvec3 reach(sampleWalkReach(tolerance));
+        intervals_.simplify(tape, Aabb{lo - reach, hi + reach}, region_);
+        distances_.measure(region_, x_.data(), y_.data(), z_.data(), n, tolerance, f_.data());
         for (std::size_t i = 0; i < count; ++i) {
             // The edges in the order of their worst sample (the one the
             // triangle strays most along); the inside samples count for the
@@ -87,8 +89,7 @@ public:
                 }
             }
             for (std::size_t s = 0; s < kTriangleSamples; ++s) {
-                double e = std::abs(f_[i * kTriangleSamples + s]);
-                if (!std::isfinite(e)) e = 1e300;
+                const double e = f_[i * kTriangleSamples + s];
                 v.worst = std::max(v.worst, e);
                 const int edge = kTriangleSamplePattern[s].edge >= 0 ? kTriangleSamplePattern[s].edge : longest;
                 edgeWorst[edge] = std::max(edgeWorst[edge], e);
@@ -105,7 +106,7 @@ public:
     }
 
 private:
-    PointEvaluator<double> evaluator_;
+    SampleDistance distances_;
     IntervalEvaluator intervals_;
     Tape region_;
     std::vector<glm::dvec3> points_;
@@ -241,7 +242,8 @@ public:
             if (!(glm::length(n1) > minHeight_ * longest1 && glm::length(n2) > minHeight_ * longest2)) continue;
             const glm::dvec3 mid = 0.5 * (pu + pv);
             const Tape& tape = regions_.near(mid, std::max({glm::length(pu - mid), glm::length(pw - mid),
-                                                            glm::length(px - mid)}));
+                                                            glm::length(px - mid)}) +
+                                                      sampleWalkReach(tolerance_));
             const double old = std::max(sampledError(tape, pu, pv, pw), sampledError(tape, pv, pu, px));
             const double now = std::max(sampledError(tape, pw, pu, px), sampledError(tape, px, pv, pw));
             if (!(now < old)) continue;
@@ -268,10 +270,15 @@ private:
     {
         samples_.clear();
         appendTriangleSamples(a, b, c, samples_);
-        double worst = 0.0;
-        for (const glm::dvec3& p : samples_)
-            worst = std::max(worst, std::abs(field(tape, p)));
-        return worst;
+        const glm::dvec3 origin = tape.origin();
+        double x[kTriangleSamples], y[kTriangleSamples], z[kTriangleSamples], d[kTriangleSamples];
+        for (std::size_t k = 0; k < kTriangleSamples; ++k) {
+            x[k] = samples_[k].x - origin.x;
+            y[k] = samples_[k].y - origin.y;
+            z[k] = samples_[k].z - origin.z;
+        }
+        distances_.measure(tape, x, y, z, kTriangleSamples, tolerance_, d);
+        return *std::max_element(d, d + kTriangleSamples);
     }
 
     void add(std::uint32_t t)
@@ -339,12 +346,6 @@ private:
         p = s->p;
         if (normal) *normal = s->n;
         return true;
-    }
-
-    double field(const Tape& tape, const glm::dvec3& p)
-    {
-        const glm::dvec3 q = p - tape.origin();
-        return points_.evaluate(tape, q.x, q.y, q.z);
     }
 
     // The new vertex of edge (u, v) between triangles (u, v, w) and (v, u, x),
@@ -416,7 +417,7 @@ private:
     TriangleTree grid_;
     std::vector<glm::dvec3> samples_;
     GradientEvaluator<double> gradients_;
-    PointEvaluator<double> points_;
+    SampleDistance distances_;
 };
 
 } // namespace

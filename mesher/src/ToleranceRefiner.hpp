@@ -1,10 +1,10 @@
 #pragma once
 // Makes a mesh keep to a tolerance of the exact surface: every triangle is
-// sampled on the exact field (the field is 1-Lipschitz, so |f| at a sample
-// is a lower bound of its distance to the surface, and equal to it where
-// the field is an exact distance, which is most of a part), and a triangle
-// with a sample further than the tolerance has an edge split, the new vertex
-// placed on the surface, until every sample is within it.
+// sampled on the exact field (the distance of a sample is |f| / |grad f|,
+// SampleDistance.hpp: |f| where the field is an exact distance, which is
+// most of a part, and more in blends, where |f| understates it), and a
+// triangle with a sample further than the tolerance has an edge split, the
+// new vertex placed on the surface, until every sample is within it.
 //
 // Samples per triangle: three on each edge (at 1/4, 1/2, 3/4) and four
 // inside (the centroid and halfway from it to each vertex). The worst one
@@ -41,7 +41,7 @@ struct RefineStats {
     std::uint64_t creaseSplits = 0;
     std::uint64_t samples = 0;
     int rounds = 0;
-    /// The largest |f| at a sample once done (mm): at most the tolerance
+    /// The largest distance of a sample once done (mm, SampleDistance.hpp): at most the tolerance
     /// unless the round limit was reached.
     double worstSample = 0.0;
     glm::dvec3 worstAt{0.0}; // the centroid of the triangle with the worst sample (world mm)
@@ -70,7 +70,7 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
                        tbb::task_arena& arena, RefineStats& stats, const Progress& work = {});
 
 /// A mesh's triangles sampled as the refinement samples them: the worst
-/// |f|, the centroid of the triangle it is on, and how many triangles have
+/// sample's distance, the centroid of the triangle it is on, and how many triangles have
 /// a sample beyond the tolerance. What the simplification after the
 /// refinement leaves is measured with it, so that what is reported is the
 /// mesh written.

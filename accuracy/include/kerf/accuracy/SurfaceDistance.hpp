@@ -70,6 +70,7 @@ struct SurfaceDistance {
     std::uint64_t samples = 0;    // points measured
     std::uint64_t unresolved = 0; // samples from which no surface was reached (left out of the figures)
     double max = 0.0;             // mm: the largest sample distance (upper bounds)
+    glm::dvec3 maxAt{0.0};        // world mm: the sample where it is (the first, in chunk order)
     double mean = 0.0;            // mm: area-weighted mean distance over the mesh (upper bounds)
     double maxLowerBound = 0.0;   // mm: the largest |f| at a sample; the true maximum lies in [this, max]
     double vertexMax = 0.0;       // mm: the largest distance of a vertex (about 0: vertices are root-found)

@@ -124,7 +124,7 @@ struct MeshStats {
     std::uint64_t collapses = 0;          // edge collapses of the simplification
     std::uint64_t splits = 0;             // edges split to reach the tolerance
     std::uint64_t creaseSplits = 0;       // of which on sharp edges of the part
-    double worstSample = 0.0;             // mm: largest |f| at the refinement's samples of the final mesh
+    double worstSample = 0.0;             // mm: the final mesh's largest sample distance (|f| / |grad f|)
     std::uint64_t trianglesOverTolerance = 0; // triangles the refinement could not bring within the tolerance
     glm::dvec3 worstSampleAt{0.0};        // world mm: the centroid of the triangle with the worst sample
     double simplifySeconds = 0.0;

@@ -1,0 +1,136 @@
+#include "SampleDistance.hpp"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace kerf::mesher {
+
+namespace {
+
+constexpr double kGradientFloor = 0.1;
+constexpr int kWalkSteps = 64; // as the accuracy library walks; most settle in a few
+constexpr double kWalkFrom = 0.5;      // of the tolerance: nearer samples do not walk
+constexpr double kSettled = 1e-3;      // of the tolerance: |f| this small ends a walk
+constexpr double kFar = 1e300;         // no surface: as far as can be
+
+double gradientLength(const Dual<double>& v)
+{
+    return std::sqrt(v.d[0] * v.d[0] + v.d[1] * v.d[1] + v.d[2] * v.d[2]);
+}
+
+} // namespace
+
+double firstOrderDistance(const Dual<double>& field)
+{
+    const double f = std::abs(field.v);
+    if (!std::isfinite(f)) return kFar;
+    const double g = gradientLength(field);
+    if (!(g < 1.0)) return f; // (also a gradient that is not a number: the field alone)
+    return f / std::max(g, kGradientFloor);
+}
+
+void SampleDistance::measure(const Tape& tape, const double* x, const double* y, const double* z, std::size_t n,
+                             double tolerance, double* out)
+{
+    if (n == 0) return;
+    values_.resize(n);
+    evaluator_.evaluate(tape, x, y, z, n, values_.data());
+    walking_.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+        out[i] = firstOrderDistance(values_[i]);
+        if (out[i] > kWalkFrom * tolerance && out[i] < kFar) walking_.push_back(i);
+    }
+    settled_.clear();
+    if (walking_.empty() || !(tolerance > 0.0)) return;
+    const double reach = sampleWalkReach(tolerance), settled = kSettled * tolerance;
+    at_.resize(n);
+    first_.resize(n);
+    for (const std::size_t i : walking_) {
+        at_[i] = glm::dvec3(x[i], y[i], z[i]);
+        first_[i] = std::abs(values_[i].v);
+    }
+    // The walks step together: each round evaluates the points still going.
+    std::vector<Dual<double>>& here = values_; // values_[i] is the field at at_[i] for walking i
+    for (int step = 0; step < kWalkSteps && !walking_.empty(); ++step) {
+        std::size_t kept = 0;
+        for (const std::size_t i : walking_) {
+            const Dual<double>& v = here[i];
+            const double g = gradientLength(v);
+            if (!(g > 0.0) || !std::isfinite(g) || !std::isfinite(v.v)) continue; // no way to go: as judged
+            // A step of |f| along the unit gradient, not Newton's |f| / |g|:
+            // the ball of radius |f| holds no surface (the field is
+            // 1-Lipschitz), so no step crosses it, and the walk ends near
+            // the nearest surface point. Where the gradient is short (0.15
+            // in the middle of the stool's seat, where its blends meet)
+            // Newton's step overshot by millimetres and came back from far.
+            const glm::dvec3 direction(v.d[0] / g, v.d[1] / g, v.d[2] / g);
+            at_[i] -= v.v * direction;
+            walking_[kept++] = i;
+        }
+        walking_.resize(kept);
+        wx_.resize(kept);
+        wy_.resize(kept);
+        wz_.resize(kept);
+        for (std::size_t k = 0; k < kept; ++k) {
+            wx_[k] = at_[walking_[k]].x;
+            wy_[k] = at_[walking_[k]].y;
+            wz_[k] = at_[walking_[k]].z;
+        }
+        stepped_.resize(kept);
+        evaluator_.evaluate(tape, wx_.data(), wy_.data(), wz_.data(), kept, stepped_.data());
+        kept = 0;
+        for (std::size_t k = 0; k < walking_.size(); ++k) {
+            const std::size_t i = walking_[k];
+            here[i] = stepped_[k];
+            const double travelled = glm::length(at_[i] - glm::dvec3(x[i], y[i], z[i]));
+            const double left = firstOrderDistance(stepped_[k]);
+            // The walk's figure replaces the first-order one (which a short
+            // gradient makes up to ten times |f|); never below |f|, a
+            // lower bound of the distance.
+            out[i] = std::max(first_[i], std::min(travelled + left, kFar));
+            if (travelled > reach) continue; // beyond the tolerance, and the tape's box
+            if (std::abs(stepped_[k].v) > settled)
+                walking_[kept++] = walking_[k];
+            else
+                settled_.push_back(i);
+        }
+        walking_.resize(kept);
+    }
+    checkCrossings(tape, reach, 2.0 * settled, out);
+}
+
+void SampleDistance::checkCrossings(const Tape& tape, double reach, double bracket, double* out)
+{
+    // A walk can also settle where f comes to 0 without changing sign: the
+    // seam where two bodies touch inside the part (a rail's end against a
+    // leg), which no reader sees as surface. The part's surface is where the
+    // field changes sign: the points either side of the end, along the
+    // gradient, show whether it does.
+    if (settled_.empty()) return;
+    wx_.resize(2 * settled_.size());
+    wy_.resize(2 * settled_.size());
+    wz_.resize(2 * settled_.size());
+    for (std::size_t k = 0; k < settled_.size(); ++k) {
+        const Dual<double>& v = values_[settled_[k]];
+        const double g = gradientLength(v);
+        const glm::dvec3 along = g > 0.0 && std::isfinite(g) ? glm::dvec3(v.d[0], v.d[1], v.d[2]) / g : glm::dvec3(0.0);
+        for (int side = 0; side < 2; ++side) {
+            const glm::dvec3 q = at_[settled_[k]] + (side == 0 ? -bracket : bracket) * along;
+            wx_[2 * k + std::size_t(side)] = q.x;
+            wy_[2 * k + std::size_t(side)] = q.y;
+            wz_[2 * k + std::size_t(side)] = q.z;
+        }
+    }
+    crossings_.resize(wx_.size());
+    plain_.evaluate(tape, wx_.data(), wy_.data(), wz_.data(), wx_.size(), crossings_.data());
+    for (std::size_t k = 0; k < settled_.size(); ++k) {
+        const double a = crossings_[2 * k], b = crossings_[2 * k + 1];
+        const bool changesSign = (a <= 0.0 && b >= 0.0) || (a >= 0.0 && b <= 0.0);
+        if (!changesSign) out[settled_[k]] = std::max(out[settled_[k]], reach); // not the surface: as if too far
+    }
+    settled_.clear();
+}
+
+} // namespace kerf::mesher

@@ -1,0 +1,78 @@
+#pragma once
+// How far from the exact surface the exporter judges a sample point of a
+// triangle to be. The tolerance of an export is held to this figure, in the
+// simplification and in the refinement.
+//
+// Kerf's fields are the exact distance away from blends and creases and a
+// bound of it elsewhere: |f| is never more than the distance, and can be
+// much less.
+//  - Where a smooth blend joins two faces the gradient is shorter than 1
+//    (two boards at a right angle: 0.71 in the middle of the blend), so |f|
+//    said 0.1 mm where the surface was 0.14 mm away. |f| / |grad f| is the
+//    distance to first order: exact for a field that changes linearly
+//    towards a flat face, whatever its slope, and off by the square of the
+//    distance over the surface's radius elsewhere.
+//  - Inside a union near where two bodies meet (a rail's end buried in a
+//    leg), |f| is the distance to a face of one body that lies inside the
+//    other, not to the part's surface: the chair at 0.1 mm, judged by
+//    |f| / |grad f|, had samples 0.096 mm by the field and 0.13 mm from the
+//    surface.
+// So a sample that the first-order figure puts beyond half the tolerance
+// walks to the surface, as the accuracy library measures an export
+// (SurfaceDistance.hpp): steps of |f| along the gradient, re-aimed at
+// every step, until |f| is a thousandth of the tolerance; its
+// distance is then how far it ended from where it started, plus what is
+// left. That turns the corner where one body's face goes into the other,
+// and lands on the part's surface; where it lands on a zero of the field
+// that is no surface (the field does not change sign there: two bodies
+// touching inside the part), the sample counts as beyond the tolerance. Samples nearer than half the tolerance
+// are within it unless the field's gradient there is shorter than a half,
+// which only a blend between faces turned more than 120 degrees apart has.
+//
+// The figure is never less than |f| (where the gradient is longer than 1,
+// from rounding, the tolerance stays what |f| says), and the gradient is
+// taken as at least 0.1: a field whose gradient vanishes at the surface
+// (the saddle of a blend between faces turned towards each other) would
+// otherwise make every sample near that point look infinitely far.
+
+#include "kerf/evaluator/Dual.hpp"
+#include "kerf/evaluator/PointEvaluator.hpp"
+#include "kerf/evaluator/Tape.hpp"
+
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <vector>
+
+namespace kerf::mesher {
+
+/// The distance to first order, |f| / |grad f|, from the field's value and
+/// gradient at a point.
+double firstOrderDistance(const Dual<double>& field);
+
+/// Judges samples. Scratch memory only: one per thread.
+class SampleDistance {
+public:
+    /// How far each of the points (x, y, z: the tape's frame) lies from the
+    /// surface, as the tolerance `tolerance` is judged. The walks stay within
+    /// 1.5 tolerances of their points: `tape` must be valid that far.
+    void measure(const Tape& tape, const double* x, const double* y, const double* z, std::size_t n,
+                 double tolerance, double* out);
+
+private:
+    void checkCrossings(const Tape& tape, double reach, double bracket, double* out);
+
+    PointEvaluator<Dual<double>> evaluator_;
+    PointEvaluator<double> plain_;
+    std::vector<Dual<double>> values_, stepped_;
+    std::vector<std::size_t> walking_, settled_;
+    std::vector<double> wx_, wy_, wz_;
+    std::vector<glm::dvec3> at_;
+    std::vector<double> first_, crossings_;
+};
+
+/// How far the walks of SampleDistance may go from their samples: the box a
+/// tape must be valid in, grown on every side.
+inline double sampleWalkReach(double tolerance) { return 1.5 * tolerance; }
+
+} // namespace kerf::mesher
