@@ -83,9 +83,10 @@ TEST(SampleDistance, AGlueLineInsideThePartIsNoSurface)
 
 // Around a smooth blend between two boards at a right angle, where the
 // field's gradient is shorter than 1 and |f| understates the distance by up
-// to a third: the judgement agrees with the accuracy library's walk (an
-// upper bound of the distance) to a hundredth of itself, at points up to
-// the tolerance away on both sides of the surface.
+// to a third: where a sample walks (|f| between half the tolerance and the
+// tolerance) the judgement agrees with the accuracy library's walk (an upper
+// bound of the distance) to a hundredth of itself; elsewhere it is |f|, and
+// it says "within the tolerance" only of points that are.
 TEST(SampleDistance, AgreesWithTheMeasuredDistanceAroundABlend)
 {
     const Tape tape = tapeOf(R"({"id":"u","type":"union","blend":6,"children":[
@@ -114,12 +115,19 @@ TEST(SampleDistance, AgreesWithTheMeasuredDistanceAroundABlend)
     int understated = 0;
     for (std::size_t i = 0; i < points.size(); ++i) {
         ASSERT_TRUE(measured[i].resolved);
-        const double judged = judge(tape, points[i], kTolerance);
-        EXPECT_NEAR(judged, measured[i].upper, 0.01 * measured[i].upper + 1e-6) << i;
-        if (measured[i].upper > 0.2 * kTolerance && measured[i].lower < 0.9 * measured[i].upper) ++understated;
+        const double judged = judge(tape, points[i], kTolerance), f = measured[i].lower;
+        if (f > 0.5 * kTolerance && f <= kTolerance) {
+            EXPECT_NEAR(judged, measured[i].upper, 0.01 * measured[i].upper + 1e-6) << i;
+            if (f < 0.9 * measured[i].upper) ++understated;
+        } else {
+            EXPECT_EQ(judged, f) << i;
+        }
+        if (judged <= kTolerance) {
+            EXPECT_LE(measured[i].upper, kTolerance * (1.0 + 1e-6)) << i;
+        }
     }
     // The blend is where |f| alone would have said too little.
-    EXPECT_GT(understated, 50);
+    EXPECT_GT(understated, 20);
 }
 
 } // namespace

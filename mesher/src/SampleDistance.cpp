@@ -10,6 +10,7 @@ namespace kerf::mesher {
 namespace {
 
 constexpr double kGradientFloor = 0.1;
+constexpr double kStepGradientFloor = 0.5;
 constexpr int kWalkSteps = 64; // as the accuracy library walks; most settle in a few
 constexpr double kWalkFrom = 0.5;      // of the tolerance: nearer samples do not walk
 constexpr double kSettled = 1e-3;      // of the tolerance: |f| this small ends a walk
@@ -35,21 +36,41 @@ void SampleDistance::measure(const Tape& tape, const double* x, const double* y,
                              double tolerance, double* out)
 {
     if (n == 0) return;
-    values_.resize(n);
-    evaluator_.evaluate(tape, x, y, z, n, values_.data());
+    // |f| first, with the plain evaluator (a fraction of the dual numbers'
+    // cost): within half the tolerance a sample is within it (unless the
+    // gradient there is shorter than a half); beyond the tolerance it is
+    // beyond it whatever a walk finds (|f| is a lower bound of the
+    // distance), and |f| is its figure. Only the samples between walk.
+    fields_.resize(n);
+    plain_.evaluate(tape, x, y, z, n, fields_.data());
     walking_.clear();
-    for (std::size_t i = 0; i < n; ++i) {
-        out[i] = firstOrderDistance(values_[i]);
-        if (out[i] > kWalkFrom * tolerance && out[i] < kFar) walking_.push_back(i);
-    }
     settled_.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+        const double f = std::abs(fields_[i]);
+        out[i] = std::isfinite(f) ? f : kFar;
+        if (f > kWalkFrom * tolerance && !(f > tolerance)) walking_.push_back(i);
+    }
     if (walking_.empty() || !(tolerance > 0.0)) return;
     const double reach = sampleWalkReach(tolerance), settled = kSettled * tolerance;
     at_.resize(n);
     first_.resize(n);
-    for (const std::size_t i : walking_) {
+    values_.resize(n);
+    wx_.resize(walking_.size());
+    wy_.resize(walking_.size());
+    wz_.resize(walking_.size());
+    for (std::size_t k = 0; k < walking_.size(); ++k) {
+        const std::size_t i = walking_[k];
         at_[i] = glm::dvec3(x[i], y[i], z[i]);
-        first_[i] = std::abs(values_[i].v);
+        first_[i] = out[i];
+        wx_[k] = x[i];
+        wy_[k] = y[i];
+        wz_[k] = z[i];
+    }
+    stepped_.resize(walking_.size());
+    evaluator_.evaluate(tape, wx_.data(), wy_.data(), wz_.data(), walking_.size(), stepped_.data());
+    for (std::size_t k = 0; k < walking_.size(); ++k) {
+        values_[walking_[k]] = stepped_[k];
+        out[walking_[k]] = firstOrderDistance(stepped_[k]);
     }
     // The walks step together: each round evaluates the points still going.
     std::vector<Dual<double>>& here = values_; // values_[i] is the field at at_[i] for walking i
@@ -59,14 +80,16 @@ void SampleDistance::measure(const Tape& tape, const double* x, const double* y,
             const Dual<double>& v = here[i];
             const double g = gradientLength(v);
             if (!(g > 0.0) || !std::isfinite(g) || !std::isfinite(v.v)) continue; // no way to go: as judged
-            // A step of |f| along the unit gradient, not Newton's |f| / |g|:
-            // the ball of radius |f| holds no surface (the field is
-            // 1-Lipschitz), so no step crosses it, and the walk ends near
-            // the nearest surface point. Where the gradient is short (0.15
-            // in the middle of the stool's seat, where its blends meet)
-            // Newton's step overshot by millimetres and came back from far.
+            // Newton's step |f| / |g| along the gradient where the gradient
+            // is at least a half (a blend's: two or three steps), at most
+            // 2 |f| where it is shorter. The ball of radius |f| holds no
+            // surface (the field is 1-Lipschitz), so a step overshoots by
+            // at most |f| and the next comes back; a plain Newton step
+            // overshot by millimetres where the gradient is 0.15 (the
+            // middle of the stool's seat, where its blends meet) and the
+            // walk came back from far, a figure three times the distance.
             const glm::dvec3 direction(v.d[0] / g, v.d[1] / g, v.d[2] / g);
-            at_[i] -= v.v * direction;
+            at_[i] -= (v.v / std::max(g, kStepGradientFloor)) * direction;
             walking_[kept++] = i;
         }
         walking_.resize(kept);

@@ -17,17 +17,20 @@
 //    other, not to the part's surface: the chair at 0.1 mm, judged by
 //    |f| / |grad f|, had samples 0.096 mm by the field and 0.13 mm from the
 //    surface.
-// So a sample that the first-order figure puts beyond half the tolerance
+// So a sample whose |f| lies between half the tolerance and the tolerance
 // walks to the surface, as the accuracy library measures an export
-// (SurfaceDistance.hpp): steps of |f| along the gradient, re-aimed at
-// every step, until |f| is a thousandth of the tolerance; its
-// distance is then how far it ended from where it started, plus what is
-// left. That turns the corner where one body's face goes into the other,
-// and lands on the part's surface; where it lands on a zero of the field
-// that is no surface (the field does not change sign there: two bodies
-// touching inside the part), the sample counts as beyond the tolerance. Samples nearer than half the tolerance
-// are within it unless the field's gradient there is shorter than a half,
-// which only a blend between faces turned more than 120 degrees apart has.
+// (SurfaceDistance.hpp): steps along the gradient (Newton's, at most
+// 2 |f|), re-aimed at every step, until |f| is a thousandth of the
+// tolerance; its distance is then how far it ended from where it started,
+// plus what is left. That turns the corner where one body's face goes into
+// the other, and lands on the part's surface; where it lands on a zero of
+// the field that is no surface (the field does not change sign there: two
+// bodies touching inside the part), the sample counts as beyond the
+// tolerance. A sample within half the tolerance by |f| is within it unless
+// the field's gradient there is shorter than a half, which only a blend
+// between faces turned more than 120 degrees apart has; one beyond the
+// tolerance by |f| is beyond it (|f| is its figure, a lower bound). Only
+// the walks need the gradient (dual numbers, several times the cost of |f|).
 //
 // The figure is never less than |f| (where the gradient is longer than 1,
 // from rounding, the tolerance stays what |f| says), and the gradient is
@@ -68,7 +71,7 @@ private:
     std::vector<std::size_t> walking_, settled_;
     std::vector<double> wx_, wy_, wz_;
     std::vector<glm::dvec3> at_;
-    std::vector<double> first_, crossings_;
+    std::vector<double> first_, crossings_, fields_;
 };
 
 /// How far the walks of SampleDistance may go from their samples: the box a
