@@ -53,6 +53,7 @@ void SampleDistance::measure(const Tape& tape, const double* x, const double* y,
     if (walking_.empty() || !(tolerance > 0.0)) return;
     const double reach = sampleWalkReach(tolerance), settled = kSettled * tolerance;
     at_.resize(n);
+    samples_.resize(n);
     first_.resize(n);
     values_.resize(n);
     wx_.resize(walking_.size());
@@ -60,7 +61,7 @@ void SampleDistance::measure(const Tape& tape, const double* x, const double* y,
     wz_.resize(walking_.size());
     for (std::size_t k = 0; k < walking_.size(); ++k) {
         const std::size_t i = walking_[k];
-        at_[i] = glm::dvec3(x[i], y[i], z[i]);
+        at_[i] = samples_[i] = glm::dvec3(x[i], y[i], z[i]);
         first_[i] = out[i];
         wx_[k] = x[i];
         wy_[k] = y[i];
@@ -151,9 +152,66 @@ void SampleDistance::checkCrossings(const Tape& tape, double reach, double brack
     for (std::size_t k = 0; k < settled_.size(); ++k) {
         const double a = crossings_[2 * k], b = crossings_[2 * k + 1];
         const bool changesSign = (a <= 0.0 && b >= 0.0) || (a >= 0.0 && b <= 0.0);
-        if (!changesSign) out[settled_[k]] = std::max(out[settled_[k]], reach); // not the surface: as if too far
+        if (changesSign) continue;
+        const std::size_t i = settled_[k];
+        // Not the surface: as if beyond the tolerance, or, when asked,
+        // where straight marches from the sample first cross it.
+        out[i] = std::max(first_[i], marchSeams_ ? march(tape, samples_[i], fields_[i], reach, reach / 64.0) : reach);
     }
     settled_.clear();
+}
+
+double SampleDistance::march(const Tape& tape, const glm::dvec3& p, double f0, double reach, double minStep)
+{
+    // Sphere-tracing marches along the 26 directions of a cube cell's
+    // neighbours, all stepping together, each by max(|f|, minStep) until f
+    // changes sign (strictly: the seam itself is 0): the nearest crossing,
+    // a point of the surface, bounds the distance. None within `reach`:
+    // `reach`.
+    constexpr int kDirections = 26;
+    glm::dvec3 u[kDirections];
+    double t[kDirections], f[kDirections];
+    int active = 0;
+    for (int k = 0; k < 27; ++k) {
+        const glm::dvec3 d(k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1);
+        if (d == glm::dvec3(0.0)) continue;
+        u[active] = glm::normalize(d);
+        t[active] = 0.0;
+        f[active] = f0;
+        ++active;
+    }
+    double best = reach;
+    double x[kDirections], y[kDirections], z[kDirections], value[kDirections];
+    while (active > 0) {
+        int kept = 0;
+        for (int k = 0; k < active; ++k) {
+            const double next = t[k] + std::max(std::abs(f[k]), minStep);
+            if (!(next < best) || !std::isfinite(next)) continue;
+            u[kept] = u[k];
+            t[kept] = next;
+            const glm::dvec3 q = p + next * u[k];
+            x[kept] = q.x;
+            y[kept] = q.y;
+            z[kept] = q.z;
+            ++kept;
+        }
+        active = kept;
+        if (active == 0) break;
+        plain_.evaluate(tape, x, y, z, std::size_t(active), value);
+        kept = 0;
+        for (int k = 0; k < active; ++k) {
+            if (f0 > 0.0 ? value[k] < 0.0 : value[k] > 0.0) {
+                best = std::min(best, t[k]);
+                continue;
+            }
+            u[kept] = u[k];
+            t[kept] = t[k];
+            f[kept] = value[k];
+            ++kept;
+        }
+        active = kept;
+    }
+    return best;
 }
 
 } // namespace kerf::mesher

@@ -106,7 +106,7 @@ public:
     }
 
 private:
-    SampleDistance distances_;
+    SampleDistance distances_{true}; // the final judgement: seams marched
     IntervalEvaluator intervals_;
     Tape region_;
     std::vector<glm::dvec3> points_;
