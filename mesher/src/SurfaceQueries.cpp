@@ -60,7 +60,7 @@ void SurfaceQueries::field(const glm::dvec3* p, std::size_t n, double* out)
 void SurfaceQueries::distances(const glm::dvec3* p, std::size_t n, double tolerance, double* out)
 {
     if (n == 0) return;
-    const Tape& tape = prepare(p, n, sampleWalkReach(tolerance));
+    const Tape& tape = prepare(p, n, distances_.reach(tolerance));
     distances_.measure(tape, x_.data(), y_.data(), z_.data(), n, tolerance, out);
 }
 

@@ -68,7 +68,7 @@ public:
             lo = glm::min(lo, p);
             hi = glm::max(hi, p);
         }
-        const glm::dvec3 reach(sampleWalkReach(tolerance));
+        const glm::dvec3 reach(distances_.reach(tolerance));
         intervals_.simplify(tape, Aabb{lo - reach, hi + reach}, region_);
         distances_.measure(region_, x_.data(), y_.data(), z_.data(), n, tolerance, f_.data());
         for (std::size_t i = 0; i < count; ++i) {
@@ -106,7 +106,7 @@ public:
     }
 
 private:
-    SampleDistance distances_{true}; // the final judgement: seams marched
+    SampleDistance distances_{true}; // the final judgement
     IntervalEvaluator intervals_;
     Tape region_;
     std::vector<glm::dvec3> points_;
@@ -243,7 +243,7 @@ public:
             const glm::dvec3 mid = 0.5 * (pu + pv);
             const Tape& tape = regions_.near(mid, std::max({glm::length(pu - mid), glm::length(pw - mid),
                                                             glm::length(px - mid)}) +
-                                                      sampleWalkReach(tolerance_));
+                                                      distances_.reach(tolerance_));
             const double old = std::max(sampledError(tape, pu, pv, pw), sampledError(tape, pv, pu, px));
             const double now = std::max(sampledError(tape, pw, pu, px), sampledError(tape, px, pv, pw));
             if (!(now < old)) continue;
