@@ -5,7 +5,7 @@
 // voxels and exact). Headless; needs only the Vulkan loader and what the core
 // links, so it can be carried to a machine without Qt or a package registry.
 //
-//   kerf_gpu_bench [--quick] [--frames N] [--quality voxels|exact|both]
+//   kerf_gpu_bench [--quick] [--frames N] [--quality voxels|exact|exact-everywhere|all]
 //                  [--scene chair|showcase] [--feature-size MM]
 //                  [--json OUT.json] [--examples DIR]
 //
@@ -486,7 +486,7 @@ int main(int argc, char** argv)
     bool quick = false;
     int frames = 20;
     std::string jsonPath, examples = KERF_EXAMPLES_DIR;
-    std::vector<TraceQuality> qualities{TraceQuality::Voxels, TraceQuality::Exact};
+    std::vector<TraceQuality> qualities{TraceQuality::Voxels, TraceQuality::ExactEverywhere, TraceQuality::Exact};
     std::string onlyScene;
     double onlyFeatureSize = 0.0;
     for (int i = 1; i < argc; ++i) {
@@ -503,12 +503,12 @@ int main(int argc, char** argv)
             onlyScene = argv[++i];
         else if (a == "--feature-size" && i + 1 < argc)
             onlyFeatureSize = std::atof(argv[++i]);
-        else if (a == "--quality" && i + 1 < argc && std::string(argv[i + 1]) == "both")
+        else if (a == "--quality" && i + 1 < argc && std::string(argv[i + 1]) == "all")
             ++i; // the default
         else if (a == "--quality" && i + 1 < argc && parseTraceQuality(argv[i + 1]))
             qualities = {*parseTraceQuality(argv[++i])};
         else {
-            std::cerr << "usage: kerf_gpu_bench [--quick] [--frames N] [--quality voxels|exact|both] "
+            std::cerr << "usage: kerf_gpu_bench [--quick] [--frames N] [--quality voxels|exact|exact-everywhere|all] "
                          "[--scene chair|showcase] [--feature-size MM] [--json OUT.json] [--examples DIR]\n"
                          "       kerf_gpu_bench bench FILE.kerf [kerf bench options]\n";
             return 2;
@@ -532,7 +532,7 @@ int main(int argc, char** argv)
                   : std::vector<std::pair<int, int>>{{1920, 1080}, {2560, 1440}};
 
         nlohmann::ordered_json results = nlohmann::ordered_json::array();
-        std::printf("%-9s %8s %11s %10s %9s %11s %10s %8s %12s %12s %14s\n", "scene", "fs", "voxels", "MB", "tape MB",
+        std::printf("%-9s %8s %11s %10s %9s %11s %10s %16s %12s %12s %14s\n", "scene", "fs", "voxels", "MB", "tape MB",
                     "upload ms", "size", "quality", "trace ms", "Mrays/s", "sustained ms");
         for (auto& scene : scenes) {
             if (!onlyScene.empty() && scene.name != onlyScene) continue;
@@ -569,10 +569,18 @@ int main(int argc, char** argv)
                         // Each frame above waits for its read-back, so the
                         // GPU idles between frames; see sustainedMilliseconds.
                         const double sustained = tracer.sustainedMilliseconds(camera, frames, quality);
+                        // The last sustained frame's timestamps: Exact's passes, warm.
+                        const vk::TraceTiming passes = tracer.lastTiming();
                         const std::string q(traceQualityName(quality));
-                        std::printf("%-9s %8g %11zu %10.1f %9.2f %11.1f %5dx%-5d %8s %11.3f %12.1f %14.3f\n",
+                        std::printf("%-9s %8g %11zu %10.1f %9.2f %11.1f %5dx%-5d %16s %11.3f %12.1f %14.3f",
                                     scene.name.c_str(), fs, snap.populatedVoxels(), double(snap.bytes()) / 1e6,
                                     double(tapeBytes) / 1e6, uploadMs, w, h, q.c_str(), m, mrays, sustained);
+                        if (quality == TraceQuality::Exact)
+                            std::printf("   passes %.3f + %.3f + %.3f ms, %u pixels refined (%.1f%% of hits)",
+                                        passes.voxelPassMilliseconds, passes.checkMilliseconds,
+                                        passes.refineMilliseconds, passes.refinedPixels,
+                                        100.0 * double(passes.refinedPixels) / double(std::max<std::size_t>(hits, 1)));
+                        std::printf("\n");
                         std::fflush(stdout);
                         results.push_back({{"scene", scene.name},
                                            {"feature_size", fs},
@@ -588,7 +596,11 @@ int main(int argc, char** argv)
                                            {"trace_ms_median", m},
                                            {"trace_ms_min", *std::min_element(ms.begin(), ms.end())},
                                            {"mrays_per_s", mrays},
-                                           {"trace_ms_sustained", sustained}});
+                                           {"trace_ms_sustained", sustained},
+                                           {"voxel_pass_ms", passes.voxelPassMilliseconds},
+                                           {"check_ms", passes.checkMilliseconds},
+                                           {"refine_ms", passes.refineMilliseconds},
+                                           {"pixels_refined", passes.refinedPixels}});
                     }
             }
         }
@@ -600,7 +612,12 @@ int main(int argc, char** argv)
                                      {"sphere_steps", KERF_EXACT_STEPS},
                                      {"bracketed_steps", KERF_EXACT_BRACKETED_STEPS},
                                      {"refinements", KERF_EXACT_REFINEMENTS},
-                                     {"epsilon_voxels", KERF_EXACT_EPSILON}};
+                                     {"epsilon_voxels", KERF_EXACT_EPSILON},
+                                     {"check_shift_voxels", KERF_EDGE_CHECK_SHIFT},
+                                     {"check_residual_voxels", KERF_EDGE_CHECK_RESIDUAL},
+                                     {"check_clearance_voxels", KERF_EDGE_CHECK_CLEARANCE},
+                                     {"check_smooth_clearance_voxels", KERF_EDGE_CHECK_SMOOTH_CLEARANCE},
+                                     {"check_smooth_angle_degrees", KERF_EDGE_CHECK_SMOOTH_ANGLE}};
             j["results"] = results;
             std::ofstream(jsonPath) << j.dump(2) << "\n";
         }

@@ -44,6 +44,15 @@ struct TraceParams {
     KERF_U64 outNormal;  // vec4 (xyz unit normal, w unused)
     KERF_U64 outFeature; // uint, 0xFFFFFFFF where nothing is hit
     KERF_U64 tapes;      // the tiles' exact tapes (TileTapeFormat.h), as 32-bit words
+    // TraceQuality::Exact's passes (trace.comp, kPass): what the voxel pass
+    // tells the others per pixel (vec4: RayHit's passedClearance, nearFrom,
+    // nearTo), the pixels the check sends to the refinement (uint,
+    // x + width * y), and the indirect dispatch of that refinement (uint
+    // groups, 1, 1, then the count).
+    KERF_U64 outVoxelPass;
+    KERF_U64 refineList;
+    KERF_U64 refineArgs;
+    KERF_U64 unused; // keeps the vectors 16-byte aligned
     KERF_VEC4 eye;       // xyz: camera eye relative to the grid origin (mm); w: tile size (mm)
     KERF_VEC4 forward;   // xyz: unit view direction; w: 1 for orthographic, 0 for perspective
     KERF_VEC4 right;     // xyz: unit image right; w: tan(fovY/2) or half the ortho height (mm)
@@ -51,11 +60,11 @@ struct TraceParams {
     KERF_IVEC4 dims;     // xyz: tiles along each axis
     KERF_UVEC4 image;    // x: width, y: height (pixels)
     KERF_VEC4 section;   // xyz: unit normal of the section plane, w: its offset from the grid origin; zero: none
-    KERF_UVEC4 options;  // x: the quality switch (kerf::TraceQuality: 0 voxels, 1 exact = the hybrid refinement)
+    KERF_UVEC4 options;  // x: 1 where the hybrid refinement may run (the tapes are there), else 0
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(TraceParams) == 80 + 8 * 16);
+static_assert(sizeof(TraceParams) == 112 + 8 * 16);
 } // namespace kerf::gpu
 #endif
 

@@ -13,16 +13,28 @@
 
 layout(local_size_x = KERF_TRACE_LOCAL_SIZE, local_size_y = KERF_TRACE_LOCAL_SIZE) in;
 
-// Two pipelines of this shader (ComputeTracer.cpp): without the hybrid
+// Pipelines of this shader (ComputeTracer.cpp): without the hybrid
 // refinement its code is compiled out, so that the voxel path keeps its
 // registers and occupancy; with it, TraceParams.options.x still decides.
 layout(constant_id = 0) const bool kHybrid = false;
+// What a dispatch does. kTraceAll: trace every pixel (TraceQuality Voxels,
+// or ExactEverywhere with kHybrid). TraceQuality::Exact takes three
+// dispatches: kTraceVoxels traces every pixel on its voxels and records
+// the ray's clearance (RayHit::passedClearance); kCheckHits checks each
+// voxel hit on the exact field (tracer/src/VoxelHitCheck.cpp) and lists the
+// pixels it cannot confirm; kTraceListed (with kHybrid) traces those.
+const int kTraceAll = 0, kTraceVoxels = 1, kCheckHits = 2, kTraceListed = 3;
+layout(constant_id = 1) const int kPass = kTraceAll;
 
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Words { uint w[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) writeonly buffer Floats { float f[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) writeonly buffer Vec4s { vec4 v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) writeonly buffer Uints { uint u[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer ParamsRef { TraceParams p; };
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer ReadFloats { float f[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer ReadVec4s { vec4 v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer RefineList { uint pixel[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer RefineArgs { uint groups; uint y; uint z; uint count; };
 
 layout(push_constant) uniform Push { uint64_t params; } pc;
 
@@ -39,7 +51,12 @@ struct Hit {
     uint feature;
     uint tape;  // a hit of the hybrid refinement: its tile's tape (else KERF_NO_TAPE) ...
     vec3 point; // ... and the point, tile-relative (mm), where main() takes the exact normal
+    float clearance; // RayHit::passedClearance (kTraceVoxels only) ...
+    float nearFrom, nearTo; // ... and RayHit::nearFrom, nearTo
 };
+
+// Plain exact evaluations of the refinement so far (KERF_EDGE_REFINE_BUDGET).
+uint refineEvaluations = 0u;
 
 // A section's cap, pending while the ray, started on the section plane, has
 // met no populated voxel (ReferenceTracer.cpp, CapState).
@@ -92,7 +109,7 @@ vec4 alongRay(const float k[8], vec3 o, vec3 d)
 
 float evalCubic(vec4 c, float w) { return c.x + w * (c.y + w * (c.z + w * c.w)); }
 
-float firstCrossing(vec4 c, float wEnd)
+float firstCrossing(vec4 c, float wEnd, out float least)
 {
     float r1 = kInf, r2 = kInf;
     const float qa = 3.0 * c.w, qb = 2.0 * c.z, qc = c.y;
@@ -119,10 +136,12 @@ float firstCrossing(vec4 c, float wEnd)
 
     float a = breaks[0];
     float fa = evalCubic(c, a);
+    least = fa;
     if (fa <= 0.0) return a;
     for (int i = 1; i < count; ++i) {
         const float b = breaks[i];
         const float fb = evalCubic(c, b);
+        least = min(least, fb);
         if (fb <= 0.0) {
             float lo = a, hi = b;
             for (int k = 0; k < kBisectionSteps; ++k) {
@@ -172,6 +191,7 @@ float exactCrossing(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float
     int side = 0;
     for (int k = 0; k < kMaxEvaluations; ++k) {
         const float g = exactAt(tape, e, dir, tileSize, at);
+        ++refineEvaluations;
         if (phase == kStart) {
             if (g <= 0.0) {
                 phase = kBack;
@@ -344,8 +364,30 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
                 }
                 capPending = false;
             }
-            const float w = firstCrossing(along, wEnd);
-            if (kHybrid && tape != KERF_NO_TAPE) {
+            float least = 0.0;
+            const float w = firstCrossing(along, wEnd, least);
+            // ReferenceTracer.cpp: how close the ray came to this voxel's surface, in units of the
+            // check's clearance (asked only where it decides: the voxel pass while the ray is
+            // clear, the refinement of a listed ray).
+            float clearance = kInf;
+            if (kPass == kTraceVoxels && w < 0.0 &&
+                least / voxelMm < float(KERF_EDGE_CHECK_CLEARANCE)) {
+                const float cosLimit = cos(radians(float(KERF_EDGE_CHECK_SMOOTH_ANGLE)));
+                const vec3 first = decodeNormal(word(P.vertices, vtx[0] * 2u));
+                bool agree = true;
+                for (int q = 1; q < 8; ++q)
+                    agree = agree && dot(first, decodeNormal(word(P.vertices, vtx[q] * 2u))) >= cosLimit;
+                clearance = least / voxelMm /
+                            float(agree ? KERF_EDGE_CHECK_SMOOTH_CLEARANCE : KERF_EDGE_CHECK_CLEARANCE);
+            }
+            const bool near = w >= 0.0 || clearance < 1.0;
+            if (kPass == kTraceVoxels && near) {
+                const float margin = float(KERF_EXACT_MARGIN) / voxelScale;
+                hit.nearFrom = min(hit.nearFrom, tEnter + (s - margin) * tileSize);
+                hit.nearTo = max(hit.nearTo, tEnter + (sExit + margin) * tileSize);
+            }
+            if (kHybrid && tape != KERF_NO_TAPE &&
+                (kPass != kTraceListed || refineEvaluations < KERF_EDGE_REFINE_BUDGET)) {
                 const float voxelEdge = 1.0 / voxelScale;
                 const float sHit = exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
                                                  w >= 0.0 ? s + w / voxelScale : -1.0, searched);
@@ -386,6 +428,7 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
                 hit.depth = tEnter + (s + w / voxelScale) * tileSize;
                 return true;
             }
+            if (kPass == kTraceVoxels) hit.clearance = min(hit.clearance, clearance);
         }
 
         s = max(s, sExit);
@@ -400,7 +443,9 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
     return false;
 }
 
-Hit traceRay(vec3 origin, vec3 direction)
+// `from`, `to`: the stretch of the ray to trace where no section plane is
+// set (ReferenceTracer.cpp, traceGrid).
+Hit traceRay(vec3 origin, vec3 direction, float from, float to)
 {
     Hit hit;
     hit.depth = kInf;
@@ -408,6 +453,9 @@ Hit traceRay(vec3 origin, vec3 direction)
     hit.feature = kNoFeature;
     hit.tape = KERF_NO_TAPE;
     hit.point = vec3(0.0);
+    hit.clearance = kInf;
+    hit.nearFrom = kInf;
+    hit.nearTo = -kInf;
 
     const vec3 dir = vec3(nonZero(direction.x), nonZero(direction.y), nonZero(direction.z));
     const vec3 invDir = 1.0 / dir;
@@ -439,6 +487,10 @@ Hit traceRay(vec3 origin, vec3 direction)
                 capNormal = n;
             }
         }
+    }
+    if (n == vec3(0.0)) {
+        tEnter = max(tEnter, from);
+        tLeave = min(tLeave, to);
     }
     if (!(tEnter <= tLeave)) return hit;
 
@@ -484,18 +536,14 @@ Hit traceRay(vec3 origin, vec3 direction)
     return hit;
 }
 
-void main()
+// The camera's ray through the pixel centre (tracer/src/Camera.cpp, Camera::ray).
+void cameraRay(uvec2 px, out vec3 origin, out vec3 direction)
 {
-    P = ParamsRef(pc.params).p;
-    const uvec2 px = gl_GlobalInvocationID.xy;
-    if (px.x >= P.image.x || px.y >= P.image.y) return;
-    // The camera's ray through the pixel centre (tracer/src/Camera.cpp, Camera::ray).
     const float width = float(P.image.x), height = float(P.image.y);
     const float aspect = width / height;
     const float u = (2.0 * (float(px.x) + 0.5) / width - 1.0) * aspect;
     const float v = 1.0 - 2.0 * (float(px.y) + 0.5) / height;
     const float halfHeight = P.right.w;
-    vec3 origin, direction;
     if (P.forward.w > 0.5) {
         origin = P.eye.xyz + (u * halfHeight) * P.right.xyz + (v * halfHeight) * P.up.xyz;
         direction = P.forward.xyz;
@@ -503,7 +551,109 @@ void main()
         origin = P.eye.xyz;
         direction = normalize(P.forward.xyz + (u * halfHeight) * P.right.xyz + (v * halfHeight) * P.up.xyz);
     }
-    Hit h = traceRay(origin, direction);
+}
+
+// The check of a voxel hit on the exact field (tracer/src/VoxelHitCheck.cpp,
+// checkVoxelHit): writes the pixel's confirmed hit, leaves the voxels' one,
+// or lists the pixel for the refinement.
+const int kVerdictKeep = 0, kVerdictConfirm = 1, kVerdictRefine = 2;
+
+int checkVoxelHit(vec3 origin, vec3 dir, inout Hit hit)
+{
+    if (hit.clearance < 1.0) return kVerdictRefine;
+    if (!(hit.depth < kInf) || hit.feature == kSectionCap) return kVerdictKeep;
+
+    const float tileSize = P.eye.w;
+    const ivec3 dims = P.dims.xyz;
+    const vec3 p = origin + hit.depth * dir;
+    const ivec3 tile = clamp(ivec3(floor(p / tileSize)), ivec3(0), dims - 1);
+    const uint value = word(P.tiles, uint(tile.x + dims.x * (tile.y + dims.y * tile.z)));
+    if (value == kEmptyTile || value == kFullTile) return kVerdictRefine;
+    const uint tape = word(P.entries, value * 8u + 5u);
+    if (tape == KERF_NO_TAPE) return kVerdictKeep;
+    const float voxelEdge = tileSize / float(1 << (2 * int(word(P.entries, value * 8u + 4u))));
+
+    const vec3 local = p - vec3(tile) * tileSize;
+    const float f0 = evaluateTileTape(tape, local);
+    const float voxelSlope = dot(hit.normal, dir);
+    if (!(voxelSlope < -float(KERF_EDGE_CHECK_FACING))) return kVerdictRefine;
+    const float step = -f0 / voxelSlope;
+    if (!(abs(step) <= float(KERF_EDGE_CHECK_SHIFT) * voxelEdge)) return kVerdictRefine;
+    const vec3 landed = local + step * dir;
+    if (any(lessThan(landed, vec3(0.0))) || any(greaterThan(landed, vec3(tileSize)))) return kVerdictRefine;
+    uint feature = kNoFeature;
+    const vec4 fg = evaluateTileTapeGradient(tape, landed, feature);
+    const vec3 g = fg.yzw;
+    const float len = length(g);
+    const float slope = dot(g, dir);
+    if (!(slope < -float(KERF_EDGE_CHECK_FACING) * len)) return kVerdictRefine;
+    const float finish = -fg.x / slope;
+    if (!(abs(finish) <= float(KERF_EDGE_CHECK_RESIDUAL) * voxelEdge)) return kVerdictRefine;
+    if (!(dot(g, hit.normal) >= cos(radians(float(KERF_EDGE_CHECK_SMOOTH_ANGLE))) * len)) return kVerdictRefine;
+
+    const vec3 finished = landed + finish * dir;
+    if (any(lessThan(finished, vec3(0.0))) || any(greaterThan(finished, vec3(tileSize)))) return kVerdictRefine;
+    if (!(abs(evaluateTileTape(tape, finished)) <= float(KERF_EDGE_CHECK_ON_SURFACE) * voxelEdge))
+        return kVerdictRefine;
+
+    const float depth = hit.depth + step + finish;
+    const vec3 n = P.section.xyz;
+    if (n != vec3(0.0) && dot(n, origin + depth * dir) > P.section.w) return kVerdictRefine;
+    hit.depth = depth;
+    hit.normal = g / len;
+    hit.feature = feature;
+    return kVerdictConfirm;
+}
+
+void main()
+{
+    P = ParamsRef(pc.params).p;
+    uvec2 px;
+    if (kPass == kTraceListed) {
+        const uint slot = gl_WorkGroupID.x * uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) + gl_LocalInvocationIndex;
+        if (slot >= RefineArgs(P.refineArgs).count) return;
+        const uint listed = RefineList(P.refineList).pixel[slot];
+        px = uvec2(listed % P.image.x, listed / P.image.x);
+    } else {
+        px = gl_GlobalInvocationID.xy;
+        if (px.x >= P.image.x || px.y >= P.image.y) return;
+    }
+    const uint i = px.x + P.image.x * px.y;
+    vec3 origin, direction;
+    cameraRay(px, origin, direction);
+
+    if (kPass == kCheckHits) {
+        Hit h;
+        h.depth = ReadFloats(P.outDepth).f[i];
+        h.normal = ReadVec4s(P.outNormal).v[i].xyz;
+        h.feature = Words(P.outFeature).w[i];
+        h.clearance = ReadVec4s(P.outVoxelPass).v[i].x;
+        const vec3 dir = vec3(nonZero(direction.x), nonZero(direction.y), nonZero(direction.z));
+        const int verdict = checkVoxelHit(origin, dir, h);
+        if (verdict == kVerdictConfirm) {
+            Floats(P.outDepth).f[i] = h.depth;
+            Vec4s(P.outNormal).v[i] = vec4(h.normal, 0.0);
+            Uints(P.outFeature).u[i] = h.feature;
+        } else if (verdict == kVerdictRefine) {
+            const uint slot = atomicAdd(RefineArgs(P.refineArgs).count, 1u);
+            RefineList(P.refineList).pixel[slot] = i;
+            // One more workgroup of the refinement's indirect dispatch per 64 pixels listed.
+            if ((slot % uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE)) == 0u)
+                atomicAdd(RefineArgs(P.refineArgs).groups, 1u);
+        }
+        return;
+    }
+
+    // A listed ray: only the stretch where the voxels met the surface or came near it.
+    const vec2 stretch = kPass == kTraceListed ? ReadVec4s(P.outVoxelPass).v[i].yz : vec2(0.0, kInf);
+    Hit h = traceRay(origin, direction, stretch.x, stretch.y);
+    if (kPass == kTraceListed && h.tape == KERF_NO_TAPE && h.depth < kInf &&
+        refineEvaluations >= KERF_EDGE_REFINE_BUDGET) {
+        // ReferenceTracer.cpp: the budget ran out before this voxel hit; the check's Newton steps.
+        h.clearance = kInf;
+        const vec3 dir = vec3(nonZero(direction.x), nonZero(direction.y), nonZero(direction.z));
+        checkVoxelHit(origin, dir, h);
+    }
     if (kHybrid && h.tape != KERF_NO_TAPE) {
         // The exact field's gradient at the refined hit (ReferenceTracer.cpp, traceRay).
         uint feature = kNoFeature;
@@ -512,8 +662,8 @@ void main()
         h.normal = len > 0.0 ? fg.yzw / len : h.normal;
         h.feature = feature;
     }
-    const uint i = px.x + P.image.x * px.y;
     Floats(P.outDepth).f[i] = h.depth;
     Vec4s(P.outNormal).v[i] = vec4(h.normal, 0.0);
     Uints(P.outFeature).u[i] = h.feature;
+    if (kPass == kTraceVoxels) Vec4s(P.outVoxelPass).v[i] = vec4(h.clearance, h.nearFrom, h.nearTo, 0.0);
 }

@@ -3,8 +3,10 @@
 // of mixed depths, shading and PNG output.
 
 #include "kerf/document/Document.hpp"
+#include "kerf/evaluator/PointEvaluator.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/Camera.hpp"
+#include "kerf/tracer/ExactRefinement.h"
 #include "kerf/tracer/ExactTracer.hpp"
 #include "kerf/tracer/Image.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
@@ -510,9 +512,71 @@ TEST(TracerExact, TilesWithoutATapeAreTracedOnTheirVoxels)
     // The cost measure: exact evaluations only where the refinement runs.
     const Ray centre = camera.ray(80, 60);
     EXPECT_EQ(traceRay(buffers, centre).evaluations, 0u);
-    const RayHit refined = traceRay(buffers, centre, {}, TraceQuality::Exact);
+    const RayHit refined = traceRay(buffers, centre, {}, TraceQuality::ExactEverywhere);
     ASSERT_TRUE(refined.hit());
     EXPECT_GT(refined.evaluations, 7u); // at least the normal's and the feature's
+    // Exact checks the voxel hit with two evaluations (VoxelHitCheck.hpp) at least.
+    EXPECT_GE(traceRay(buffers, centre, {}, TraceQuality::Exact).evaluations, 2u);
+}
+
+TEST(TracerExact, RefinesOnlyTheRaysTheCheckCannotConfirmForTheSamePicture)
+{
+    // TraceQuality::Exact checks each voxel hit on the exact field and
+    // refines only the rays it cannot confirm (VoxelHitCheck.hpp):
+    // against the exact tracer it must draw the picture that refining every
+    // ray draws, at a fraction of the evaluations.
+    const Tape sharp = compileTape(doc(kSharpPart));
+    const Tape chair = compileTape(Document::load(fs::path(KERF_EXAMPLES_DIR) / "side-chair.kerf"));
+    PointEvaluator<double> points;
+    for (const auto& [tape, featureSize] : {std::pair<const Tape*, double>{&sharp, 2.0}, {&chair, 2.0}, {&chair, 0.5}}) {
+        SCOPED_TRACE(featureSize);
+        const FlatVoxelBuffers buffers = voxels(*tape, featureSize);
+        for (const char* view : {"iso", "right"}) {
+            SCOPED_TRACE(view);
+            const Camera camera = Camera::standardView(tape->bounds(), view, 200, 150);
+            const TraceImage e = traceExact(*tape, camera, 1e-4, 2);
+            const Agreement everywhere =
+                compare(traceVoxels(buffers, camera, 2, {}, TraceQuality::ExactEverywhere), e, 0.02 * featureSize, 2.0);
+            std::size_t refined = 0, hits = 0, confirmed = 0, evaluationsExact = 0, evaluationsEverywhere = 0;
+            TraceImage checked(camera.width(), camera.height());
+            for (int y = 0; y < camera.height(); ++y)
+                for (int x = 0; x < camera.width(); ++x) {
+                    const Ray ray = camera.ray(x, y);
+                    const RayHit h = traceRay(buffers, ray, {}, TraceQuality::Exact);
+                    const std::size_t i = checked.index(x, y);
+                    checked.depth[i] = h.depth;
+                    checked.normal[i] = h.normal;
+                    checked.feature[i] = h.feature;
+                    evaluationsExact += h.evaluations;
+                    evaluationsEverywhere += traceRay(buffers, ray, {}, TraceQuality::ExactEverywhere).evaluations;
+                    hits += h.hit();
+                    refined += h.refined;
+                    if (h.hit() && !h.refined && h.evaluations > 0) {
+                        // A confirmed hit lies on the exact surface.
+                        ++confirmed;
+                        const glm::dvec3 p = ray.origin + double(h.depth) * ray.direction;
+                        EXPECT_LT(std::abs(points.evaluate(*tape, p.x, p.y, p.z)),
+                                  KERF_EDGE_CHECK_ON_SURFACE * buffers.layout.voxelSize + 1e-6 * double(h.depth))
+                            << "pixel " << x << "," << y;
+                    }
+                }
+            const Agreement a = compare(checked, e, 0.02 * featureSize, 2.0);
+            EXPECT_GE(a.maskAgree, everywhere.maskAgree - 0.001);
+            EXPECT_GE(a.depthWithin, everywhere.depthWithin - 0.002);
+            EXPECT_GE(a.normalWithin, everywhere.normalWithin - 0.002);
+            EXPECT_GE(a.featureAgree, everywhere.featureAgree - 0.002);
+            EXPECT_GT(confirmed, hits / 2) << "most hits are confirmed";
+            EXPECT_LT(refined, hits / 2);
+            // Fewer evaluations; far fewer where edges are not most of the picture
+            // (the chair from the side is mostly edges at this size).
+            EXPECT_LT(evaluationsExact, evaluationsEverywhere);
+            if (tape == &chair && std::string(view) == "iso") {
+                EXPECT_LT(evaluationsExact, evaluationsEverywhere / 2);
+            }
+            // traceVoxels draws what traceRay answers, ray by ray.
+            EXPECT_EQ(traceVoxels(buffers, camera, 2, {}, TraceQuality::Exact).depth, checked.depth);
+        }
+    }
 }
 
 TEST(TracerExact, SectionsAndCapsStillMatchTheExactImage)

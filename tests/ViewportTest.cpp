@@ -90,8 +90,9 @@ TEST_P(EveryExample, MatchesTheCpuReferenceTracer)
     ASSERT_FALSE(buffers.tapes.empty()) << "surface tiles carry their exact tapes";
     vk::ComputeTracer tracer(*context);
     tracer.setVoxels(buffers);
-    // Both qualities: the voxels alone, and the hybrid refinement on the exact tapes.
-    for (const TraceQuality quality : {TraceQuality::Voxels, TraceQuality::Exact}) {
+    // Every quality: the voxels alone, the hybrid refinement on every ray,
+    // and where the check of the voxel hits asks for it (three passes on the GPU).
+    for (const TraceQuality quality : {TraceQuality::Voxels, TraceQuality::ExactEverywhere, TraceQuality::Exact}) {
         SCOPED_TRACE(std::string(traceQualityName(quality)));
         for (const char* view : {"iso", "front", "top"}) {
             const Camera camera = Camera::standardView(tape.bounds(), view, 320, 240);

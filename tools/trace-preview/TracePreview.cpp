@@ -4,9 +4,10 @@
 //
 //   kerf_trace_preview FILE.kerf OUT.png [--view iso] [--size 800x600]
 //       [--feature-size MM] [--exact] [--ortho] [--threads N] [--repeat N]
-//       [--diff DIFF.png] [--target X,Y,Z] [--zoom F] [--quality voxels|exact]
+//       [--diff DIFF.png] [--diff-epsilon MM] [--target X,Y,Z] [--zoom F] [--quality voxels|exact|exact-everywhere]
 //
-// --quality exact turns on the hybrid refinement (kerf/tracer/TraceQuality.hpp).
+// --quality exact turns on the hybrid refinement where the voxels need it,
+// exact-everywhere on every ray (kerf/tracer/TraceQuality.hpp).
 // --target looks at that world point (mm) instead of the part's centre, from
 // the same direction; --zoom F brings the camera F times closer (perspective)
 // or shows an F times smaller field (orthographic), for close-ups.
@@ -57,6 +58,7 @@ struct Options {
     std::optional<glm::dvec3> target;
     double zoom = 1.0;
     kerf::TraceQuality quality = kerf::TraceQuality::Voxels;
+    double diffEpsilon = 1e-3; // the exact tracer's hit distance for --diff (mm)
 };
 
 struct UsageError {
@@ -67,8 +69,8 @@ void usage(std::ostream& out)
 {
     out << "usage: kerf_trace_preview FILE.kerf OUT.png [--view iso|front|back|left|right|top|bottom]\n"
            "                          [--size WxH] [--feature-size MM] [--exact] [--ortho]\n"
-           "                          [--threads N] [--repeat N] [--diff DIFF.png]\n"
-           "                          [--target X,Y,Z] [--zoom F] [--quality voxels|exact]\n";
+           "                          [--threads N] [--repeat N] [--diff DIFF.png] [--diff-epsilon MM]\n"
+           "                          [--target X,Y,Z] [--zoom F] [--quality voxels|exact|exact-everywhere]\n";
 }
 
 double parseNumber(const std::string& flag, const std::string& text)
@@ -118,10 +120,13 @@ Options parse(int argc, char** argv)
         } else if (a == "--quality") {
             const std::string q = value();
             const auto quality = kerf::parseTraceQuality(q);
-            if (!quality) throw UsageError{"--quality must be voxels or exact, not " + q};
+            if (!quality) throw UsageError{"--quality must be voxels, exact or exact-everywhere, not " + q};
             o.quality = *quality;
         } else if (a == "--diff") {
             o.diff = value();
+        } else if (a == "--diff-epsilon") {
+            o.diffEpsilon = parseNumber(a, value());
+            if (!(o.diffEpsilon > 0.0)) throw UsageError{"--diff-epsilon must be a positive length in mm"};
         } else if (a == "--exact") {
             o.exact = true;
         } else if (a == "--ortho") {
@@ -275,23 +280,37 @@ int run(const Options& o)
         }
         std::printf("voxel trace (quality %s) %dx%d: %.1f ms (best of %d)\n",
                     std::string(kerf::traceQualityName(o.quality)).c_str(), o.width, o.height, best, o.repeat);
-        if (o.quality == kerf::TraceQuality::Exact) {
-            // The refinement's cost in exact tape evaluations (one gradient counts as one).
-            std::size_t evaluations = 0, hits = 0, refined = 0;
+        if (o.quality != kerf::TraceQuality::Voxels) {
+            // The refinement's cost in exact tape evaluations (one gradient counts as one),
+            // and how many rays it traced (Exact: those whose voxel hit the check did not confirm).
+            std::size_t evaluations = 0, hits = 0, refined = 0, rays = 0;
+            std::vector<std::uint32_t> perRefinedRay;
             for (int y = 0; y < o.height; ++y)
                 for (int x = 0; x < o.width; ++x) {
                     const kerf::RayHit h = kerf::traceRay(buffers, camera.ray(x, y), {}, o.quality);
                     evaluations += h.evaluations;
                     hits += h.hit();
                     refined += h.hit() && h.evaluations > 0;
+                    rays += o.quality == kerf::TraceQuality::ExactEverywhere || h.refined;
+                    if (o.quality == kerf::TraceQuality::ExactEverywhere || h.refined)
+                        perRefinedRay.push_back(h.evaluations);
                 }
-            std::printf("exact evaluations: %.2f per pixel, %.2f per pixel hit; %zu of %zu hits refined\n",
+            // The slowest rays set a GPU's frame time: the tail of the refined rays' evaluations.
+            std::sort(perRefinedRay.begin(), perRefinedRay.end());
+            const auto quantile = [&](double q) {
+                return perRefinedRay.empty() ? 0u : perRefinedRay[std::size_t(q * double(perRefinedRay.size() - 1))];
+            };
+            std::printf("exact evaluations per refined ray: median %u, p99 %u, p99.9 %u, max %u\n", quantile(0.5),
+                        quantile(0.99), quantile(0.999), quantile(1.0));
+            std::printf("exact evaluations: %.2f per pixel, %.2f per pixel hit; %zu of %zu hits evaluated on the exact field; "
+                        "%zu rays of %d traced with the refinement (%.2f%%)\n",
                         double(evaluations) / (double(o.width) * o.height),
-                        double(evaluations) / double(std::max<std::size_t>(hits, 1)), refined, hits);
+                        double(evaluations) / double(std::max<std::size_t>(hits, 1)), refined, hits, rays,
+                        o.width * o.height, 100.0 * double(rays) / (double(o.width) * o.height));
         }
         if (!o.diff.empty()) {
             const auto t2 = Clock::now();
-            const kerf::TraceImage exact = kerf::traceExact(tape, camera, 1e-3, o.threads);
+            const kerf::TraceImage exact = kerf::traceExact(tape, camera, o.diffEpsilon, o.threads);
             std::printf("exact trace %dx%d: %.1f ms\n", o.width, o.height, msSince(t2));
             writeDiff(image, exact, layout.voxelSize, o.diff);
         }

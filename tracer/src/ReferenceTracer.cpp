@@ -1,11 +1,13 @@
 #include "kerf/tracer/ReferenceTracer.hpp"
 
 #include "kerf/tracer/ExactRefinement.h"
+#include "kerf/tracer/VoxelHitCheck.hpp"
 #include "kerf/voxelizer/TileTape.hpp"
 #include "kerf/voxelizer/WorkerArena.hpp"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -89,8 +91,9 @@ Cubic alongRay(const Trilinear& t, const glm::vec3& o, const glm::vec3& d)
 
 float evalCubic(const Cubic& c, float w) { return c.a0 + w * (c.a1 + w * (c.a2 + w * c.a3)); }
 
-// First w in [0, wEnd] with f(w) <= 0, or -1 when the segment stays outside.
-float firstCrossing(const Cubic& c, float wEnd)
+// First w in [0, wEnd] with f(w) <= 0, or -1 when the segment stays
+// outside; then `least` is the field's minimum over the segment.
+float firstCrossing(const Cubic& c, float wEnd, float& least)
 {
     // The extrema of the cubic (roots of its derivative) split the segment
     // into at most three monotone pieces, each holding at most one root.
@@ -120,10 +123,12 @@ float firstCrossing(const Cubic& c, float wEnd)
 
     float a = breaks[0];
     float fa = evalCubic(c, a);
+    least = fa;
     if (fa <= 0.0f) return a;
     for (int i = 1; i < count; ++i) {
         const float b = breaks[i];
         const float fb = evalCubic(c, b);
+        least = glm::min(least, fb);
         if (fb <= 0.0f) {
             // Monotone on [a, b] with f(a) > 0 >= f(b): bisect.
             float lo = a, hi = b;
@@ -140,6 +145,19 @@ float firstCrossing(const Cubic& c, float wEnd)
         fa = fb;
     }
     return -1.0f;
+}
+
+// Whether a voxel's eight corner normals lie within
+// KERF_EDGE_CHECK_SMOOTH_ANGLE of the first: no edge or crease inside, so
+// its trilinear field is close to the exact one (VoxelHitCheck.hpp).
+bool cornerNormalsAgree(const FlatVoxelBuffers& b, std::uint32_t vertexBase, const voxel::LeafData& ld)
+{
+    const float cosLimit = std::cos(glm::radians(float(KERF_EDGE_CHECK_SMOOTH_ANGLE)));
+    const glm::vec3 first = voxel::decodeNormal(b.vertices[vertexBase + ld.corner[0]].normal);
+    bool agree = true;
+    for (int q = 1; q < 8; ++q)
+        agree = agree && glm::dot(first, voxel::decodeNormal(b.vertices[vertexBase + ld.corner[q]].normal)) >= cosLimit;
+    return agree;
 }
 
 // A component of a direction is never exactly zero, so that 1/d is finite
@@ -323,10 +341,20 @@ struct ExactPoint {
     glm::vec3 point{0.0f};
 };
 
+// Which populated voxels the hybrid refinement searches on the exact field.
+enum class Refinement {
+    None,       // none: the voxels alone (TraceQuality::Voxels, and Exact's first look)
+    EveryVoxel, // every one the ray meets (TraceQuality::ExactEverywhere)
+    // Exact's rays that the check sent back: every one the ray meets (on the
+    // stretch traceGrid is given), until the ray has spent
+    // KERF_EDGE_REFINE_BUDGET evaluations.
+    Budgeted,
+};
+
 // `tape`: the tile's exact tape when the hybrid refinement is on, else null.
 bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uint32_t* tape, const glm::ivec3& tile,
                const glm::vec3& origin, const glm::vec3& dir, const glm::vec3& invDir, float tileSize, float tEnter,
-               RayHit& hit, CapState& cap, ExactPoint& exact)
+               Refinement refinement, RayHit& hit, CapState& cap, ExactPoint& exact)
 {
     const int levels = int(entry.levels);
     const int n = 1 << (2 * levels); // finest cells per tile edge
@@ -402,8 +430,31 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
                 }
                 cap.pending = false;
             }
-            const float w = firstCrossing(along, wEnd);
-            if (tape) {
+            float least = 0.0f;
+            const float w = firstCrossing(along, wEnd, least);
+            // Crossed without a hit: how close the ray came to this voxel's
+            // surface, in units of what the hit check allows there
+            // (VoxelHitCheck.hpp; the corner normals only asked where they
+            // decide). At 1 or more the voxel hides no exact surface from the ray.
+            float clearance = kInf;
+            if (w < 0.0f && least / voxelMm < float(KERF_EDGE_CHECK_CLEARANCE))
+                clearance = least / voxelMm /
+                            float(cornerNormalsAgree(b, entry.vertex + li.vertex, ld) ? KERF_EDGE_CHECK_SMOOTH_CLEARANCE
+                                                                                     : KERF_EDGE_CHECK_CLEARANCE);
+            const bool near = w >= 0.0f || clearance < 1.0f;
+            if (near) {
+                // The stretch of the ray Exact's refinement searches: this
+                // voxel's window (RayHit::nearFrom).
+                const float margin = float(KERF_EXACT_MARGIN) / voxelScale;
+                hit.nearFrom = glm::min(hit.nearFrom, tEnter + (s - margin) * tileSize);
+                hit.nearTo = glm::max(hit.nearTo, tEnter + (sExit + margin) * tileSize);
+            }
+            // Exact's refinement searches the stretch of the ray between
+            // the first and the last of them (traceGrid's from, to), and
+            // stops searching once it has spent its budget (the few rays
+            // that skim along edges for many voxels keep their voxels'
+            // answer there: on the GPU one such ray sets the frame time).
+            if (tape && (refinement == Refinement::EveryVoxel || hit.evaluations < KERF_EDGE_REFINE_BUDGET)) {
                 // Near the surface: the exact field decides, the trilinear
                 // crossing only brackets it; where the exact field has no
                 // crossing nearby, the voxels' stands (never a hole where
@@ -452,6 +503,7 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
                 hit.depth = tEnter + (s + w / voxelScale) * tileSize;
                 return true;
             }
+            hit.passedClearance = glm::min(hit.passedClearance, clearance);
         }
 
         // Step into the face neighbour across the face the ray leaves by.
@@ -467,9 +519,10 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
     return false;
 }
 
-// traceRay() but for the exact normal and feature of a refined hit.
+// `from`, `to`: the stretch of the ray to trace (Exact's refined rays: the
+// voxel trace's RayHit::nearFrom and nearTo), where no section plane is set.
 RayHit traceGrid(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction, const glm::vec4& plane,
-                 TraceQuality quality, ExactPoint& exact)
+                 Refinement refinement, ExactPoint& exact, float from = 0.0f, float to = kInf)
 {
     RayHit hit;
     const GridLayout& layout = b.layout;
@@ -511,6 +564,10 @@ RayHit traceGrid(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::
             }
         }
     }
+    if (n == glm::vec3(0.0f)) {
+        tEnter = glm::max(tEnter, from);
+        tLeave = glm::min(tLeave, to);
+    }
     if (!(tEnter <= tLeave)) return hit;
 
     // 2. DDA over the tiles (Amanatides & Woo).
@@ -539,10 +596,10 @@ RayHit traceGrid(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::
         }
         if (value != voxel::kEmptyTile &&
             traceTile(b, b.entries[value],
-                      quality == TraceQuality::Exact && b.entries[value].tape != voxel::kNoTape
+                      refinement != Refinement::None && b.entries[value].tape != voxel::kNoTape
                           ? b.tapes.data() + b.entries[value].tape
                           : nullptr,
-                      tile, origin, dir, invDir, tileSize, tEnter, hit, cap, exact)) {
+                      tile, origin, dir, invDir, tileSize, tEnter, refinement, hit, cap, exact)) {
             // A hit past the section plane is in the part cut away.
             if (hit.depth > tLeave) {
                 hit = RayHit{};
@@ -560,13 +617,13 @@ RayHit traceGrid(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::
     return hit;
 }
 
-} // namespace
-
-RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction, const glm::vec4& plane,
-                TraceQuality quality)
+// traceGrid, then the exact normal and feature of a refined hit.
+RayHit traceRefined(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction,
+                    const glm::vec4& plane, Refinement refinement, float from = 0.0f, float to = kInf)
 {
     ExactPoint exact;
-    RayHit hit = traceGrid(b, origin, direction, plane, quality, exact);
+    RayHit hit = traceGrid(b, origin, direction, plane, refinement, exact, from, to);
+    hit.exactHit = exact.tape != nullptr;
     if (exact.tape) {
         // The exact field's gradient at the refined hit, by forward differentiation.
         std::uint32_t feature = kNoFeature;
@@ -577,6 +634,36 @@ RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::v
         hit.normal = len > 0.0f ? g / len : hit.normal;
         hit.feature = feature;
     }
+    return hit;
+}
+
+} // namespace
+
+RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction, const glm::vec4& plane,
+                TraceQuality quality)
+{
+    // Without tapes (none built) the refinement has nothing to refine with: the voxels, as on the GPU.
+    if (quality == TraceQuality::Voxels || b.tapes.empty())
+        return traceRefined(b, origin, direction, plane, Refinement::None);
+    if (quality == TraceQuality::ExactEverywhere) return traceRefined(b, origin, direction, plane, Refinement::EveryVoxel);
+    // Exact: the voxels first; the refinement only where the exact field does not confirm their hit.
+    const RayHit voxels = traceRefined(b, origin, direction, plane, Refinement::None);
+    RayHit checked;
+    const glm::vec3 dir(nonZero(direction.x), nonZero(direction.y), nonZero(direction.z));
+    if (checkVoxelHit(b, origin, dir, plane, voxels, checked) != VoxelHitVerdict::Refine) return checked;
+    // Only the stretch where the voxels met the surface or came near it:
+    // nothing before or after it would be searched.
+    RayHit hit = traceRefined(b, origin, direction, plane, Refinement::Budgeted, voxels.nearFrom, voxels.nearTo);
+    if (hit.hit() && !hit.exactHit && hit.evaluations >= KERF_EDGE_REFINE_BUDGET) {
+        // The budget ran out before the hit: it is a voxel hit, which the
+        // check's two Newton steps put on the exact surface where they can.
+        RayHit voxelHit = hit, onSurface;
+        voxelHit.passedClearance = kInf;
+        if (checkVoxelHit(b, origin, dir, plane, voxelHit, onSurface) == VoxelHitVerdict::Confirm) hit = onSurface;
+    }
+    hit.evaluations += checked.evaluations;
+    hit.steps += checked.steps;
+    hit.refined = true;
     return hit;
 }
 

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstddef>
 #include <cstring>
 
 namespace kerf::vk {
@@ -29,20 +30,29 @@ struct ComputeTracer::Impl {
     ShaderModule module;
     PipelineLayout layout;
     Pipeline voxelPipeline;  // trace.comp without the hybrid refinement's code
-    Pipeline hybridPipeline; // with it; made when first asked for
+    Pipeline hybridPipeline; // with it, every ray (ExactEverywhere); made when first asked for
+    // TraceQuality::Exact's three passes (trace.comp, kPass), made when first asked for.
+    Pipeline voxelPassPipeline, checkPipeline, listedPipeline;
     QueryPool timestamps;
     GridLayout grid;
     GpuBuffer tiles, entries, nodes, leafIndirections, leafData, vertices, tapes;
     std::size_t resident = 0;
     std::uint64_t uploads = 0; // setVoxels() calls: the version of its voxels
     TraceTargets targets;
+    GpuBuffer voxelPass, refineList; // per pixel, for TraceQuality::Exact
+    GpuBuffer refineArgs;            // the refinement's indirect dispatch and count
+    GpuBuffer refineArgsRead;        // its copy the host reads (lastTiming)
+    bool lastWasExact = false;
     GpuBuffer params;
 
     explicit Impl(const Context& c) : ctx(c) {}
     void ensureTargets(int w, int h);
-    Pipeline makePipeline(bool hybrid) const;
-    VkPipeline pipelineFor(TraceQuality quality);
+    Pipeline makePipeline(bool hybrid, int pass) const;
+    void recordExactPasses(VkCommandBuffer cb, int w, int h);
 };
+
+// trace.comp's kPass values.
+constexpr int kTraceAll = 0, kTraceVoxels = 1, kCheckHits = 2, kTraceListed = 3;
 
 void ComputeTracer::Impl::ensureTargets(int w, int h)
 {
@@ -52,20 +62,28 @@ void ComputeTracer::Impl::ensureTargets(int w, int h)
     targets.depth = GpuBuffer(ctx, pixels * sizeof(float), usage, GpuBuffer::Kind::DeviceLocal, "trace depth");
     targets.normal = GpuBuffer(ctx, pixels * 16, usage, GpuBuffer::Kind::DeviceLocal, "trace normal");
     targets.feature = GpuBuffer(ctx, pixels * sizeof(std::uint32_t), usage, GpuBuffer::Kind::DeviceLocal, "trace feature");
+    voxelPass = GpuBuffer(ctx, pixels * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GpuBuffer::Kind::DeviceLocal,
+                          "trace voxel pass");
+    refineList = GpuBuffer(ctx, pixels * sizeof(std::uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                           GpuBuffer::Kind::DeviceLocal, "refinement list");
     targets.width = w;
     targets.height = h;
 }
 
-Pipeline ComputeTracer::Impl::makePipeline(bool hybrid) const
+Pipeline ComputeTracer::Impl::makePipeline(bool hybrid, int pass) const
 {
-    // trace.comp's specialization constant 0, kHybrid.
-    const VkBool32 value = hybrid ? VK_TRUE : VK_FALSE;
-    const VkSpecializationMapEntry entry{0, 0, sizeof value};
+    // trace.comp's specialization constants 0, kHybrid, and 1, kPass.
+    struct {
+        VkBool32 hybrid;
+        std::int32_t pass;
+    } values{hybrid ? VK_TRUE : VK_FALSE, pass};
+    const VkSpecializationMapEntry entries[2] = {{0, offsetof(decltype(values), hybrid), sizeof(VkBool32)},
+                                                 {1, offsetof(decltype(values), pass), sizeof(std::int32_t)}};
     VkSpecializationInfo special{};
-    special.mapEntryCount = 1;
-    special.pMapEntries = &entry;
-    special.dataSize = sizeof value;
-    special.pData = &value;
+    special.mapEntryCount = 2;
+    special.pMapEntries = entries;
+    special.dataSize = sizeof values;
+    special.pData = &values;
     VkComputePipelineCreateInfo cpci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
     cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -79,11 +97,43 @@ Pipeline ComputeTracer::Impl::makePipeline(bool hybrid) const
     return Pipeline(ctx.device(), p);
 }
 
-VkPipeline ComputeTracer::Impl::pipelineFor(TraceQuality quality)
+// TraceQuality::Exact: the voxels everywhere, the check of their hits on the
+// exact field, the refinement of the pixels it listed (an indirect dispatch
+// sized by the check: no lane of it idles on a confirmed pixel).
+void ComputeTracer::Impl::recordExactPasses(VkCommandBuffer cb, int w, int h)
 {
-    if (quality != TraceQuality::Exact) return voxelPipeline;
-    if (!hybridPipeline) hybridPipeline = makePipeline(true);
-    return hybridPipeline;
+    if (!voxelPassPipeline) {
+        voxelPassPipeline = makePipeline(false, kTraceVoxels);
+        checkPipeline = makePipeline(false, kCheckHits);
+        listedPipeline = makePipeline(true, kTraceListed);
+    }
+    const std::uint32_t g = KERF_TRACE_LOCAL_SIZE;
+    const auto computeToCompute = [&](VkAccessFlags dstAccess, VkPipelineStageFlags dstStage) {
+        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+        mb.dstAccessMask = dstAccess;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, dstStage, 0, 1, &mb, 0, nullptr, 0, nullptr);
+    };
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, voxelPassPipeline);
+    vkCmdDispatch(cb, (std::uint32_t(w) + g - 1) / g, (std::uint32_t(h) + g - 1) / g, 1);
+    computeToCompute(VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+    vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, timestamps, 2);
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, checkPipeline);
+    vkCmdDispatch(cb, (std::uint32_t(w) + g - 1) / g, (std::uint32_t(h) + g - 1) / g, 1);
+    computeToCompute(VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT |
+                         VK_ACCESS_TRANSFER_READ_BIT,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
+                         VK_PIPELINE_STAGE_TRANSFER_BIT);
+    vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, timestamps, 3);
+    const VkBufferCopy args{0, 0, 4 * sizeof(std::uint32_t)};
+    vkCmdCopyBuffer(cb, refineArgs.buffer(), refineArgsRead.buffer(), 1, &args);
+    VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    toHost.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0,
+                         nullptr);
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, listedPipeline);
+    vkCmdDispatchIndirect(cb, refineArgs.buffer(), 0);
 }
 
 ComputeTracer::ComputeTracer(const Context& ctx) : impl_(std::make_unique<Impl>(ctx))
@@ -99,11 +149,11 @@ ComputeTracer::ComputeTracer(const Context& ctx) : impl_(std::make_unique<Impl>(
     check(vkCreatePipelineLayout(dev, &plci, nullptr, &pl), "vkCreatePipelineLayout");
     impl_->layout = PipelineLayout(dev, pl);
 
-    impl_->voxelPipeline = impl_->makePipeline(false);
+    impl_->voxelPipeline = impl_->makePipeline(false, kTraceAll);
 
     VkQueryPoolCreateInfo qpci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     qpci.queryType = VK_QUERY_TYPE_TIMESTAMP;
-    qpci.queryCount = 2;
+    qpci.queryCount = 4; // start, end, and between TraceQuality::Exact's passes
     VkQueryPool qp;
     check(vkCreateQueryPool(dev, &qpci, nullptr, &qp), "vkCreateQueryPool");
     impl_->timestamps = QueryPool(dev, qp);
@@ -112,6 +162,12 @@ ComputeTracer::ComputeTracer(const Context& ctx) : impl_(std::make_unique<Impl>(
     impl_->params = GpuBuffer(ctx, sizeof(gpu::TraceParams),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                               GpuBuffer::Kind::DeviceLocal, "trace params");
+    impl_->refineArgs = GpuBuffer(ctx, 4 * sizeof(std::uint32_t),
+                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                                      VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                                  GpuBuffer::Kind::DeviceLocal, "refinement dispatch");
+    impl_->refineArgsRead = GpuBuffer(ctx, 4 * sizeof(std::uint32_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                      GpuBuffer::Kind::Readback, "refinement dispatch, read back");
 }
 
 ComputeTracer::~ComputeTracer() = default;
@@ -184,9 +240,22 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
     p.image = {std::uint32_t(w), std::uint32_t(h), 0, 0};
     const glm::vec4 plane = localPlane(addr.grid, section);
     p.section = {plane.x, plane.y, plane.z, plane.w};
+    p.outVoxelPass = impl_->voxelPass.address();
+    p.refineList = impl_->refineList.address();
+    p.refineArgs = impl_->refineArgs.address();
     // Without tapes (none built, none uploaded) the hybrid has nothing to refine with.
-    p.options = {quality == TraceQuality::Exact && addr.tapes ? 1u : 0u, 0, 0, 0};
+    const bool refine = quality != TraceQuality::Voxels && addr.tapes;
+    p.options = {refine ? 1u : 0u, 0, 0, 0};
+    // The previous frame in this command buffer may still read the
+    // parameters and the indirect dispatch being rewritten.
+    VkMemoryBarrier reuse{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    vkCmdPipelineBarrier(cb,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
+                             VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &reuse, 0, nullptr, 0, nullptr);
     vkCmdUpdateBuffer(cb, impl_->params.buffer(), 0, sizeof p, &p);
+    const std::uint32_t noneListed[4] = {0, 1, 1, 0}; // groups, y, z, count
+    vkCmdUpdateBuffer(cb, impl_->refineArgs.buffer(), 0, sizeof noneListed, noneListed);
     VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     before.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
     before.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
@@ -194,12 +263,18 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &before, 0, nullptr, 0, nullptr);
 
     const std::uint64_t address = impl_->params.address();
-    vkCmdResetQueryPool(cb, impl_->timestamps, 0, 2);
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, impl_->pipelineFor(TraceQuality(p.options.x)));
+    vkCmdResetQueryPool(cb, impl_->timestamps, 0, 4);
     vkCmdPushConstants(cb, impl_->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof address, &address);
     vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, impl_->timestamps, 0);
     const std::uint32_t g = KERF_TRACE_LOCAL_SIZE;
-    vkCmdDispatch(cb, (std::uint32_t(w) + g - 1) / g, (std::uint32_t(h) + g - 1) / g, 1);
+    impl_->lastWasExact = refine && quality == TraceQuality::Exact;
+    if (impl_->lastWasExact) {
+        impl_->recordExactPasses(cb, w, h);
+    } else {
+        if (refine && !impl_->hybridPipeline) impl_->hybridPipeline = impl_->makePipeline(true, kTraceAll);
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, refine ? impl_->hybridPipeline : impl_->voxelPipeline);
+        vkCmdDispatch(cb, (std::uint32_t(w) + g - 1) / g, (std::uint32_t(h) + g - 1) / g, 1);
+    }
     vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, impl_->timestamps, 1);
     VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     after.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
@@ -215,8 +290,19 @@ TraceTiming ComputeTracer::lastTiming() const
     check(vkGetQueryPoolResults(impl_->ctx.device(), impl_->timestamps, 0, 2, sizeof stamps, stamps,
                                 sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
           "vkGetQueryPoolResults");
+    const double period = double(impl_->ctx.properties().limits.timestampPeriod) * 1e-6;
     TraceTiming t;
-    t.gpuMilliseconds = double(stamps[1] - stamps[0]) * double(impl_->ctx.properties().limits.timestampPeriod) * 1e-6;
+    t.gpuMilliseconds = double(stamps[1] - stamps[0]) * period;
+    if (impl_->lastWasExact) {
+        std::uint64_t between[2] = {0, 0};
+        check(vkGetQueryPoolResults(impl_->ctx.device(), impl_->timestamps, 2, 2, sizeof between, between,
+                                    sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+              "vkGetQueryPoolResults");
+        t.voxelPassMilliseconds = double(between[0] - stamps[0]) * period;
+        t.checkMilliseconds = double(between[1] - between[0]) * period;
+        t.refineMilliseconds = double(stamps[1] - between[1]) * period;
+        t.refinedPixels = static_cast<const std::uint32_t*>(impl_->refineArgsRead.mapped())[3];
+    }
     return t;
 }
 

@@ -20,4 +20,33 @@
 // The ray hits where the exact field drops below this.
 #define KERF_EXACT_EPSILON 0.001
 
+// The check of a voxel hit (VoxelHitCheck.hpp), in voxel edges of the
+// tile's finest level: how far the first Newton step may move the hit, and
+// the second. A first step that long is a voxel's rounding of a face; a
+// face that bends so much that the second is longer is for the refinement.
+#define KERF_EDGE_CHECK_SHIFT 0.5
+#define KERF_EDGE_CHECK_RESIDUAL 0.05
+// And the field where the second step lands within this of zero: on the
+// surface, a few times the refinement's own KERF_EXACT_EPSILON (float
+// rounding of a depth thousands of voxels long is about that).
+#define KERF_EDGE_CHECK_ON_SURFACE 0.005
+// The surface must face the ray: the cosine between the ray and the
+// gradient at least this (a grazing ray is refined).
+#define KERF_EDGE_CHECK_FACING 0.1
+// A populated voxel the ray crossed before its hit, without meeting its
+// trilinear surface, is searched by the refinement when the ray came
+// closer to that surface than this (voxel edges): at a sharp edge the exact
+// surface stands out from the trilinear one by a fraction of a voxel. Where
+// the voxel's corner normals agree within the angle (no edge inside), the
+// trilinear surface is that close to the exact one, and the smaller
+// clearance applies.
+#define KERF_EDGE_CHECK_CLEARANCE 0.5
+#define KERF_EDGE_CHECK_SMOOTH_CLEARANCE 0.05
+#define KERF_EDGE_CHECK_SMOOTH_ANGLE 10.0
+// Exact evaluations a ray the check could not confirm may spend on its
+// search (the gradient at the hit not counted): beyond, the voxels it meets
+// answer alone. A few rays that skim along an edge for many voxels would
+// otherwise take hundreds, and on a GPU the frame waits for the slowest.
+#define KERF_EDGE_REFINE_BUDGET 32u
+
 #endif

@@ -30,7 +30,8 @@
 //     cap when its first populated voxel (or a full tile) is entered with
 //     f <= 0: no surface was crossed since the plane, so the plane point was
 //     inside. A cap has the plane's normal and the feature kSectionCap.
-//  7. With TraceQuality::Exact (the hybrid refinement) and a tile that
+//  7. With the hybrid refinement (TraceQuality::ExactEverywhere, and
+//     TraceQuality::Exact where VoxelHitCheck.hpp says so) and a tile that
 //     carries its exact tape (TileTape.hpp), every populated voxel the ray
 //     meets is searched on the exact field, over its segment grown by
 //     KERF_EXACT_MARGIN voxel edges both ways (within the tile, and not
@@ -77,6 +78,19 @@ struct RayHit {
     std::uint32_t feature = kNoFeature;
     std::uint32_t steps = 0;       // tiles and contree cells visited (a cost measure)
     std::uint32_t evaluations = 0; // exact tape evaluations (the hybrid refinement's cost)
+    /// Of the populated voxels the ray crossed without meeting their
+    /// trilinear surface, the least value of that surface's field along the
+    /// ray, in units of the clearance VoxelHitCheck.hpp asks of that voxel
+    /// (+inf: none; below 1: the hit needs the refinement).
+    float passedClearance = std::numeric_limits<float>::infinity();
+    /// The stretch of the ray (mm from its origin) that TraceQuality::Exact's
+    /// refinement would search, from the voxel trace: the windows of the
+    /// voxel hit and of the voxels passed within the clearance (empty:
+    /// nearFrom > nearTo).
+    float nearFrom = std::numeric_limits<float>::infinity();
+    float nearTo = -std::numeric_limits<float>::infinity();
+    bool refined = false;          // traced with the hybrid refinement (TraceQuality::Exact: the check failed)
+    bool exactHit = false;         // the refinement's crossing of the exact field (else the voxels')
 
     bool hit() const { return depth < std::numeric_limits<float>::infinity(); }
 };
@@ -85,7 +99,9 @@ struct RayHit {
 /// origin (buffers.layout.origin), in mm; `direction` is of unit length.
 /// `plane`: a section plane in the same coordinates (xyz unit normal, w
 /// offset), or zero for none. Pure function of its arguments; safe from any
-/// thread. `quality` Exact turns the hybrid refinement on (step 7).
+/// thread. `quality` ExactEverywhere turns the hybrid refinement on (step
+/// 7); Exact traces the voxels, and refines only where the exact field does
+/// not confirm their hit (VoxelHitCheck.hpp).
 RayHit traceRay(const FlatVoxelBuffers& buffers, const glm::vec3& origin, const glm::vec3& direction,
                 const glm::vec4& plane = glm::vec4(0.0f), TraceQuality quality = TraceQuality::Voxels);
 

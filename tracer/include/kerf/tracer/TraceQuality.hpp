@@ -7,17 +7,21 @@
 // the ray is marched on the exact field of the tile's simplified tape, and
 // the normal and feature come from that field, which keeps sharp edges and
 // CSG intersections sharp (tracer/include/kerf/tracer/ReferenceTracer.hpp).
+// Exact refines only the rays whose voxel hit the exact field does not
+// confirm (VoxelHitCheck.hpp): the same picture for a fraction of the
+// cost. ExactEverywhere refines every ray; it is the definition Exact is
+// measured against (docs/benchmarks.md).
 
 #include <optional>
 #include <string_view>
 
 namespace kerf {
 
-enum class TraceQuality : unsigned { Voxels = 0, Exact = 1 };
+enum class TraceQuality : unsigned { Voxels = 0, Exact = 1, ExactEverywhere = 2 };
 
-/// "voxels" or "exact".
+/// "voxels", "exact" or "exact-everywhere".
 std::string_view traceQualityName(TraceQuality q);
-/// The quality named `name` ("voxels", "exact"), or nothing.
+/// The quality named `name` ("voxels", "exact", "exact-everywhere"), or nothing.
 std::optional<TraceQuality> parseTraceQuality(std::string_view name);
 
 } // namespace kerf

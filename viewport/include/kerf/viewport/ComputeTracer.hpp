@@ -5,10 +5,12 @@
 // device-local depth, normal and feature buffers (TraceTargets), which the
 // shading pass reads in place or trace() reads back.
 //
-// The hybrid refinement (TraceQuality::Exact) runs in a second pipeline of
-// the same shader, made when first asked for; the voxel-only pipeline is
-// compiled without its code (a specialization constant), so it keeps its
-// speed.
+// The hybrid refinement runs in other pipelines of the same shader, made
+// when first asked for; the voxel-only pipeline is compiled without its
+// code (a specialization constant), so it keeps its speed. ExactEverywhere
+// refines every ray in one dispatch; Exact traces the voxels, checks their
+// hits on the exact field and refines the pixels the check lists, in an
+// indirect dispatch (tracer/include/kerf/tracer/VoxelHitCheck.hpp).
 //
 // Threading: one thread at a time. The context must outlive the tracer.
 
@@ -27,6 +29,10 @@ namespace kerf::vk {
 
 struct TraceTiming {
     double gpuMilliseconds = 0.0; // the dispatch alone, from timestamps
+    // TraceQuality::Exact's passes, from timestamps between them (else 0):
+    // the voxels, the check of their hits, the refinement of the pixels listed.
+    double voxelPassMilliseconds = 0.0, checkMilliseconds = 0.0, refineMilliseconds = 0.0;
+    std::uint32_t refinedPixels = 0; // pixels the check listed for the refinement
 };
 
 /// Where a dispatch finds the voxels: separate arrays (setVoxels) or one heap
@@ -61,7 +67,7 @@ public:
     /// Records the trace of `camera`'s image into the targets (resized as
     /// needed), followed by a barrier making them readable by fragment
     /// shaders and transfers. Writes the timestamps read by lastTiming().
-    /// `quality` Exact turns the hybrid refinement on (TraceQuality.hpp).
+    /// `quality` Exact or ExactEverywhere turns the hybrid refinement on (TraceQuality.hpp).
     void record(VkCommandBuffer cb, const Camera& camera, const VoxelAddresses& voxels, const Section& section = {},
                 TraceQuality quality = TraceQuality::Voxels);
     const TraceTargets& targets() const;
