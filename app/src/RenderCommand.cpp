@@ -33,8 +33,9 @@ namespace kerf {
 namespace {
 
 const char* kRenderHelp = R"(Usage: kerf render FILE.kerf -o OUT.png [--size WxH] [--view NAME]
-                   [--feature-size MM] [--quality voxels|exact] [--ortho] [--cpu]
-                   [--voxelizer cpu|gpu] [--json] [-D NAME=VALUE]...
+                   [--feature-size MM] [--quality voxels|exact|exact-everywhere]
+                   [--ortho] [--cpu] [--voxelizer cpu|gpu] [--json]
+                   [-D NAME=VALUE]...
 
 Voxelizes the part and traces it with the Vulkan compute tracer, without a
 window, then writes a shaded PNG.
@@ -45,8 +46,11 @@ Options:
   --view NAME           iso (default), front, back, left, right, top, bottom
   --feature-size MM     voxel size (default: the document's)
   --quality Q           voxels (default): the surface interpolated in the
-                        voxels; exact: refined on the exact field near the
-                        surface, for sharp edges and intersections (slower)
+                        voxels; exact: each voxel hit checked on the exact
+                        field and refined where the voxels round an edge or
+                        fill an intersection (sharp edges; the viewport's
+                        Exact Edges); exact-everywhere: every ray refined,
+                        the slow reference exact is measured against
   --ortho               orthographic instead of perspective projection
   --cpu                 use the CPU reference tracer instead of Vulkan
   --voxelizer V         cpu (default): voxelize with oneTBB on every core;
@@ -85,7 +89,8 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const std::string view = a.value("--view").value_or("iso");
         const std::string qualityName = a.value("--quality").value_or("voxels");
         const std::optional<TraceQuality> quality = parseTraceQuality(qualityName);
-        if (!quality) throw UsageError("--quality must be voxels or exact, not '" + printable(qualityName) + "'");
+        if (!quality) throw UsageError("--quality must be voxels, exact or exact-everywhere, not '" + printable(qualityName) +
+                                        "'");
         const std::string voxelizerName = a.value("--voxelizer").value_or("cpu");
         if (voxelizerName != "cpu" && voxelizerName != "gpu")
             throw UsageError("--voxelizer must be cpu or gpu, not '" + printable(voxelizerName) + "'");

@@ -33,7 +33,7 @@ Commands:
                        write it as STL or 3MF; print the mesh as a reader
                        of the file gets it
   render FILE.kerf -o OUT.png [--size WxH] [--view iso|front|top|...]
-         [--quality voxels|exact]
+         [--quality voxels|exact|exact-everywhere]
                        voxelize and trace the part with the Vulkan compute
                        tracer, headless, and write the image; exact refines
                        the surface on the exact field (sharp edges)
