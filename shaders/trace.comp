@@ -34,7 +34,10 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Pa
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer ReadFloats { float f[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer ReadVec4s { vec4 v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer RefineList { uint pixel[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) buffer RefineArgs { uint groups; uint y; uint z; uint count; };
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer RefineArgs {
+    uint groups, y, z; // the refinement's indirect dispatch
+    uint count;        // pixels listed
+};
 
 layout(push_constant) uniform Push { uint64_t params; } pc;
 
@@ -605,45 +608,14 @@ int checkVoxelHit(vec3 origin, vec3 dir, inout Hit hit)
     return kVerdictConfirm;
 }
 
-void main()
+// One pixel's trace (kTraceAll, kTraceVoxels, kTraceListed): its outputs written.
+void tracePixel(uvec2 px)
 {
-    P = ParamsRef(pc.params).p;
-    uvec2 px;
-    if (kPass == kTraceListed) {
-        const uint slot = gl_WorkGroupID.x * uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) + gl_LocalInvocationIndex;
-        if (slot >= RefineArgs(P.refineArgs).count) return;
-        const uint listed = RefineList(P.refineList).pixel[slot];
-        px = uvec2(listed % P.image.x, listed / P.image.x);
-    } else {
-        px = gl_GlobalInvocationID.xy;
-        if (px.x >= P.image.x || px.y >= P.image.y) return;
-    }
     const uint i = px.x + P.image.x * px.y;
     vec3 origin, direction;
     cameraRay(px, origin, direction);
-
-    if (kPass == kCheckHits) {
-        Hit h;
-        h.depth = ReadFloats(P.outDepth).f[i];
-        h.normal = ReadVec4s(P.outNormal).v[i].xyz;
-        h.feature = Words(P.outFeature).w[i];
-        h.clearance = ReadVec4s(P.outVoxelPass).v[i].x;
-        const vec3 dir = vec3(nonZero(direction.x), nonZero(direction.y), nonZero(direction.z));
-        const int verdict = checkVoxelHit(origin, dir, h);
-        if (verdict == kVerdictConfirm) {
-            Floats(P.outDepth).f[i] = h.depth;
-            Vec4s(P.outNormal).v[i] = vec4(h.normal, 0.0);
-            Uints(P.outFeature).u[i] = h.feature;
-        } else if (verdict == kVerdictRefine) {
-            const uint slot = atomicAdd(RefineArgs(P.refineArgs).count, 1u);
-            RefineList(P.refineList).pixel[slot] = i;
-            // One more workgroup of the refinement's indirect dispatch per 64 pixels listed.
-            if ((slot % uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE)) == 0u)
-                atomicAdd(RefineArgs(P.refineArgs).groups, 1u);
-        }
-        return;
-    }
-
+    capPending = false;
+    refineEvaluations = 0u;
     // A listed ray: only the stretch where the voxels met the surface or came near it.
     const vec2 stretch = kPass == kTraceListed ? ReadVec4s(P.outVoxelPass).v[i].yz : vec2(0.0, kInf);
     Hit h = traceRay(origin, direction, stretch.x, stretch.y);
@@ -666,4 +638,49 @@ void main()
     Vec4s(P.outNormal).v[i] = vec4(h.normal, 0.0);
     Uints(P.outFeature).u[i] = h.feature;
     if (kPass == kTraceVoxels) Vec4s(P.outVoxelPass).v[i] = vec4(h.clearance, h.nearFrom, h.nearTo, 0.0);
+}
+
+// The check of one pixel's voxel hit (kCheckHits).
+void checkPixel(uvec2 px)
+{
+    const uint i = px.x + P.image.x * px.y;
+    vec3 origin, direction;
+    cameraRay(px, origin, direction);
+    Hit h;
+    h.depth = ReadFloats(P.outDepth).f[i];
+    h.normal = ReadVec4s(P.outNormal).v[i].xyz;
+    h.feature = Words(P.outFeature).w[i];
+    h.clearance = ReadVec4s(P.outVoxelPass).v[i].x;
+    const vec3 dir = vec3(nonZero(direction.x), nonZero(direction.y), nonZero(direction.z));
+    const int verdict = checkVoxelHit(origin, dir, h);
+    if (verdict == kVerdictConfirm) {
+        Floats(P.outDepth).f[i] = h.depth;
+        Vec4s(P.outNormal).v[i] = vec4(h.normal, 0.0);
+        Uints(P.outFeature).u[i] = h.feature;
+    } else if (verdict == kVerdictRefine) {
+        const uint slot = atomicAdd(RefineArgs(P.refineArgs).count, 1u);
+        RefineList(P.refineList).pixel[slot] = i;
+        // One more workgroup of the refinement's indirect dispatch per 64 pixels listed.
+        if (slot % uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) == 0u)
+            atomicAdd(RefineArgs(P.refineArgs).groups, 1u);
+    }
+}
+
+void main()
+{
+    P = ParamsRef(pc.params).p;
+    if (kPass == kTraceListed) {
+        const uint slot =
+            gl_WorkGroupID.x * uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) + gl_LocalInvocationIndex;
+        if (slot >= RefineArgs(P.refineArgs).count) return;
+        const uint listed = RefineList(P.refineList).pixel[slot];
+        tracePixel(uvec2(listed % P.image.x, listed / P.image.x));
+        return;
+    }
+    const uvec2 px = gl_GlobalInvocationID.xy;
+    if (px.x >= P.image.x || px.y >= P.image.y) return;
+    if (kPass == kCheckHits)
+        checkPixel(px);
+    else
+        tracePixel(px);
 }
