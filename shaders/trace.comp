@@ -375,13 +375,13 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
             float clearance = kInf;
             if (kPass == kTraceVoxels && w < 0.0 &&
                 least / voxelMm < float(KERF_EDGE_CHECK_CLEARANCE)) {
-                const float cosLimit = cos(radians(float(KERF_EDGE_CHECK_SMOOTH_ANGLE)));
+                // ReferenceTracer.cpp, cornerClearance.
                 const vec3 first = decodeNormal(word(P.vertices, vtx[0] * 2u));
-                bool agree = true;
-                for (int q = 1; q < 8; ++q)
-                    agree = agree && dot(first, decodeNormal(word(P.vertices, vtx[q] * 2u))) >= cosLimit;
-                clearance = least / voxelMm /
-                            float(agree ? KERF_EDGE_CHECK_SMOOTH_CLEARANCE : KERF_EDGE_CHECK_CLEARANCE);
+                float cosine = 1.0;
+                for (int q = 1; q < 8; ++q) cosine = min(cosine, dot(first, decodeNormal(word(P.vertices, vtx[q] * 2u))));
+                const float allowed = clamp(float(KERF_EDGE_CHECK_CLEARANCE_PER_RADIAN) * acos(clamp(cosine, -1.0, 1.0)),
+                                            float(KERF_EDGE_CHECK_SMOOTH_CLEARANCE), float(KERF_EDGE_CHECK_CLEARANCE));
+                clearance = least / voxelMm / allowed;
             }
             const bool near = w >= 0.0 || clearance < 1.0;
             if (kPass == kTraceVoxels && near) {

@@ -147,17 +147,22 @@ float firstCrossing(const Cubic& c, float wEnd, float& least)
     return -1.0f;
 }
 
-// Whether a voxel's eight corner normals lie within
-// KERF_EDGE_CHECK_SMOOTH_ANGLE of the first: no edge or crease inside, so
-// its trilinear field is close to the exact one (VoxelHitCheck.hpp).
-bool cornerNormalsAgree(const FlatVoxelBuffers& b, std::uint32_t vertexBase, const voxel::LeafData& ld)
+// The clearance the hit check asks of a ray passing this voxel without a
+// hit (voxel edges): how far its exact surface may stand out from the
+// trilinear one. Where the field is smooth that is about (sqrt(3)/8) h
+// times the angle the corner normals turn through (the trilinear error of
+// a distance field of curvature k is (3/8) h^2 k, and the normals turn by
+// sqrt(3) h k across the voxel); twice that, between the smooth floor and
+// the sharp-edge ceiling (an edge rounds off by up to half a voxel).
+float cornerClearance(const FlatVoxelBuffers& b, std::uint32_t vertexBase, const voxel::LeafData& ld)
 {
-    const float cosLimit = std::cos(glm::radians(float(KERF_EDGE_CHECK_SMOOTH_ANGLE)));
     const glm::vec3 first = voxel::decodeNormal(b.vertices[vertexBase + ld.corner[0]].normal);
-    bool agree = true;
+    float least = 1.0f; // the least cosine between the first corner's normal and another's
     for (int q = 1; q < 8; ++q)
-        agree = agree && glm::dot(first, voxel::decodeNormal(b.vertices[vertexBase + ld.corner[q]].normal)) >= cosLimit;
-    return agree;
+        least = glm::min(least, glm::dot(first, voxel::decodeNormal(b.vertices[vertexBase + ld.corner[q]].normal)));
+    const float turn = std::acos(glm::clamp(least, -1.0f, 1.0f));
+    return glm::clamp(float(KERF_EDGE_CHECK_CLEARANCE_PER_RADIAN) * turn, float(KERF_EDGE_CHECK_SMOOTH_CLEARANCE),
+                      float(KERF_EDGE_CHECK_CLEARANCE));
 }
 
 // A component of a direction is never exactly zero, so that 1/d is finite
@@ -438,9 +443,7 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
             // decide). At 1 or more the voxel hides no exact surface from the ray.
             float clearance = kInf;
             if (w < 0.0f && least / voxelMm < float(KERF_EDGE_CHECK_CLEARANCE))
-                clearance = least / voxelMm /
-                            float(cornerNormalsAgree(b, entry.vertex + li.vertex, ld) ? KERF_EDGE_CHECK_SMOOTH_CLEARANCE
-                                                                                     : KERF_EDGE_CHECK_CLEARANCE);
+                clearance = least / voxelMm / cornerClearance(b, entry.vertex + li.vertex, ld);
             const bool near = w >= 0.0f || clearance < 1.0f;
             if (near) {
                 // The stretch of the ray Exact's refinement searches: this

@@ -35,13 +35,16 @@
 #define KERF_EDGE_CHECK_FACING 0.1
 // A populated voxel the ray crossed before its hit, without meeting its
 // trilinear surface, is searched by the refinement when the ray came
-// closer to that surface than this (voxel edges): at a sharp edge the exact
-// surface stands out from the trilinear one by a fraction of a voxel. Where
-// the voxel's corner normals agree within the angle (no edge inside), the
-// trilinear surface is that close to the exact one, and the smaller
-// clearance applies.
+// closer to that surface than the exact one may stand out from it there
+// (voxel edges): CLEARANCE_PER_RADIAN times the angle the voxel's corner
+// normals turn through (twice the trilinear error of a smooth distance
+// field of that curvature), at least SMOOTH_CLEARANCE, at most CLEARANCE
+// (a sharp edge rounds off by up to half a voxel).
 #define KERF_EDGE_CHECK_CLEARANCE 0.5
 #define KERF_EDGE_CHECK_SMOOTH_CLEARANCE 0.05
+#define KERF_EDGE_CHECK_CLEARANCE_PER_RADIAN 0.43
+// The exact normal where the first step lands must lie within this of the
+// voxels' (degrees): else an edge lies between them.
 #define KERF_EDGE_CHECK_SMOOTH_ANGLE 10.0
 // Exact evaluations a ray the check could not confirm may spend on its
 // search (the gradient at the hit not counted): beyond, the voxels it meets

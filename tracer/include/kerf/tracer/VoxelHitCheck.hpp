@@ -15,10 +15,9 @@
 //    the trilinear surface of any populated voxel it crossed before the
 //    one it hit (the refinement searches the exact field around every
 //    populated voxel the ray meets: a surface the voxels rounded away, an
-//    edge just beside the ray, can only be found there), or
-//    KERF_EDGE_CHECK_SMOOTH_CLEARANCE where that voxel's corner normals
-//    agree (no edge inside: its trilinear surface is that close to the
-//    exact one);
+//    edge just beside the ray, can only be found there); less where that
+//    voxel's corner normals turn through a smaller angle (a smooth surface
+//    of that curvature is interpolated that closely: ExactRefinement.h);
 //  - the surface faces the ray (a grazing ray is refined);
 //  - the first step stays within KERF_EDGE_CHECK_SHIFT voxel edges and
 //    inside the tile (whose tape is exact only there), and the second
