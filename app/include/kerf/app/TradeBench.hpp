@@ -22,7 +22,8 @@
 //    `frames` traces after one warm-up on the wall clock (the CPU reference
 //    tracer); `device` says which.
 //  - exactEdges (when asked for): the same voxels traced with the hybrid
-//    refinement (TraceQuality::Exact: the exact field near each hit, what
+//    refinement (TraceQuality::Exact: each hit checked on the exact field,
+//    refined where the check cannot confirm it, what
 //    `kerf render --quality exact` and the viewport's Exact Edges draw),
 //    its trace time and picture error measured the same way.
 //  - picture: the traced image (as read back from the device) against the
