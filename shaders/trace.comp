@@ -306,6 +306,9 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
     const vec3 sFaces = (vec3(greaterThan(dir, vec3(0.0))) - e) * invDir;
     const float sTileEnd = min(sFaces.x, min(sFaces.y, sFaces.z));
     float searched = 0.0;
+    // ReferenceTracer.cpp: the clearance of the voxel passed last, held back while the next cell may be the hit.
+    float pending = kInf;
+    bool pendingAdjacent = false;
 
     const int maxIterations = 3 * n + 3;
     for (int iteration = 0; iteration < maxIterations; ++iteration) {
@@ -370,17 +373,16 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
             float least = 0.0;
             const float w = firstCrossing(along, wEnd, least);
             // ReferenceTracer.cpp: how close the ray came to this voxel's surface, in units of the
-            // check's clearance (asked only where it decides: the voxel pass while the ray is
-            // clear, the refinement of a listed ray).
-            float clearance = kInf;
+            // check's clearance (the voxel pass of TraceQuality::Exact only).
+            float clearance = kInf, allowed = float(KERF_EDGE_CHECK_CLEARANCE);
             if (kPass == kTraceVoxels && w < 0.0 &&
                 least / voxelMm < float(KERF_EDGE_CHECK_CLEARANCE)) {
                 // ReferenceTracer.cpp, cornerClearance.
                 const vec3 first = decodeNormal(word(P.vertices, vtx[0] * 2u));
                 float cosine = 1.0;
                 for (int q = 1; q < 8; ++q) cosine = min(cosine, dot(first, decodeNormal(word(P.vertices, vtx[q] * 2u))));
-                const float allowed = clamp(float(KERF_EDGE_CHECK_CLEARANCE_PER_RADIAN) * acos(clamp(cosine, -1.0, 1.0)),
-                                            float(KERF_EDGE_CHECK_SMOOTH_CLEARANCE), float(KERF_EDGE_CHECK_CLEARANCE));
+                allowed = clamp(float(KERF_EDGE_CHECK_CLEARANCE_PER_RADIAN) * acos(clamp(cosine, -1.0, 1.0)),
+                                float(KERF_EDGE_CHECK_SMOOTH_CLEARANCE), float(KERF_EDGE_CHECK_CLEARANCE));
                 clearance = least / voxelMm / allowed;
             }
             const bool near = w >= 0.0 || clearance < 1.0;
@@ -404,6 +406,8 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
                 }
             }
             if (w >= 0.0) {
+                // ReferenceTracer.cpp: the voxel passed just before on a smooth sheet.
+                if (kPass == kTraceVoxels && !pendingAdjacent) hit.clearance = min(hit.clearance, pending);
                 const vec3 u = clamp(o + w * dir, 0.0, 1.0);
                 vec3 nrm = vec3(0.0);
                 float nearest = kInf;
@@ -431,7 +435,21 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
                 hit.depth = tEnter + (s + w / voxelScale) * tileSize;
                 return true;
             }
-            if (kPass == kTraceVoxels) hit.clearance = min(hit.clearance, clearance);
+            if (kPass == kTraceVoxels) {
+                hit.clearance = min(hit.clearance, pending);
+                pending = kInf;
+                pendingAdjacent = false;
+                if (clearance < 1.0 && allowed < float(KERF_EDGE_CHECK_CLEARANCE) && least >= evalCubic(along, wEnd)) {
+                    pending = clearance;
+                    pendingAdjacent = true;
+                } else {
+                    hit.clearance = min(hit.clearance, clearance);
+                }
+            }
+        } else if (kPass == kTraceVoxels) {
+            hit.clearance = min(hit.clearance, pending); // an empty cell in between
+            pending = kInf;
+            pendingAdjacent = false;
         }
 
         s = max(s, sExit);
@@ -441,8 +459,9 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
         if (sAxis.y <= sExit) next.y = dir.y > 0.0 ? hi.y : lo.y - 1;
         if (sAxis.z <= sExit) next.z = dir.z > 0.0 ? hi.z : lo.z - 1;
         cell = next;
-        if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x >= n || cell.y >= n || cell.z >= n) return false;
+        if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x >= n || cell.y >= n || cell.z >= n) break;
     }
+    if (kPass == kTraceVoxels) hit.clearance = min(hit.clearance, pending); // the tile ends
     return false;
 }
 

@@ -377,6 +377,10 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
     const glm::vec3 sFaces = (glm::vec3(glm::greaterThan(dir, glm::vec3(0.0f))) - e) * invDir;
     const float sTileEnd = glm::min(sFaces.x, glm::min(sFaces.y, sFaces.z));
     float searched = 0.0f;
+    // The clearance of the voxel passed last, held back while the next cell
+    // may be the hit (RayHit::passedClearance).
+    float pending = kInf;
+    bool pendingAdjacent = false;
 
     // Each iteration moves at least one cell coordinate one step along the
     // ray, so 3n iterations cross the whole tile.
@@ -441,9 +445,11 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
             // surface, in units of what the hit check allows there
             // (VoxelHitCheck.hpp; the corner normals only asked where they
             // decide). At 1 or more the voxel hides no exact surface from the ray.
-            float clearance = kInf;
-            if (w < 0.0f && least / voxelMm < float(KERF_EDGE_CHECK_CLEARANCE))
-                clearance = least / voxelMm / cornerClearance(b, entry.vertex + li.vertex, ld);
+            float clearance = kInf, allowed = float(KERF_EDGE_CHECK_CLEARANCE);
+            if (w < 0.0f && least / voxelMm < float(KERF_EDGE_CHECK_CLEARANCE)) {
+                allowed = cornerClearance(b, entry.vertex + li.vertex, ld);
+                clearance = least / voxelMm / allowed;
+            }
             const bool near = w >= 0.0f || clearance < 1.0f;
             if (near) {
                 // The stretch of the ray Exact's refinement searches: this
@@ -478,6 +484,11 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
                 }
             }
             if (w >= 0.0f) {
+                // The voxel passed just before, on a smooth sheet whose field
+                // still fell as the ray left it: the ray closes in on this
+                // surface, and the check's Newton steps from this hit look
+                // there (they may step back into it).
+                if (!pendingAdjacent) hit.passedClearance = glm::min(hit.passedClearance, pending);
                 const glm::vec3 u = glm::clamp(o + w * dir, 0.0f, 1.0f);
                 glm::vec3 nrm(0.0f);
                 float nearest = kInf;
@@ -506,7 +517,20 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
                 hit.depth = tEnter + (s + w / voxelScale) * tileSize;
                 return true;
             }
-            hit.passedClearance = glm::min(hit.passedClearance, clearance);
+            // Its clearance counts, unless the next cell is the hit (above).
+            hit.passedClearance = glm::min(hit.passedClearance, pending);
+            pending = kInf;
+            pendingAdjacent = false;
+            if (clearance < 1.0f && allowed < float(KERF_EDGE_CHECK_CLEARANCE) && least >= evalCubic(along, wEnd)) {
+                pending = clearance;
+                pendingAdjacent = true;
+            } else {
+                hit.passedClearance = glm::min(hit.passedClearance, clearance);
+            }
+        } else {
+            hit.passedClearance = glm::min(hit.passedClearance, pending); // an empty cell in between
+            pending = kInf;
+            pendingAdjacent = false;
         }
 
         // Step into the face neighbour across the face the ray leaves by.
@@ -517,8 +541,9 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
         if (sAxis.y <= sExit) next.y = dir.y > 0.0f ? hi.y : lo.y - 1;
         if (sAxis.z <= sExit) next.z = dir.z > 0.0f ? hi.z : lo.z - 1;
         cell = next;
-        if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x >= n || cell.y >= n || cell.z >= n) return false;
+        if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x >= n || cell.y >= n || cell.z >= n) break;
     }
+    hit.passedClearance = glm::min(hit.passedClearance, pending); // the tile ends
     return false;
 }
 

@@ -81,7 +81,8 @@ struct RayHit {
     /// Of the populated voxels the ray crossed without meeting their
     /// trilinear surface, the least value of that surface's field along the
     /// ray, in units of the clearance VoxelHitCheck.hpp asks of that voxel
-    /// (+inf: none; below 1: the hit needs the refinement).
+    /// (+inf: none; below 1: the hit needs the refinement); without the
+    /// smooth voxel right before the hit's whose field fell to its exit.
     float passedClearance = std::numeric_limits<float>::infinity();
     /// The stretch of the ray (mm from its origin) that TraceQuality::Exact's
     /// refinement would search, from the voxel trace: the windows of the

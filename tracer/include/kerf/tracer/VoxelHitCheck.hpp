@@ -17,7 +17,10 @@
 //    populated voxel the ray meets: a surface the voxels rounded away, an
 //    edge just beside the ray, can only be found there); less where that
 //    voxel's corner normals turn through a smaller angle (a smooth surface
-//    of that curvature is interpolated that closely: ExactRefinement.h);
+//    of that curvature is interpolated that closely: ExactRefinement.h).
+//    The voxel right before the hit's does not count when it is no sharp
+//    edge and its field still fell as the ray left it: the ray was closing
+//    in on the surface it hits, and the Newton steps below look there;
 //  - the surface faces the ray (a grazing ray is refined);
 //  - the first step stays within KERF_EDGE_CHECK_SHIFT voxel edges and
 //    inside the tile (whose tape is exact only there), and the second
