@@ -161,6 +161,7 @@ float firstCrossing(vec4 c, float wEnd, out float least)
 }
 
 float nonZero(float v) { return abs(v) < 1e-20 ? (v < 0.0 ? -1e-20 : 1e-20) : v; }
+vec3 nonZero(vec3 v) { return vec3(nonZero(v.x), nonZero(v.y), nonZero(v.z)); }
 
 // ---- A tile's exact tape: the GLSL tape library (tape.glsl) ----
 // t is the tape's first word in P.tapes; indices are relative to it.
@@ -479,7 +480,7 @@ Hit traceRay(vec3 origin, vec3 direction, float from, float to)
     hit.nearFrom = kInf;
     hit.nearTo = -kInf;
 
-    const vec3 dir = vec3(nonZero(direction.x), nonZero(direction.y), nonZero(direction.z));
+    const vec3 dir = nonZero(direction);
     const vec3 invDir = 1.0 / dir;
     const float tileSize = P.eye.w;
     const ivec3 dims = P.dims.xyz;
@@ -642,7 +643,7 @@ void tracePixel(uvec2 px)
         refineEvaluations >= KERF_EDGE_REFINE_BUDGET) {
         // ReferenceTracer.cpp: the budget ran out before this voxel hit; the check's Newton steps.
         h.clearance = kInf;
-        const vec3 dir = vec3(nonZero(direction.x), nonZero(direction.y), nonZero(direction.z));
+        const vec3 dir = nonZero(direction);
         checkVoxelHit(origin, dir, h);
     }
     if (kHybrid && h.tape != KERF_NO_TAPE) {
@@ -670,7 +671,7 @@ void checkPixel(uvec2 px)
     h.normal = ReadVec4s(P.outNormal).v[i].xyz;
     h.feature = Words(P.outFeature).w[i];
     h.clearance = ReadVec4s(P.outVoxelPass).v[i].x;
-    const vec3 dir = vec3(nonZero(direction.x), nonZero(direction.y), nonZero(direction.z));
+    const vec3 dir = nonZero(direction);
     const int verdict = checkVoxelHit(origin, dir, h);
     if (verdict == kVerdictConfirm) {
         Floats(P.outDepth).f[i] = h.depth;
