@@ -24,6 +24,11 @@
 // cold (a fresh voxelizer: its pools guessed) and warm (a rebuild of the same
 // part, as after an edit that dirties every tile), all in the same run.
 //
+//   kerf_gpu_bench bricks [--scene chair|showcase] [--feature-size MM] [--frames N]
+//                         [--accuracy-width PIXELS] [--json OUT.json] [--examples DIR]
+// measures brick leaves and the brick renderer against contree leaves and
+// the compute tracer's voxel trace (issue 19).
+//
 //   kerf_gpu_bench edit [--scene chair|showcase] [--feature-size MM] [--edits N] [--json OUT.json]
 //                       [--examples DIR]
 //
@@ -44,12 +49,15 @@
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/Camera.hpp"
 #include "kerf/tracer/ExactRefinement.h"
+#include "kerf/tracer/ExactTracer.hpp"
+#include "kerf/viewport/BrickRenderer.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
 #include "kerf/viewport/GpuVoxelWorker.hpp"
 #include "kerf/viewport/GpuVoxelizer.hpp"
 #include "kerf/voxelizer/DirtyRegion.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
 
+#include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -59,6 +67,7 @@
 #include <fstream>
 #include <iostream>
 #include <mutex>
+#include <numeric>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -463,11 +472,148 @@ int editBench(const std::vector<std::string>& args)
 
 } // namespace
 
+// Brick leaves against contree leaves (issue 19): for each scene and
+// feature size, the memory and build time of each, the frame time of the
+// brick renderer against the compute tracer's voxel trace (same voxels,
+// same run), and each picture's error against the exact picture.
+int bricksBench(const std::vector<std::string>& args)
+{
+    std::string examples = KERF_EXAMPLES_DIR, jsonPath, onlyScene;
+    double onlyFeatureSize = 0.0;
+    int frames = 20;
+    int accuracyWidth = 960;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        const bool more = i + 1 < args.size();
+        if (takeSceneOption(args, i, examples, jsonPath, onlyScene, onlyFeatureSize)) continue;
+        if (a == "--frames" && more)
+            frames = std::max(1, std::atoi(args[++i].c_str()));
+        else if (a == "--accuracy-width" && more)
+            accuracyWidth = std::atoi(args[++i].c_str());
+        else {
+            std::cerr << "usage: kerf_gpu_bench bricks [--scene chair|showcase] [--feature-size MM] [--frames N] "
+                         "[--accuracy-width PIXELS (0: none)] [--json OUT.json] [--examples DIR]\n";
+            return 2;
+        }
+    }
+    vk::Context ctx;
+    std::cout << "device: " << ctx.deviceDescription() << "\n";
+    nlohmann::ordered_json results = nlohmann::ordered_json::array();
+    std::printf("%-9s %6s %9s %9s %10s %10s %10s %10s %10s %12s %12s %12s\n", "scene", "fs", "bricks", "voxels",
+                "contree MB", "bricks MB", "voxelize ms", "bricks ms", "size", "contree ms", "bricks ms", "sort ms");
+    // The sizes issue 19 asks for.
+    const std::vector<Scene> scenes = {{"chair", Document::load(examples + "/side-chair.kerf"), {2.0, 1.0, 0.5, 0.25}},
+                                       {"showcase", showcase(), {0.1, 0.01}}};
+    for (const Scene& scene : scenes) {
+        if (!onlyScene.empty() && scene.name != onlyScene) continue;
+        const Tape tape = compileTape(scene.doc);
+        for (double fs : onlyFeatureSize > 0.0 ? std::vector<double>{onlyFeatureSize} : scene.featureSizes) {
+            auto since = [](auto t0) { return millisecondsSince(t0); };
+            const auto t0 = std::chrono::steady_clock::now();
+            const GridLayout layout = GridLayout::choose(tape.bounds(), fs);
+            const VoxelSnapshot snap = voxelize(tape, layout);
+            const FlatVoxelBuffers buffers = FlatVoxelBuffers::flatten(snap);
+            const double voxelizeMs = since(t0);
+            const auto b0 = std::chrono::steady_clock::now();
+            const BrickLeaves bricks = BrickLeaves::fromVoxels(buffers);
+            const double bricksMs = since(b0);
+            vk::ComputeTracer tracer(ctx);
+            tracer.setVoxels(buffers);
+            vk::BrickRenderer renderer(ctx);
+            renderer.setBricks(bricks);
+            for (auto [w, h] : std::vector<std::pair<int, int>>{{1920, 1080}, {2560, 1440}}) {
+                const Camera camera = Camera::standardView(tape.bounds(), "iso", w, h);
+                // Alternated, twice: the faster of each.
+                double contreeMs = 1e30, brickMs = 1e30;
+                for (int round = 0; round < 2; ++round) {
+                    contreeMs = std::min(contreeMs, tracer.sustainedMilliseconds(camera, frames, TraceQuality::Voxels));
+                    brickMs = std::min(brickMs, renderer.sustainedMilliseconds(camera, frames));
+                }
+                renderer.render(camera); // a moved eye: the sort's cost
+                const Camera moved = Camera::standardView(tape.bounds(), "front", w, h);
+                renderer.render(moved);
+                const double sortMs = renderer.lastSortMilliseconds();
+                std::printf("%-9s %6g %9zu %9zu %10.1f %10.1f %10.1f %10.1f %5dx%-5d %11.3f %12.3f %12.1f\n",
+                            scene.name.c_str(), fs, bricks.bricks.size(), snap.populatedVoxels(),
+                            double(snap.bytes()) / 1e6, double(renderer.residentBytes()) / 1e6, voxelizeMs, bricksMs, w,
+                            h, contreeMs, brickMs, sortMs);
+                std::fflush(stdout);
+                results.push_back({{"scene", scene.name}, {"feature_size", fs}, {"bricks", bricks.bricks.size()},
+                                   {"populated_voxels", snap.populatedVoxels()}, {"contree_bytes", snap.bytes()},
+                                   {"brick_device_bytes", renderer.residentBytes()}, {"voxelize_ms", voxelizeMs},
+                                   {"bricks_from_contree_ms", bricksMs}, {"width", w}, {"height", h},
+                                   {"contree_sustained_ms", contreeMs}, {"bricks_sustained_ms", brickMs},
+                                   {"sort_ms", sortMs}});
+            }
+            if (accuracyWidth > 0) {
+                // Against the exact picture (the exact tracer, 1e-4 voxel), on
+                // the pixels all three hit.
+                const int w = accuracyWidth, h = accuracyWidth * 9 / 16;
+                const Camera camera = Camera::standardView(tape.bounds(), "iso", w, h);
+                const TraceImage exact = traceExact(tape, camera, 1e-4 * layout.voxelSize);
+                const TraceImage contree = tracer.trace(camera);
+                const TraceImage brick = renderer.render(camera);
+                struct Error {
+                    std::vector<double> depth, angle;
+                    std::size_t masked = 0;
+                };
+                Error ec, eb;
+                for (std::size_t i = 0; i < exact.depth.size(); ++i) {
+                    ec.masked += exact.hit(i) != contree.hit(i);
+                    eb.masked += exact.hit(i) != brick.hit(i);
+                    if (!exact.hit(i) || !contree.hit(i) || !brick.hit(i)) continue;
+                    for (auto [e, image] : {std::pair{&ec, &contree}, std::pair{&eb, &brick}}) {
+                        e->depth.push_back(std::fabs(double(image->depth[i]) - double(exact.depth[i])));
+                        e->angle.push_back(glm::degrees(std::acos(std::clamp(
+                            double(glm::dot(image->normal[i], exact.normal[i])), -1.0, 1.0))));
+                    }
+                }
+                auto quantile = [](std::vector<double> v, double q) {
+                    if (v.empty()) return 0.0;
+                    std::sort(v.begin(), v.end());
+                    return v[std::size_t(q * double(v.size() - 1))];
+                };
+                for (auto [name, e] : {std::pair{"contree", &ec}, std::pair{"bricks", &eb}}) {
+                    const double meanDepth = e->depth.empty() ? 0.0 :
+                        std::accumulate(e->depth.begin(), e->depth.end(), 0.0) / double(e->depth.size());
+                    const double meanAngle = e->angle.empty() ? 0.0 :
+                        std::accumulate(e->angle.begin(), e->angle.end(), 0.0) / double(e->angle.size());
+                    std::printf("    %-8s against the exact picture at %dx%d: depth mean %.4f p99 %.4f mm, normal mean "
+                                "%.2f p99 %.2f deg, mask differs %zu px\n",
+                                name, w, h, meanDepth, quantile(e->depth, 0.99), meanAngle, quantile(e->angle, 0.99),
+                                e->masked);
+                    results.push_back({{"scene", scene.name}, {"feature_size", fs}, {"leaves", name},
+                                       {"width", w}, {"height", h}, {"depth_mean_mm", meanDepth},
+                                       {"depth_p99_mm", quantile(e->depth, 0.99)}, {"normal_mean_deg", meanAngle},
+                                       {"normal_p99_deg", quantile(e->angle, 0.99)}, {"mask_differs", e->masked}});
+                }
+                std::fflush(stdout);
+            }
+        }
+    }
+    if (!jsonPath.empty()) {
+        nlohmann::ordered_json j;
+        j["device"] = ctx.deviceDescription();
+        j["frames"] = frames;
+        j["results"] = results;
+        std::ofstream(jsonPath) << j.dump(2) << "\n";
+    }
+    return 0;
+}
+
 int main(int argc, char** argv)
 {
     if (argc > 1 && std::string(argv[1]) == "voxelize") {
         try {
             return voxelizeBench(std::vector<std::string>(argv + 2, argv + argc));
+        } catch (const std::exception& e) {
+            std::cerr << "kerf_gpu_bench: " << e.what() << "\n";
+            return 1;
+        }
+    }
+    if (argc > 1 && std::string(argv[1]) == "bricks") {
+        try {
+            return bricksBench(std::vector<std::string>(argv + 2, argv + argc));
         } catch (const std::exception& e) {
             std::cerr << "kerf_gpu_bench: " << e.what() << "\n";
             return 1;

@@ -318,18 +318,14 @@ TraceImage ComputeTracer::trace(const Camera& camera, const ResidentSet& voxels,
     return trace(camera, voxels.valid() ? VoxelAddresses::of(voxels) : this->voxels(), timing, section, quality);
 }
 
-TraceImage ComputeTracer::trace(const Camera& camera, const VoxelAddresses& addr, TraceTiming* timing,
-                                const Section& section, TraceQuality quality)
+TraceImage readTargets(const Context& ctx, const TraceTargets& t, const std::function<void(VkCommandBuffer)>& draw)
 {
-    const Context& ctx = impl_->ctx;
-    const int w = camera.width(), h = camera.height();
-    const std::size_t pixels = std::size_t(w) * std::size_t(h);
+    const std::size_t pixels = std::size_t(t.width) * std::size_t(t.height);
     GpuBuffer depth(ctx, pixels * sizeof(float), VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback, "depth");
     GpuBuffer normal(ctx, pixels * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback, "normal");
     GpuBuffer feature(ctx, pixels * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback, "feature");
     ctx.submitAndWait([&](VkCommandBuffer cb) {
-        record(cb, camera, addr, section, quality);
-        const TraceTargets& t = impl_->targets;
+        draw(cb);
         VkBufferCopy d{0, 0, pixels * sizeof(float)}, n{0, 0, pixels * 16}, f{0, 0, pixels * 4};
         vkCmdCopyBuffer(cb, t.depth.buffer(), depth.buffer(), 1, &d);
         vkCmdCopyBuffer(cb, t.normal.buffer(), normal.buffer(), 1, &n);
@@ -340,12 +336,21 @@ TraceImage ComputeTracer::trace(const Camera& camera, const VoxelAddresses& addr
         vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
                              nullptr);
     });
-    if (timing) *timing = lastTiming();
-    TraceImage image(w, h);
+    TraceImage image(t.width, t.height);
     std::memcpy(image.depth.data(), depth.mapped(), pixels * sizeof(float));
     std::memcpy(image.feature.data(), feature.mapped(), pixels * 4);
     const float* nrm = static_cast<const float*>(normal.mapped());
     for (std::size_t i = 0; i < pixels; ++i) image.normal[i] = {nrm[4 * i], nrm[4 * i + 1], nrm[4 * i + 2]};
+    return image;
+}
+
+TraceImage ComputeTracer::trace(const Camera& camera, const VoxelAddresses& addr, TraceTiming* timing,
+                                const Section& section, TraceQuality quality)
+{
+    impl_->ensureTargets(camera.width(), camera.height());
+    TraceImage image = readTargets(impl_->ctx, impl_->targets,
+                                   [&](VkCommandBuffer cb) { record(cb, camera, addr, section, quality); });
+    if (timing) *timing = lastTiming();
     return image;
 }
 

@@ -1,5 +1,7 @@
 #include "kerf/viewport/SceneRenderer.hpp"
 
+#include "kerf/viewport/ClipFromWorld.hpp"
+#include "kerf/viewport/DeviceImage.hpp"
 #include "kerf/viewport/ShaderModules.hpp"
 #include "kerf/viewport/VulkanError.hpp"
 
@@ -23,48 +25,6 @@ namespace {
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
-
-struct Target {
-    Image image;
-    Memory memory;
-    ImageView view;
-};
-
-Target makeTarget(const Context& ctx, int w, int h, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect)
-{
-    Target t;
-    VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    ici.imageType = VK_IMAGE_TYPE_2D;
-    ici.format = format;
-    ici.extent = {std::uint32_t(w), std::uint32_t(h), 1};
-    ici.mipLevels = 1;
-    ici.arrayLayers = 1;
-    ici.samples = VK_SAMPLE_COUNT_1_BIT;
-    ici.tiling = VK_IMAGE_TILING_OPTIMAL;
-    ici.usage = usage;
-    ici.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    VkImage img;
-    check(vkCreateImage(ctx.device(), &ici, nullptr, &img), "vkCreateImage");
-    t.image = Image(ctx.device(), img);
-    VkMemoryRequirements req;
-    vkGetImageMemoryRequirements(ctx.device(), img, &req);
-    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    ai.allocationSize = req.size;
-    ai.memoryTypeIndex = ctx.memoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    VkDeviceMemory mem;
-    check(vkAllocateMemory(ctx.device(), &ai, nullptr, &mem), "vkAllocateMemory (image)");
-    t.memory = Memory(ctx.device(), mem);
-    check(vkBindImageMemory(ctx.device(), img, mem, 0), "vkBindImageMemory");
-    VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    vci.image = img;
-    vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    vci.format = format;
-    vci.subresourceRange = {aspect, 0, 1, 0, 1};
-    VkImageView view;
-    check(vkCreateImageView(ctx.device(), &vci, nullptr, &view), "vkCreateImageView");
-    t.view = ImageView(ctx.device(), view);
-    return t;
-}
 
 gpu::RVec4 vec4(const glm::vec3& v, float w) { return {v.x, v.y, v.z, w}; }
 
@@ -91,7 +51,7 @@ struct SceneRenderer::Impl {
     Pipeline partPipeline, meshPipeline, markerPipeline, ghostPipeline, gridPipeline, gizmoPipeline;
     GpuBuffer shade;
     int width = 0, height = 0;
-    Target color, depth;
+    DeviceImage color, depth;
     Framebuffer framebuffer;
 
     struct MeshBuffer {
@@ -133,9 +93,9 @@ struct SceneRenderer::Impl {
 void SceneRenderer::Impl::ensureTargets(int w, int h)
 {
     if (w == width && h == height) return;
-    color = makeTarget(ctx, w, h, kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+    color = makeDeviceImage(ctx, {std::uint32_t(w), std::uint32_t(h), 1}, kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                        VK_IMAGE_ASPECT_COLOR_BIT);
-    depth = makeTarget(ctx, w, h, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
+    depth = makeDeviceImage(ctx, {std::uint32_t(w), std::uint32_t(h), 1}, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
     VkImageView views[2] = {color.view, depth.view};
     VkFramebufferCreateInfo fci{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
     fci.renderPass = renderPass;
@@ -436,17 +396,8 @@ void SceneRenderer::record(VkCommandBuffer cb, ComputeTracer& tracer, const Voxe
         const glm::dvec3 c = scene.isEmpty() ? glm::dvec3(0.0) : scene.center();
         scene = scene.merged(Aabb{{c.x - gridReach, c.y - gridReach, 0.0}, {c.x + gridReach, c.y + gridReach, 0.0}});
     }
-    double zMin = std::numeric_limits<double>::max(), zMax = 0.0;
-    for (int c = 0; c < 8 && !scene.isEmpty(); ++c) {
-        const glm::dvec3 p(c & 1 ? scene.max.x : scene.min.x, c & 2 ? scene.max.y : scene.min.y,
-                           c & 4 ? scene.max.z : scene.min.z);
-        const double z = glm::dot(p - camera.eye(), camera.forward());
-        zMin = std::min(zMin, z);
-        zMax = std::max(zMax, z);
-    }
-    if (scene.isEmpty()) zMin = 1.0, zMax = 10.0;
-    const double far = std::max(zMax, 1.0) * 1.01 + 1.0;
-    const double near = ortho ? std::min(zMin, 0.0) - 1.0 : std::max(std::max(zMin, 0.0) * 0.99, far * 1e-5);
+    const DepthPlanes planes = depthPlanesAround(camera, scene);
+    const double near = planes.near, far = planes.far;
 
     // Feature colours and flags, this frame's.
     std::vector<float> colors;
@@ -532,33 +483,7 @@ void SceneRenderer::record(VkCommandBuffer cb, ComputeTracer& tracer, const Voxe
     vkCmdDraw(cb, 3, 1, 0, 0);
 
     if (!impl_->meshes.empty() || !impl_->markers.empty()) {
-        // clip = P * V, with the view's translation taken in double from
-        // the meshes' origin to the eye.
-        const double aspect = double(w) / double(h);
-        const glm::dvec3 r = camera.right(), u = camera.up(), f = camera.forward();
-        const glm::dvec3 d = impl_->meshOrigin - camera.eye();
-        glm::dmat4 view(1.0);
-        for (int c = 0; c < 3; ++c) {
-            view[c][0] = r[c];
-            view[c][1] = u[c];
-            view[c][2] = f[c];
-        }
-        view[3] = glm::dvec4(glm::dot(d, r), glm::dot(d, u), glm::dot(d, f), 1.0);
-        glm::dmat4 proj(0.0);
-        if (ortho) {
-            proj[0][0] = 1.0 / (halfHeight * aspect);
-            proj[1][1] = -1.0 / halfHeight;
-            proj[2][2] = 1.0 / (far - near);
-            proj[3][2] = -near / (far - near);
-            proj[3][3] = 1.0;
-        } else {
-            proj[0][0] = 1.0 / (halfHeight * aspect);
-            proj[1][1] = -1.0 / halfHeight;
-            proj[2][2] = far / (far - near);
-            proj[3][2] = -far * near / (far - near);
-            proj[2][3] = 1.0;
-        }
-        const glm::mat4 clip(proj * view);
+        const glm::mat4 clip(clipFromWorld(camera, impl_->meshOrigin, planes));
         impl_->drawMeshes(cb, impl_->meshes, impl_->meshPipeline, clip, shadeAddress);
         if (options.grid) {
             vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->gridPipeline);

@@ -27,8 +27,11 @@ std::uint32_t packSnorm8(const glm::vec3& n)
 
 // Samples no populated voxel of the brick has as a corner lie only on cells
 // without a sign change: each takes the sign of a neighbour along a lattice
-// edge (whose cells all have that sign), breadth first from the known ones.
-// Zero counts as outside, as in the contree.
+// edge (whose cells all have that sign), breadth first from the known ones,
+// and its feature. Zero counts as outside, as in the contree. (A ray that
+// enters a brick through a face already on the surface stops there, and its
+// feature is the nearest sample's: on a face sample that only the
+// neighbouring brick's voxels use, the feature next to it.)
 void fillUnknown(BrickLeaves& out, std::size_t brick, std::vector<std::uint8_t>& known, std::vector<int>& queue)
 {
     queue.clear();
@@ -47,6 +50,7 @@ void fillUnknown(BrickLeaves& out, std::size_t brick, std::vector<std::uint8_t>&
             if (known[std::size_t(n)]) continue;
             known[std::size_t(n)] = 1;
             out.distance[base + std::size_t(n)] = end;
+            out.feature[base + std::size_t(n)] = out.feature[base + std::size_t(s)];
             queue.push_back(n);
         }
     }

@@ -23,6 +23,7 @@
 #include "kerf/viewport/VulkanContext.hpp"
 #include "kerf/voxelizer/VoxelSnapshot.hpp"
 
+#include <functional>
 #include <memory>
 
 namespace kerf::vk {
@@ -51,6 +52,12 @@ struct TraceTargets {
     int width = 0, height = 0;
     GpuBuffer depth, normal, feature;
 };
+
+/// Runs `draw` (which fills `targets`) and reads the targets back as an
+/// image (waits for the device): what the compute tracer's and the brick
+/// renderer's trace() return.
+TraceImage readTargets(const Context& ctx, const TraceTargets& targets,
+                       const std::function<void(VkCommandBuffer)>& draw);
 
 class ComputeTracer {
 public:

@@ -58,5 +58,6 @@ using Image = Owned<VkImage, VkDevice, vkDestroyImage>;
 using ImageView = Owned<VkImageView, VkDevice, vkDestroyImageView>;
 using RenderPass = Owned<VkRenderPass, VkDevice, vkDestroyRenderPass>;
 using Framebuffer = Owned<VkFramebuffer, VkDevice, vkDestroyFramebuffer>;
+using Sampler = Owned<VkSampler, VkDevice, vkDestroySampler>;
 
 } // namespace kerf::vk

@@ -16,7 +16,8 @@
 // so hardware trilinear filtering in a populated voxel interpolates what
 // the reference tracer does. The other samples (corners of cells with no
 // sign change only) are not stored in the contree: they take the sign of a
-// neighbour across such a cell, at the end of the range, with no normal.
+// neighbour across such a cell, at the end of the range, with no normal
+// and the neighbour's feature.
 // Such a cell has no crossing either way, so the surface is the contree's.
 //
 // Built from FlatVoxelBuffers, so from either voxelizer (CPU or GPU layout).
@@ -47,7 +48,7 @@ struct BrickLeaves {
     /// sample (x, y, z) of brick b at b * kBrickSampleCount + x + 9 (y + 9 z).
     std::vector<std::int16_t> distance;    // snorm16, units of voxel::kDistanceRange voxel edges
     std::vector<std::uint32_t> normal;     // RGBA8 snorm: x, y, z, 0 (zero where unknown)
-    std::vector<std::uint16_t> feature;    // the contree vertex's feature (0 where unknown)
+    std::vector<std::uint16_t> feature;    // the contree vertex's feature (a neighbour's where unknown)
 
     std::size_t bytes() const
     {

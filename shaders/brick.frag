@@ -1,0 +1,127 @@
+#version 460
+// Marches one brick's samples along the pixel's ray with hardware trilinear
+// filtering, and writes what the compute tracer writes (depth along the
+// ray, unit normal, feature) where it meets the surface. The depth it
+// writes is never nearer than the cube's face, so the early depth test
+// still drops fragments behind a nearer brick's hit (conservative depth).
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_GOOGLE_include_directive : require
+#include "BrickShared.h"
+
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Instances { BrickInstance b[]; };
+layout(push_constant) uniform Push { BrickPush p; } pc;
+layout(set = 0, binding = 0) uniform sampler3D distanceAtlas; // R16 snorm, linear
+layout(set = 0, binding = 1) uniform sampler3D normalAtlas;   // RGBA8 snorm, linear
+layout(set = 0, binding = 2) uniform usampler3D featureAtlas; // R16 uint, nearest
+layout(location = 0) in vec3 eyeRelative;
+layout(location = 1) flat in uint instance;
+layout(location = 0) out float outDepth;
+layout(location = 1) out vec4 outNormal;
+layout(location = 2) out uint outFeature;
+layout(depth_greater) out float gl_FragDepth;
+
+const int kBisectionSteps = 10;
+
+vec3 slotOrigin;
+vec3 atlasScale;
+
+// The trilinear field at q (voxel units inside the brick, [0, cells]^3).
+float field(vec3 q) { return texture(distanceAtlas, (slotOrigin + 0.5 + q) * atlasScale).r; }
+
+void main()
+{
+    const BrickInstance brick = Instances(pc.p.instances).b[instance];
+    slotOrigin = vec3(brick.slot.xyz);
+    atlasScale = pc.p.atlasScale.xyz;
+    const float voxel = brick.minEdge.w;
+    const float cells = float(brick.slot.w);
+    const bool ortho = pc.p.forward.w > 0.5;
+    const vec3 dir = ortho ? pc.p.forward.xyz : normalize(eyeRelative);
+    // The ray's origin: the eye, or its plane's point for a parallel view.
+    const vec3 origin = ortho ? eyeRelative - dot(eyeRelative, dir) * dir : vec3(0.0);
+
+    // The ray in voxel units of the brick: q(t) = o + t d, t in mm.
+    // A ray parallel to an axis that runs along the brick's face (a parallel
+    // view along an axis, the pixel centre on the cube's edge) counts as
+    // inside: the rasterizer gives the pixel to one of the two cubes that
+    // share the face, whichever, and both hold the same samples there.
+    vec3 o = (origin - brick.minEdge.xyz) / voxel;
+    o = mix(o, clamp(o, vec3(0.0), vec3(cells - 1e-4)), equal(dir, vec3(0.0)));
+    // A component that is exactly zero (a parallel view along an axis)
+    // becomes a tiny positive one, so that the face the ray leaves by is
+    // always the far one along that axis (never -inf * 0).
+    const vec3 d = mix(dir / voxel, vec3(1e-20), equal(dir, vec3(0.0)));
+    const vec3 inv = 1.0 / d;
+    const vec3 t0 = (vec3(0.0) - o) * inv, t1 = (vec3(cells) - o) * inv;
+    const vec3 tNear = min(t0, t1), tFar = max(t0, t1);
+    float tEnter = max(max(max(tNear.x, tNear.y), tNear.z), 0.0);
+    const float tExit = min(min(tFar.x, tFar.y), tFar.z);
+    if (!(tExit > tEnter)) discard;
+
+    // Cell by cell, sampling each cell's entry, middle and exit; the first
+    // sign change is bisected.
+    const ivec3 stepDir = ivec3(sign(d));
+    ivec3 cell = clamp(ivec3(floor(o + tEnter * d)), ivec3(0), ivec3(int(cells) - 1));
+    float ta = tEnter;
+    float fa = field(o + ta * d);
+    float hit = -1.0;
+    if (fa <= 0.0) hit = ta;
+    for (int i = 0; i < 3 * int(cells) + 3 && hit < 0.0; ++i) {
+        const vec3 bound = vec3(cell) + vec3(greaterThan(d, vec3(0.0)));
+        const vec3 tb = (bound - o) * inv;
+        const float tc = min(min(min(tb.x, tb.y), tb.z), tExit);
+        const float tm = 0.5 * (ta + tc);
+        const float fm = field(o + tm * d);
+        const float fc = field(o + tc * d);
+        float lo = -1.0, hi = -1.0;
+        if (fm <= 0.0) {
+            lo = ta;
+            hi = tm;
+        } else if (fc <= 0.0) {
+            lo = tm;
+            hi = tc;
+        }
+        if (hi >= 0.0) {
+            for (int k = 0; k < kBisectionSteps; ++k) {
+                const float mid = 0.5 * (lo + hi);
+                if (field(o + mid * d) <= 0.0)
+                    hi = mid;
+                else
+                    lo = mid;
+            }
+            hit = hi;
+            break;
+        }
+        if (tc >= tExit) break;
+        ta = tc;
+        fa = fc;
+        // Into the neighbour across the face the ray leaves by.
+        if (tb.x <= tc) cell.x += stepDir.x;
+        else if (tb.y <= tc) cell.y += stepDir.y;
+        else cell.z += stepDir.z;
+        if (any(lessThan(cell, ivec3(0))) || any(greaterThanEqual(cell, ivec3(int(cells))))) break;
+    }
+    if (hit < 0.0) discard;
+
+    const vec3 q = o + hit * d;
+    vec3 n = texture(normalAtlas, (slotOrigin + 0.5 + q) * atlasScale).xyz;
+    float len = length(n);
+    if (!(len > 1e-6)) {
+        // Corner normals that cancel out: the interpolated field's gradient.
+        const float h = 0.25;
+        n = vec3(field(q + vec3(h, 0, 0)) - field(q - vec3(h, 0, 0)), field(q + vec3(0, h, 0)) - field(q - vec3(0, h, 0)),
+                 field(q + vec3(0, 0, h)) - field(q - vec3(0, 0, h)));
+        len = length(n);
+    }
+    n = len > 0.0 ? n / len : -dir;
+    // The nearest sample, a tie to the lower one (as the reference tracer's
+    // first nearest corner).
+    const ivec3 nearest = clamp(ivec3(ceil(q - 0.5)), ivec3(0), ivec3(int(cells)));
+    outFeature = texelFetch(featureAtlas, ivec3(slotOrigin) + nearest, 0).r;
+    const vec3 at = origin + hit * dir;
+    outDepth = hit;
+    outNormal = vec4(n, 0.0);
+    const vec4 clip = pc.p.clipFromEye * vec4(at, 1.0);
+    gl_FragDepth = max(clip.z / clip.w, gl_FragCoord.z);
+}

@@ -1,0 +1,63 @@
+#pragma once
+// The brick renderer (../shared/seeds/hierarchical-evaluator-and-brick-renderer.md):
+// the brick leaves' samples in three 3D texture atlases (distance and
+// normal filtered trilinearly by the texture unit, feature fetched), one
+// instanced cube per brick rasterized front to back, and a fragment shader
+// (shaders/brick.frag) that marches the brick's samples along the pixel's
+// ray. It writes what the compute tracer writes (TraceTargets: depth along
+// the ray, unit normal, feature per pixel), so whatever reads a trace reads
+// it. The depth test keeps the nearest brick's hit; a fragment's depth is
+// never nearer than its cube's face (conservative depth), so bricks behind a
+// hit already drawn are dropped before their shader runs.
+//
+// Not yet: section planes and the exact-edges refinement (the compute
+// tracer's), and a camera inside a brick (its front faces are behind the
+// eye) does not see that brick's surface.
+//
+// Threading: one thread. One frame in flight. The context must outlive it.
+
+#include "kerf/tracer/Camera.hpp"
+#include "kerf/tracer/Image.hpp"
+#include "kerf/viewport/ComputeTracer.hpp"
+#include "kerf/viewport/VulkanContext.hpp"
+#include "kerf/voxelizer/BrickLeaves.hpp"
+
+#include <memory>
+
+namespace kerf::vk {
+
+class BrickRenderer {
+public:
+    explicit BrickRenderer(const Context& ctx);
+    ~BrickRenderer();
+
+    /// Uploads `bricks` into the atlases (waits for the copy). Throws
+    /// VulkanError when they do not fit one atlas of the device's largest 3D
+    /// image.
+    void setBricks(const BrickLeaves& bricks);
+    std::size_t brickCount() const;
+    /// Bytes on the device: the atlases and the instance records.
+    std::size_t residentBytes() const;
+
+    /// Records the drawing of `camera`'s image into the targets, which are
+    /// then readable by shaders and transfers. The instances are sorted front
+    /// to back (on the host) when the eye moved since the last frame.
+    void record(VkCommandBuffer cb, const Camera& camera);
+    const TraceTargets& targets() const;
+    /// The last frame's draw on the device, from timestamps.
+    double lastGpuMilliseconds() const;
+    /// Host milliseconds of the last front-to-back sort (0 when none was needed).
+    double lastSortMilliseconds() const;
+
+    /// Draws and reads the image back.
+    TraceImage render(const Camera& camera, double* gpuMilliseconds = nullptr);
+    /// Milliseconds per frame of `frames` draws back to back in one
+    /// submission, after a warm-up (as ComputeTracer::sustainedMilliseconds).
+    double sustainedMilliseconds(const Camera& camera, int frames);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace kerf::vk

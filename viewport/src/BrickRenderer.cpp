@@ -1,0 +1,500 @@
+#include "kerf/viewport/BrickRenderer.hpp"
+
+#include "kerf/viewport/ClipFromWorld.hpp"
+#include "kerf/viewport/DeviceImage.hpp"
+#include "kerf/viewport/ShaderModules.hpp"
+#include "kerf/viewport/VulkanError.hpp"
+
+#include "BrickShared.h"
+#include "brick.frag.h"
+#include "brick.vert.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <optional>
+#include <string>
+
+namespace kerf::vk {
+
+namespace {
+
+constexpr VkFormat kDistanceFormat = VK_FORMAT_R16_SNORM;
+constexpr VkFormat kNormalFormat = VK_FORMAT_R8G8B8A8_SNORM;
+constexpr VkFormat kFeatureFormat = VK_FORMAT_R16_UINT;
+// The render targets: depth along the ray, normal, feature (copied to the
+// TraceTargets buffers), and the depth test's own buffer.
+constexpr VkFormat kRayDepthFormat = VK_FORMAT_R32_SFLOAT;
+constexpr VkFormat kNormalTargetFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+constexpr VkFormat kFeatureTargetFormat = VK_FORMAT_R32_UINT;
+constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+
+void transition(VkCommandBuffer cb, VkImage image, VkImageLayout from, VkImageLayout to, VkAccessFlags srcAccess,
+                VkAccessFlags dstAccess, VkPipelineStageFlags srcStage, VkPipelineStageFlags dstStage)
+{
+    VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcAccessMask = srcAccess;
+    b.dstAccessMask = dstAccess;
+    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdPipelineBarrier(cb, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &b);
+}
+
+Sampler makeSampler(VkDevice dev, VkFilter filter)
+{
+    VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    sci.magFilter = sci.minFilter = filter;
+    sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    sci.maxLod = 0.0f;
+    VkSampler s;
+    check(vkCreateSampler(dev, &sci, nullptr, &s), "vkCreateSampler");
+    return Sampler(dev, s);
+}
+
+} // namespace
+
+struct BrickRenderer::Impl {
+    const Context& ctx;
+    DescriptorSetLayout setLayout;
+    DescriptorPool pool;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    PipelineLayout layout;
+    RenderPass renderPass;
+    Pipeline pipeline;
+    Sampler linear, nearest;
+    QueryPool timestamps;
+
+    // The bricks: where they are (host), their samples (atlases).
+    std::vector<Brick> bricks;
+    Aabb bounds;
+    DeviceImage distance, normal, feature;
+    glm::uvec3 atlasTexels{0}, atlasSlots{0};
+    GpuBuffer instances; // host-visible, rewritten when the eye moves
+    std::optional<glm::dvec3> sortedFor;
+    double sortMilliseconds = 0.0;
+
+    // Targets.
+    int width = 0, height = 0;
+    DeviceImage rayDepth, normalTarget, featureTarget, depthBuffer;
+    Framebuffer framebuffer;
+    TraceTargets targets;
+
+    explicit Impl(const Context& c) : ctx(c) {}
+    void ensureTargets(int w, int h);
+    void sortInstances(const glm::dvec3& eye);
+};
+
+BrickRenderer::BrickRenderer(const Context& ctx) : impl_(std::make_unique<Impl>(ctx))
+{
+    VkDevice dev = ctx.device();
+    VkDescriptorSetLayoutBinding bindings[3]{};
+    for (std::uint32_t i = 0; i < 3; ++i) {
+        bindings[i].binding = i;
+        bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        bindings[i].descriptorCount = 1;
+        bindings[i].stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT;
+    }
+    VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    dl.bindingCount = 3;
+    dl.pBindings = bindings;
+    VkDescriptorSetLayout sl;
+    check(vkCreateDescriptorSetLayout(dev, &dl, nullptr, &sl), "vkCreateDescriptorSetLayout (bricks)");
+    impl_->setLayout = DescriptorSetLayout(dev, sl);
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 3};
+    VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    dp.maxSets = 1;
+    dp.poolSizeCount = 1;
+    dp.pPoolSizes = &size;
+    VkDescriptorPool pool;
+    check(vkCreateDescriptorPool(dev, &dp, nullptr, &pool), "vkCreateDescriptorPool (bricks)");
+    impl_->pool = DescriptorPool(dev, pool);
+    VkDescriptorSetAllocateInfo da{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    da.descriptorPool = impl_->pool;
+    da.descriptorSetCount = 1;
+    VkDescriptorSetLayout layouts[1] = {impl_->setLayout};
+    da.pSetLayouts = layouts;
+    check(vkAllocateDescriptorSets(dev, &da, &impl_->set), "vkAllocateDescriptorSets (bricks)");
+
+    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(gpu::BrickPush)};
+    VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    plci.setLayoutCount = 1;
+    plci.pSetLayouts = layouts;
+    plci.pushConstantRangeCount = 1;
+    plci.pPushConstantRanges = &range;
+    VkPipelineLayout pl;
+    check(vkCreatePipelineLayout(dev, &plci, nullptr, &pl), "vkCreatePipelineLayout (bricks)");
+    impl_->layout = PipelineLayout(dev, pl);
+
+    // Render pass: three colour targets (cleared to "nothing hit") and depth;
+    // the colour targets end ready to be copied into the trace buffers.
+    VkAttachmentDescription att[4]{};
+    const VkFormat formats[4] = {kRayDepthFormat, kNormalTargetFormat, kFeatureTargetFormat, kDepthFormat};
+    for (int i = 0; i < 4; ++i) {
+        att[i].format = formats[i];
+        att[i].samples = VK_SAMPLE_COUNT_1_BIT;
+        att[i].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        att[i].storeOp = i < 3 ? VK_ATTACHMENT_STORE_OP_STORE : VK_ATTACHMENT_STORE_OP_DONT_CARE;
+        att[i].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+        att[i].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+        att[i].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        att[i].finalLayout = i < 3 ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+    }
+    VkAttachmentReference colorRefs[3] = {{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
+                                          {1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
+                                          {2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL}};
+    VkAttachmentReference depthRef{3, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription sub{};
+    sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    sub.colorAttachmentCount = 3;
+    sub.pColorAttachments = colorRefs;
+    sub.pDepthStencilAttachment = &depthRef;
+    VkSubpassDependency deps[2]{};
+    deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+    deps[0].dstSubpass = 0;
+    deps[0].srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    deps[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
+    deps[0].srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    deps[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    deps[1].srcSubpass = 0;
+    deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+    deps[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    deps[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    deps[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    VkRenderPassCreateInfo rpci{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+    rpci.attachmentCount = 4;
+    rpci.pAttachments = att;
+    rpci.subpassCount = 1;
+    rpci.pSubpasses = &sub;
+    rpci.dependencyCount = 2;
+    rpci.pDependencies = deps;
+    VkRenderPass rp;
+    check(vkCreateRenderPass(dev, &rpci, nullptr, &rp), "vkCreateRenderPass (bricks)");
+    impl_->renderPass = RenderPass(dev, rp);
+
+    const ShaderModule vs = makeShaderModule(dev, kBrickVert, sizeof kBrickVert, "shader brick.vert");
+    const ShaderModule fs = makeShaderModule(dev, kBrickFrag, sizeof kBrickFrag, "shader brick.frag");
+    VkPipelineShaderStageCreateInfo stages[2]{};
+    stages[0].sType = stages[1].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stages[0].module = vs;
+    stages[0].pName = "main";
+    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages[1].module = fs;
+    stages[1].pName = "main";
+    VkPipelineVertexInputStateCreateInfo vin{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    vp.viewportCount = 1;
+    vp.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    rs.polygonMode = VK_POLYGON_MODE_FILL;
+    // The cube's faces wind counter-clockwise seen from outside in the
+    // world; the projection flips y into Vulkan's downward framebuffer,
+    // which turns them clockwise there.
+    rs.cullMode = VK_CULL_MODE_BACK_BIT;
+    rs.frontFace = VK_FRONT_FACE_CLOCKWISE;
+    rs.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    ds.depthTestEnable = VK_TRUE;
+    ds.depthWriteEnable = VK_TRUE;
+    ds.depthCompareOp = VK_COMPARE_OP_LESS;
+    VkPipelineColorBlendAttachmentState blend[3]{};
+    // Identical for every target (without the independentBlend feature).
+    for (auto& b : blend)
+        b.colorWriteMask =
+            VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo cbs{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    cbs.attachmentCount = 3;
+    cbs.pAttachments = blend;
+    const VkDynamicState dynamic[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dy{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dy.dynamicStateCount = 2;
+    dy.pDynamicStates = dynamic;
+    VkGraphicsPipelineCreateInfo gci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    gci.stageCount = 2;
+    gci.pStages = stages;
+    gci.pVertexInputState = &vin;
+    gci.pInputAssemblyState = &ia;
+    gci.pViewportState = &vp;
+    gci.pRasterizationState = &rs;
+    gci.pMultisampleState = &ms;
+    gci.pDepthStencilState = &ds;
+    gci.pColorBlendState = &cbs;
+    gci.pDynamicState = &dy;
+    gci.layout = impl_->layout;
+    gci.renderPass = impl_->renderPass;
+    VkPipeline p;
+    check(vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &gci, nullptr, &p), "vkCreateGraphicsPipelines (bricks)");
+    impl_->pipeline = Pipeline(dev, p);
+
+    impl_->linear = makeSampler(dev, VK_FILTER_LINEAR);
+    impl_->nearest = makeSampler(dev, VK_FILTER_NEAREST);
+    VkQueryPoolCreateInfo qp{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    qp.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    qp.queryCount = 2;
+    VkQueryPool q;
+    check(vkCreateQueryPool(dev, &qp, nullptr, &q), "vkCreateQueryPool (bricks)");
+    impl_->timestamps = QueryPool(dev, q);
+}
+
+BrickRenderer::~BrickRenderer() = default;
+
+void BrickRenderer::setBricks(const BrickLeaves& leaves)
+{
+    Impl& m = *impl_;
+    const std::size_t n = leaves.bricks.size();
+    m.bricks = leaves.bricks;
+    m.bounds = Aabb{};
+    for (const Brick& b : leaves.bricks)
+        m.bounds = m.bounds.merged(Aabb{b.min, b.min + b.voxelMm * double(b.cells)});
+    m.sortedFor.reset();
+    if (n == 0) {
+        m.instances = {};
+        return;
+    }
+    // Slots of kBrickSamples texels along each axis, as near a cube as the
+    // device's largest 3D image allows.
+    const std::uint32_t maxSlots = m.ctx.properties().limits.maxImageDimension3D / std::uint32_t(kBrickSamples);
+    const std::uint32_t side = std::min(maxSlots, std::uint32_t(std::ceil(std::cbrt(double(n)))));
+    const std::uint32_t layers = std::uint32_t((n + std::size_t(side) * side - 1) / (std::size_t(side) * side));
+    if (layers > maxSlots)
+        throw VulkanError(std::to_string(n) + " bricks do not fit one atlas of this device's largest 3D image (" +
+                          std::to_string(m.ctx.properties().limits.maxImageDimension3D) + " texels a side)",
+                          VK_ERROR_OUT_OF_DEVICE_MEMORY);
+    m.atlasSlots = {side, side, layers};
+    m.atlasTexels = m.atlasSlots * std::uint32_t(kBrickSamples);
+    const VkExtent3D extent{m.atlasTexels.x, m.atlasTexels.y, m.atlasTexels.z};
+    const VkImageUsageFlags usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    m.distance = makeDeviceImage(m.ctx, extent, kDistanceFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
+    m.normal = makeDeviceImage(m.ctx, extent, kNormalFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
+    m.feature = makeDeviceImage(m.ctx, extent, kFeatureFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
+
+    // The samples in the atlases' texel order, in one staging buffer.
+    const std::size_t texels = std::size_t(extent.width) * extent.height * extent.depth;
+    const std::size_t distanceAt = 0, normalAt = texels * 2, featureAt = texels * 6;
+    GpuBuffer staging(m.ctx, texels * 8, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GpuBuffer::Kind::HostVisible,
+                      "brick atlas staging");
+    auto* bytes = static_cast<std::uint8_t*>(staging.mapped());
+    std::memset(bytes, 0, texels * 8);
+    auto* dist = reinterpret_cast<std::int16_t*>(bytes + distanceAt);
+    auto* nrm = reinterpret_cast<std::uint32_t*>(bytes + normalAt);
+    auto* feat = reinterpret_cast<std::uint16_t*>(bytes + featureAt);
+    for (std::size_t b = 0; b < n; ++b) {
+        const glm::uvec3 slot(std::uint32_t(b % side), std::uint32_t((b / side) % side), std::uint32_t(b / (std::size_t(side) * side)));
+        const glm::uvec3 base = slot * std::uint32_t(kBrickSamples);
+        for (int z = 0; z < kBrickSamples; ++z)
+            for (int y = 0; y < kBrickSamples; ++y) {
+                const std::size_t to =
+                    base.x + std::size_t(extent.width) * ((base.y + std::size_t(y)) + std::size_t(extent.height) * (base.z + std::size_t(z)));
+                const std::size_t from = BrickLeaves::sampleIndex(b, 0, y, z);
+                std::memcpy(dist + to, leaves.distance.data() + from, kBrickSamples * sizeof(std::int16_t));
+                std::memcpy(nrm + to, leaves.normal.data() + from, kBrickSamples * sizeof(std::uint32_t));
+                std::memcpy(feat + to, leaves.feature.data() + from, kBrickSamples * sizeof(std::uint16_t));
+            }
+    }
+    m.ctx.submitAndWait([&](VkCommandBuffer cb) {
+        const std::pair<VkImage, std::size_t> copies[3] = {
+            {m.distance.image, distanceAt}, {m.normal.image, normalAt}, {m.feature.image, featureAt}};
+        for (const auto& [image, offset] : copies) {
+            transition(cb, image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+                       VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+            VkBufferImageCopy region{};
+            region.bufferOffset = offset;
+            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            region.imageExtent = extent;
+            vkCmdCopyBufferToImage(cb, staging.buffer(), image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+            transition(cb, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                       VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
+        }
+    });
+    VkDescriptorImageInfo infos[3] = {{m.linear, m.distance.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+                                      {m.linear, m.normal.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+                                      {m.nearest, m.feature.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}};
+    VkWriteDescriptorSet writes[3]{};
+    for (std::uint32_t i = 0; i < 3; ++i) {
+        writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+        writes[i].dstSet = m.set;
+        writes[i].dstBinding = i;
+        writes[i].descriptorCount = 1;
+        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        writes[i].pImageInfo = &infos[i];
+    }
+    vkUpdateDescriptorSets(m.ctx.device(), 3, writes, 0, nullptr);
+    m.instances = GpuBuffer(m.ctx, n * sizeof(gpu::BrickInstance), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                            GpuBuffer::Kind::HostVisible, "brick instances");
+}
+
+std::size_t BrickRenderer::brickCount() const { return impl_->bricks.size(); }
+
+std::size_t BrickRenderer::residentBytes() const
+{
+    const Impl& m = *impl_;
+    return m.distance.bytes + m.normal.bytes + m.feature.bytes + m.bricks.size() * sizeof(gpu::BrickInstance);
+}
+
+void BrickRenderer::Impl::sortInstances(const glm::dvec3& eye)
+{
+    const auto t0 = std::chrono::steady_clock::now();
+    // Front to back by the distance of each brick's centre: the nearer
+    // hits are drawn first and the depth test drops what they hide.
+    std::vector<std::pair<float, std::uint32_t>> order(bricks.size());
+    for (std::uint32_t b = 0; b < bricks.size(); ++b) {
+        const Brick& brick = bricks[b];
+        const glm::dvec3 centre = brick.min + 0.5 * brick.voxelMm * double(brick.cells);
+        order[b] = {float(glm::length(centre - eye)), b};
+    }
+    std::sort(order.begin(), order.end());
+    auto* out = static_cast<gpu::BrickInstance*>(instances.mapped());
+    const std::uint32_t side = atlasSlots.x;
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        const std::uint32_t b = order[i].second;
+        const Brick& brick = bricks[b];
+        const glm::dvec3 rel = brick.min - eye;
+        const glm::uvec3 slot = glm::uvec3(b % side, (b / side) % side, b / (side * side)) * std::uint32_t(kBrickSamples);
+        out[i].minEdge = {float(rel.x), float(rel.y), float(rel.z), float(brick.voxelMm)};
+        out[i].slot = {slot.x, slot.y, slot.z, std::uint32_t(brick.cells)};
+    }
+    sortedFor = eye;
+    sortMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void BrickRenderer::Impl::ensureTargets(int w, int h)
+{
+    if (w == width && h == height) return;
+    const VkExtent3D extent{std::uint32_t(w), std::uint32_t(h), 1};
+    const VkImageUsageFlags colour = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    rayDepth = makeDeviceImage(ctx, extent, kRayDepthFormat, colour, VK_IMAGE_ASPECT_COLOR_BIT);
+    normalTarget = makeDeviceImage(ctx, extent, kNormalTargetFormat, colour, VK_IMAGE_ASPECT_COLOR_BIT);
+    featureTarget = makeDeviceImage(ctx, extent, kFeatureTargetFormat, colour, VK_IMAGE_ASPECT_COLOR_BIT);
+    depthBuffer = makeDeviceImage(ctx, extent, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                                  VK_IMAGE_ASPECT_DEPTH_BIT);
+    VkImageView views[4] = {rayDepth.view, normalTarget.view, featureTarget.view, depthBuffer.view};
+    VkFramebufferCreateInfo fci{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+    fci.renderPass = renderPass;
+    fci.attachmentCount = 4;
+    fci.pAttachments = views;
+    fci.width = std::uint32_t(w);
+    fci.height = std::uint32_t(h);
+    fci.layers = 1;
+    VkFramebuffer fb;
+    check(vkCreateFramebuffer(ctx.device(), &fci, nullptr, &fb), "vkCreateFramebuffer (bricks)");
+    framebuffer = Framebuffer(ctx.device(), fb);
+    const std::size_t pixels = std::size_t(w) * std::size_t(h);
+    const VkBufferUsageFlags usage =
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    targets.depth = GpuBuffer(ctx, pixels * sizeof(float), usage, GpuBuffer::Kind::DeviceLocal, "brick depth");
+    targets.normal = GpuBuffer(ctx, pixels * 16, usage, GpuBuffer::Kind::DeviceLocal, "brick normal");
+    targets.feature = GpuBuffer(ctx, pixels * sizeof(std::uint32_t), usage, GpuBuffer::Kind::DeviceLocal, "brick feature");
+    targets.width = width = w;
+    targets.height = height = h;
+}
+
+void BrickRenderer::record(VkCommandBuffer cb, const Camera& camera)
+{
+    Impl& m = *impl_;
+    const int w = camera.width(), h = camera.height();
+    m.ensureTargets(w, h);
+    m.sortMilliseconds = 0.0;
+    if (!m.bricks.empty() && m.sortedFor != camera.eye()) m.sortInstances(camera.eye());
+
+    vkCmdResetQueryPool(cb, m.timestamps, 0, 2);
+    vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, m.timestamps, 0);
+    VkClearValue clears[4];
+    clears[0].color.float32[0] = std::numeric_limits<float>::infinity();
+    clears[1].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
+    clears[2].color.uint32[0] = kNoFeature;
+    clears[3].depthStencil = {1.0f, 0};
+    VkRenderPassBeginInfo rbi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+    rbi.renderPass = m.renderPass;
+    rbi.framebuffer = m.framebuffer;
+    rbi.renderArea = {{0, 0}, {std::uint32_t(w), std::uint32_t(h)}};
+    rbi.clearValueCount = 4;
+    rbi.pClearValues = clears;
+    vkCmdBeginRenderPass(cb, &rbi, VK_SUBPASS_CONTENTS_INLINE);
+    if (!m.bricks.empty()) {
+        VkViewport viewport{0.0f, 0.0f, float(w), float(h), 0.0f, 1.0f};
+        VkRect2D scissor{{0, 0}, {std::uint32_t(w), std::uint32_t(h)}};
+        vkCmdSetViewport(cb, 0, 1, &viewport);
+        vkCmdSetScissor(cb, 0, 1, &scissor);
+        gpu::BrickPush push{};
+        const glm::mat4 clip(clipFromWorld(camera, camera.eye(), depthPlanesAround(camera, m.bounds)));
+        std::memcpy(push.clipFromEye.m, &clip[0][0], sizeof push.clipFromEye.m);
+        const glm::dvec3 f = camera.forward();
+        push.forward = {float(f.x), float(f.y), float(f.z), camera.projection() == Projection::Orthographic ? 1.0f : 0.0f};
+        push.atlasScale = {1.0f / float(m.atlasTexels.x), 1.0f / float(m.atlasTexels.y), 1.0f / float(m.atlasTexels.z), 0.0f};
+        push.instances = m.instances.address();
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipeline);
+        vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, m.layout, 0, 1, &m.set, 0, nullptr);
+        vkCmdPushConstants(cb, m.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push, &push);
+        vkCmdDraw(cb, 36, std::uint32_t(m.bricks.size()), 0, 0);
+    }
+    vkCmdEndRenderPass(cb);
+    // Into the trace buffers, as the compute tracer leaves them.
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {std::uint32_t(w), std::uint32_t(h), 1};
+    vkCmdCopyImageToBuffer(cb, m.rayDepth.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, m.targets.depth.buffer(), 1, &region);
+    vkCmdCopyImageToBuffer(cb, m.normalTarget.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, m.targets.normal.buffer(), 1,
+                           &region);
+    vkCmdCopyImageToBuffer(cb, m.featureTarget.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, m.targets.feature.buffer(), 1,
+                           &region);
+    vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, m.timestamps, 1);
+    VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    after.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    after.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &after, 0, nullptr,
+                         0, nullptr);
+}
+
+const TraceTargets& BrickRenderer::targets() const { return impl_->targets; }
+
+double BrickRenderer::lastGpuMilliseconds() const
+{
+    std::uint64_t stamps[2] = {0, 0};
+    check(vkGetQueryPoolResults(impl_->ctx.device(), impl_->timestamps, 0, 2, sizeof stamps, stamps,
+                                sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+          "vkGetQueryPoolResults (bricks)");
+    return double(stamps[1] - stamps[0]) * double(impl_->ctx.properties().limits.timestampPeriod) * 1e-6;
+}
+
+double BrickRenderer::lastSortMilliseconds() const { return impl_->sortMilliseconds; }
+
+TraceImage BrickRenderer::render(const Camera& camera, double* gpuMilliseconds)
+{
+    impl_->ensureTargets(camera.width(), camera.height());
+    TraceImage image = readTargets(impl_->ctx, impl_->targets, [&](VkCommandBuffer cb) { record(cb, camera); });
+    if (gpuMilliseconds) *gpuMilliseconds = lastGpuMilliseconds();
+    return image;
+}
+
+double BrickRenderer::sustainedMilliseconds(const Camera& camera, int frames)
+{
+    frames = std::max(frames, 1);
+    const auto batch = [&] {
+        const auto t0 = std::chrono::steady_clock::now();
+        impl_->ctx.submitAndWait([&](VkCommandBuffer cb) {
+            for (int f = 0; f < frames; ++f) record(cb, camera);
+        });
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    };
+    double warm = 0.0;
+    for (int i = 0; i < 50 && warm < 300.0; ++i) warm += batch();
+    return batch() / frames;
+}
+
+} // namespace kerf::vk
