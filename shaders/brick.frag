@@ -4,6 +4,9 @@
 // ray, unit normal, feature) where it meets the surface. The depth it
 // writes is never nearer than the cube's face, so the early depth test
 // still drops fragments behind a nearer brick's hit (conservative depth).
+// Compiled with KERF_BRICK_FACE_DEPTH it writes no depth (the cube's face
+// stands in the depth test: wrong where bricks overlap on screen), for the
+// benchmark that measures what writing the depth costs.
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_GOOGLE_include_directive : require
@@ -19,7 +22,9 @@ layout(location = 1) flat in uint instance;
 layout(location = 0) out float outDepth;
 layout(location = 1) out vec4 outNormal;
 layout(location = 2) out uint outFeature;
+#ifndef KERF_BRICK_FACE_DEPTH
 layout(depth_greater) out float gl_FragDepth;
+#endif
 
 const int kBisectionSteps = 10;
 
@@ -123,5 +128,7 @@ void main()
     outDepth = hit;
     outNormal = vec4(n, 0.0);
     const vec4 clip = pc.p.clipFromEye * vec4(at, 1.0);
+#ifndef KERF_BRICK_FACE_DEPTH
     gl_FragDepth = max(clip.z / clip.w, gl_FragCoord.z);
+#endif
 }

@@ -50,12 +50,13 @@ TEST_P(BrickRendererOnEveryExample, MatchesTheCpuReferenceTracer)
             EXPECT_LE(c.extra, c.pixels / 1000);
             EXPECT_GE(double(c.depthClose), 0.995 * double(c.bothHit));
             EXPECT_GE(double(c.normalClose), 0.99 * double(c.bothHit));
-            // The feature is the nearest sample's. Seen square on, a face can
-            // lie halfway between two lattice planes whose samples carry
-            // different features, and which is nearer is the last bit of the
-            // hit's position: the bookshelf side from the right, parallel
-            // view, 227 of 8,365 pixels at the same depth take the other one.
-            EXPECT_GE(double(c.featureSame), 0.97 * double(c.bothHit));
+            // The feature is the nearest sample's. In a parallel view along an
+            // axis a column of pixel centres can lie exactly halfway between
+            // two lattice planes whose samples carry different features, and
+            // which is nearer is the last bit of the hit's position: the
+            // bookshelf side from the right, at y = 71.5 voxels, 227 of 8,365
+            // pixels at the same depth on lavapipe, 252 on an H200.
+            EXPECT_GE(double(c.featureSame), 0.95 * double(c.bothHit));
         }
     EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
 }

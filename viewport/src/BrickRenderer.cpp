@@ -6,6 +6,7 @@
 #include "kerf/viewport/VulkanError.hpp"
 
 #include "BrickShared.h"
+#include "brick.frag.facedepth.h"
 #include "brick.frag.h"
 #include "brick.vert.h"
 
@@ -69,7 +70,8 @@ struct BrickRenderer::Impl {
     VkDescriptorSet set = VK_NULL_HANDLE;
     PipelineLayout layout;
     RenderPass renderPass;
-    Pipeline pipeline;
+    Pipeline pipeline, faceDepthPipeline;
+    bool faceDepthOnly = false;
     Sampler linear, nearest;
     QueryPool timestamps;
 
@@ -183,6 +185,8 @@ BrickRenderer::BrickRenderer(const Context& ctx) : impl_(std::make_unique<Impl>(
 
     const ShaderModule vs = makeShaderModule(dev, kBrickVert, sizeof kBrickVert, "shader brick.vert");
     const ShaderModule fs = makeShaderModule(dev, kBrickFrag, sizeof kBrickFrag, "shader brick.frag");
+    const ShaderModule faceDepthFs =
+        makeShaderModule(dev, kBrickFaceDepthFrag, sizeof kBrickFaceDepthFrag, "shader brick.frag (face depth)");
     VkPipelineShaderStageCreateInfo stages[2]{};
     stages[0].sType = stages[1].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
     stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
@@ -239,6 +243,9 @@ BrickRenderer::BrickRenderer(const Context& ctx) : impl_(std::make_unique<Impl>(
     VkPipeline p;
     check(vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &gci, nullptr, &p), "vkCreateGraphicsPipelines (bricks)");
     impl_->pipeline = Pipeline(dev, p);
+    stages[1].module = faceDepthFs;
+    check(vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &gci, nullptr, &p), "vkCreateGraphicsPipelines (bricks)");
+    impl_->faceDepthPipeline = Pipeline(dev, p);
 
     impl_->linear = makeSampler(dev, VK_FILTER_LINEAR);
     impl_->nearest = makeSampler(dev, VK_FILTER_NEAREST);
@@ -437,7 +444,7 @@ void BrickRenderer::record(VkCommandBuffer cb, const Camera& camera)
         push.forward = {float(f.x), float(f.y), float(f.z), camera.projection() == Projection::Orthographic ? 1.0f : 0.0f};
         push.atlasScale = {1.0f / float(m.atlasTexels.x), 1.0f / float(m.atlasTexels.y), 1.0f / float(m.atlasTexels.z), 0.0f};
         push.instances = m.instances.address();
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipeline);
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, m.faceDepthOnly ? m.faceDepthPipeline : m.pipeline);
         vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, m.layout, 0, 1, &m.set, 0, nullptr);
         vkCmdPushConstants(cb, m.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push, &push);
         vkCmdDraw(cb, 36, std::uint32_t(m.bricks.size()), 0, 0);
@@ -471,6 +478,8 @@ double BrickRenderer::lastGpuMilliseconds() const
           "vkGetQueryPoolResults (bricks)");
     return double(stamps[1] - stamps[0]) * double(impl_->ctx.properties().limits.timestampPeriod) * 1e-6;
 }
+
+void BrickRenderer::setFaceDepthOnly(bool on) { impl_->faceDepthOnly = on; }
 
 double BrickRenderer::lastSortMilliseconds() const { return impl_->sortMilliseconds; }
 

@@ -49,6 +49,12 @@ public:
     /// Host milliseconds of the last front-to-back sort (0 when none was needed).
     double lastSortMilliseconds() const;
 
+    /// For the benchmark only: with `on`, fragments write no depth and the
+    /// cube's face stands in the depth test (a wrong picture where bricks
+    /// overlap on screen, but nothing keeps the early depth test from
+    /// working), to measure what the conservative depth costs.
+    void setFaceDepthOnly(bool on);
+
     /// Draws and reads the image back.
     TraceImage render(const Camera& camera, double* gpuMilliseconds = nullptr);
     /// Milliseconds per frame of `frames` draws back to back in one
