@@ -5,11 +5,13 @@
 
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
+#include "kerf/viewport/BrickRenderer.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
 #include "kerf/viewport/HeapAllocator.hpp"
 #include "kerf/viewport/SceneRenderer.hpp"
 #include "kerf/viewport/VoxelStreamer.hpp"
 #include "kerf/viewport/VulkanError.hpp"
+#include "kerf/voxelizer/BrickLeaves.hpp"
 #include "kerf/voxelizer/Voxelizer.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
 #include "support/GpuImageComparison.hpp"
@@ -304,9 +306,11 @@ TEST_F(VulkanTracer, MeshesAndThePartHideEachOtherByDepth)
         "size":[40,40,40],"color":"#ff0000"}})", "cube.kerf");
     const Tape tape = compileTape(doc);
     const GridLayout layout = GridLayout::choose(tape.bounds(), 0.5);
+    const FlatVoxelBuffers voxels = FlatVoxelBuffers::flatten(voxelize(tape, layout));
     vk::ComputeTracer tracer(*context);
-    tracer.setVoxels(FlatVoxelBuffers::flatten(voxelize(tape, layout)));
-    vk::SceneRenderer renderer(*context);
+    tracer.setVoxels(voxels);
+    vk::BrickRenderer bricks(*context);
+    bricks.setBricks(BrickLeaves::fromVoxels(voxels));
     // Front view, orthographic, framing x in [-80, 80].
     const Camera camera = Camera::orthographic({0, -200, 0}, {0, 0, 0}, {0, 0, 1}, 120.0, 320, 240);
     auto pixelOf = [&](double x, double z) {
@@ -321,29 +325,38 @@ TEST_F(VulkanTracer, MeshesAndThePartHideEachOtherByDepth)
     auto isBlue = [](glm::ivec3 c) { return c.b > c.r + 30; };
     auto isRed = [](glm::ivec3 c) { return c.r > c.b + 30; };
 
-    PlacedMesh rod;
-    rod.id = "rod";
-    rod.color = {0.0f, 0.05f, 1.0f};
-    // Through the cube's middle: hidden inside it, visible on both sides.
-    rod.mesh = loadTriangleMesh(writeRod(dir, 0.0));
-    renderer.setMeshes({rod});
-    const RgbaImage through = renderer.render(tracer, tracer.voxels(), camera, tape.features());
-    EXPECT_TRUE(isRed(colourAt(through, 0, 0))) << "the cube hides the rod inside it";
-    EXPECT_TRUE(isBlue(colourAt(through, 45, 0))) << "the rod shows beside the cube";
-    EXPECT_TRUE(isBlue(colourAt(through, -45, 0)));
-    EXPECT_TRUE(isRed(colourAt(through, 10, 12)));
-    // In front of the cube (y = -30, the cube's front face is y = -20): the rod hides the cube.
-    rod.mesh = loadTriangleMesh(writeRod(dir, -30.0));
-    renderer.setMeshes({rod});
-    const RgbaImage front = renderer.render(tracer, tracer.voxels(), camera, tape.features());
-    EXPECT_TRUE(isBlue(colourAt(front, 0, 0))) << "the rod in front hides the cube";
-    EXPECT_TRUE(isRed(colourAt(front, 10, 12)));
-    // Behind it: hidden where the cube is.
-    rod.mesh = loadTriangleMesh(writeRod(dir, 30.0));
-    renderer.setMeshes({rod});
-    const RgbaImage behind = renderer.render(tracer, tracer.voxels(), camera, tape.features());
-    EXPECT_TRUE(isRed(colourAt(behind, 0, 0)));
-    EXPECT_TRUE(isBlue(colourAt(behind, 45, 0)));
+    // Either renderer of the part: the compute tracer or the brick renderer.
+    for (const bool withBricks : {false, true}) {
+        SCOPED_TRACE(withBricks ? "brick renderer" : "compute tracer");
+        vk::SceneRenderer renderer(*context);
+        auto draw = [&](vk::SceneRenderer& r) {
+            return withBricks ? r.render(bricks, camera, tape.features())
+                              : r.render(tracer, tracer.voxels(), camera, tape.features());
+        };
+        PlacedMesh rod;
+        rod.id = "rod";
+        rod.color = {0.0f, 0.05f, 1.0f};
+        // Through the cube's middle: hidden inside it, visible on both sides.
+        rod.mesh = loadTriangleMesh(writeRod(dir, 0.0));
+        renderer.setMeshes({rod});
+        const RgbaImage through = draw(renderer);
+        EXPECT_TRUE(isRed(colourAt(through, 0, 0))) << "the cube hides the rod inside it";
+        EXPECT_TRUE(isBlue(colourAt(through, 45, 0))) << "the rod shows beside the cube";
+        EXPECT_TRUE(isBlue(colourAt(through, -45, 0)));
+        EXPECT_TRUE(isRed(colourAt(through, 10, 12)));
+        // In front of the cube (y = -30, the cube's front face is y = -20): the rod hides the cube.
+        rod.mesh = loadTriangleMesh(writeRod(dir, -30.0));
+        renderer.setMeshes({rod});
+        const RgbaImage front = draw(renderer);
+        EXPECT_TRUE(isBlue(colourAt(front, 0, 0))) << "the rod in front hides the cube";
+        EXPECT_TRUE(isRed(colourAt(front, 10, 12)));
+        // Behind it: hidden where the cube is.
+        rod.mesh = loadTriangleMesh(writeRod(dir, 30.0));
+        renderer.setMeshes({rod});
+        const RgbaImage behind = draw(renderer);
+        EXPECT_TRUE(isRed(colourAt(behind, 0, 0)));
+        EXPECT_TRUE(isBlue(colourAt(behind, 45, 0)));
+    }
     std::filesystem::remove_all(dir);
     EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
 }

@@ -82,6 +82,7 @@ struct BrickRenderer::Impl {
     glm::uvec3 atlasTexels{0}, atlasSlots{0};
     GpuBuffer instances; // host-visible, rewritten when the eye moves
     std::optional<glm::dvec3> sortedFor;
+    std::uint64_t uploads = 0;
     double sortMilliseconds = 0.0;
 
     // Targets.
@@ -268,6 +269,7 @@ void BrickRenderer::setBricks(const BrickLeaves& leaves)
     for (const Brick& b : leaves.bricks)
         m.bounds = m.bounds.merged(Aabb{b.min, b.min + b.voxelMm * double(b.cells)});
     m.sortedFor.reset();
+    ++m.uploads;
     if (n == 0) {
         m.instances = {};
         return;
@@ -346,6 +348,10 @@ void BrickRenderer::setBricks(const BrickLeaves& leaves)
 }
 
 std::size_t BrickRenderer::brickCount() const { return impl_->bricks.size(); }
+
+Aabb BrickRenderer::bounds() const { return impl_->bounds; }
+
+std::uint64_t BrickRenderer::version() const { return impl_->uploads; }
 
 std::size_t BrickRenderer::residentBytes() const
 {

@@ -16,6 +16,7 @@
 #include <glm/glm.hpp>
 
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <optional>
 
@@ -66,7 +67,7 @@ struct SceneRenderer::Impl {
 
     // What the tracer's targets hold: traced again only when this changes.
     struct TraceKey {
-        const ComputeTracer* tracer = nullptr;
+        const void* source = nullptr; // the ComputeTracer or BrickRenderer that traced
         VkDeviceAddress tiles = 0, entries = 0, nodes = 0;
         std::uint64_t voxelVersion = 0;
         glm::dvec3 eye{0.0}, forward{0.0}, up{0.0};
@@ -83,6 +84,11 @@ struct SceneRenderer::Impl {
 
     explicit Impl(const Context& c) : ctx(c) {}
     void ensureTargets(int w, int h);
+    // The frame: `trace` records the trace into the targets `targets`
+    // returns, when `key` differs from the last frame's; `part` bounds it.
+    void recordFrame(VkCommandBuffer cb, const Camera& camera, const std::vector<Feature>& features,
+                     const SceneOptions& options, const Section& section, const Aabb& part, const TraceKey& key,
+                     const std::function<void(VkCommandBuffer)>& trace, const TraceTargets& targets);
     Pipeline makePipeline(VkPipelineLayout layout, const ShaderModule& vs, const ShaderModule& fs,
                           const PipelineStyle& style);
     std::vector<MeshBuffer> upload(const std::vector<PlacedMesh>& placed) const;
@@ -381,15 +387,46 @@ void SceneRenderer::record(VkCommandBuffer cb, ComputeTracer& tracer, const Voxe
                            const Camera& camera, const std::vector<Feature>& features, const SceneOptions& options,
                            const Section& section)
 {
-    const Context& ctx = impl_->ctx;
+    const Impl::TraceKey key{&tracer,      voxels.tiles,     voxels.entries, voxels.nodes, voxels.version,
+                             camera.eye(), camera.forward(), camera.up(),    camera.halfHeight(),
+                             camera.width(), camera.height(), camera.projection() == Projection::Orthographic, section,
+                             options.quality};
+    impl_->recordFrame(cb, camera, features, options, section, voxels.tiles ? voxels.grid.bounds() : Aabb{}, key,
+                       [&](VkCommandBuffer c) { tracer.record(c, camera, voxels, section, options.quality); },
+                       tracer.targets());
+}
+
+void SceneRenderer::record(VkCommandBuffer cb, BrickRenderer& bricks, const Camera& camera,
+                           const std::vector<Feature>& features, const SceneOptions& options)
+{
+    const Impl::TraceKey key{&bricks,      0,                0,              0,            bricks.version(),
+                             camera.eye(), camera.forward(), camera.up(),    camera.halfHeight(),
+                             camera.width(), camera.height(), camera.projection() == Projection::Orthographic, Section{},
+                             TraceQuality::Voxels};
+    impl_->recordFrame(cb, camera, features, options, Section{}, bricks.bounds(), key,
+                       [&](VkCommandBuffer c) { bricks.record(c, camera); }, bricks.targets());
+}
+
+RgbaImage SceneRenderer::render(BrickRenderer& bricks, const Camera& camera, const std::vector<Feature>& features,
+                                const SceneOptions& options)
+{
+    impl_->ctx.submitAndWait([&](VkCommandBuffer cb) { record(cb, bricks, camera, features, options); });
+    return readPicture();
+}
+
+void SceneRenderer::Impl::recordFrame(VkCommandBuffer cb, const Camera& camera, const std::vector<Feature>& features,
+                                      const SceneOptions& options, const Section& section, const Aabb& part,
+                                      const TraceKey& key, const std::function<void(VkCommandBuffer)>& trace,
+                                      const TraceTargets& targets)
+{
     const int w = camera.width(), h = camera.height();
-    impl_->ensureTargets(w, h);
+    ensureTargets(w, h);
     const bool ortho = camera.projection() == Projection::Orthographic;
     const double halfHeight = camera.halfHeight();
 
     // Near and far planes around everything drawn (the grid's visible reach too).
-    Aabb scene = impl_->meshBounds;
-    if (voxels.tiles) scene = scene.merged(voxels.grid.bounds());
+    Aabb scene = meshBounds;
+    if (!part.isEmpty()) scene = scene.merged(part);
     const double sceneSize = scene.isEmpty() ? 1000.0 : std::max(glm::length(scene.size()), 1.0);
     const double gridReach = 4.0 * sceneSize;
     if (options.grid) {
@@ -412,24 +449,19 @@ void SceneRenderer::record(VkCommandBuffer cb, ComputeTracer& tracer, const Voxe
     for (std::uint32_t sel : options.selectedFeatures)
         if (sel < features.size()) colors[4 * sel + 3] += float(KERF_FEATURE_SELECTED);
     if (colors.empty()) colors.assign(4, 0.0f);
-    impl_->frameColors = GpuBuffer(ctx, colors.size() * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+    frameColors = GpuBuffer(ctx, colors.size() * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                    GpuBuffer::Kind::HostVisible, "feature colours");
-    std::memcpy(impl_->frameColors.mapped(), colors.data(), colors.size() * sizeof(float));
+    std::memcpy(frameColors.mapped(), colors.data(), colors.size() * sizeof(float));
 
-    const Impl::TraceKey key{&tracer,      voxels.tiles,     voxels.entries, voxels.nodes, voxels.version,
-                             camera.eye(), camera.forward(), camera.up(),    camera.halfHeight(),
-                             w,            h,                ortho,          section,
-                             options.quality};
-    impl_->lastTraced = !(impl_->traced && *impl_->traced == key);
-    if (impl_->lastTraced) tracer.record(cb, camera, voxels, section, options.quality);
-    impl_->traced = key;
+    lastTraced = !(traced && *traced == key);
+    if (lastTraced) trace(cb);
+    traced = key;
 
     gpu::ShadeParams s{};
-    const TraceTargets& targets = tracer.targets();
     s.depth = targets.depth.address();
     s.normal = targets.normal.address();
     s.feature = targets.feature.address();
-    s.featureColors = impl_->frameColors.address();
+    s.featureColors = frameColors.address();
     s.featureCount = std::uint32_t(features.size());
     s.width = std::uint32_t(w);
     s.height = std::uint32_t(h);
@@ -454,7 +486,7 @@ void SceneRenderer::record(VkCommandBuffer cb, ComputeTracer& tracer, const Voxe
     s.grid = {float(minor), float(10.0 * minor), float(gridReach), options.grid ? 1.0f : 0.0f};
     s.section = vec4(glm::vec3(section.normal), float(section.offset));
     s.capColor = vec4(options.capColor, 6.0f);
-    vkCmdUpdateBuffer(cb, impl_->shade.buffer(), 0, sizeof s, &s);
+    vkCmdUpdateBuffer(cb, shade.buffer(), 0, sizeof s, &s);
     VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
@@ -466,8 +498,8 @@ void SceneRenderer::record(VkCommandBuffer cb, ComputeTracer& tracer, const Voxe
     clears[0].color = {{0.0f, 0.0f, 0.0f, 1.0f}};
     clears[1].depthStencil = {1.0f, 0};
     VkRenderPassBeginInfo rbi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-    rbi.renderPass = impl_->renderPass;
-    rbi.framebuffer = impl_->framebuffer;
+    rbi.renderPass = renderPass;
+    rbi.framebuffer = framebuffer;
     rbi.renderArea = {{0, 0}, {std::uint32_t(w), std::uint32_t(h)}};
     rbi.clearValueCount = 2;
     rbi.pClearValues = clears;
@@ -477,25 +509,25 @@ void SceneRenderer::record(VkCommandBuffer cb, ComputeTracer& tracer, const Voxe
     vkCmdSetViewport(cb, 0, 1, &viewport);
     vkCmdSetScissor(cb, 0, 1, &scissor);
 
-    const std::uint64_t shadeAddress = impl_->shade.address();
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->partPipeline);
-    vkCmdPushConstants(cb, impl_->partLayout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof shadeAddress, &shadeAddress);
+    const std::uint64_t shadeAddress = shade.address();
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, partPipeline);
+    vkCmdPushConstants(cb, partLayout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof shadeAddress, &shadeAddress);
     vkCmdDraw(cb, 3, 1, 0, 0);
 
-    if (!impl_->meshes.empty() || !impl_->markers.empty()) {
-        const glm::mat4 clip(clipFromWorld(camera, impl_->meshOrigin, planes));
-        impl_->drawMeshes(cb, impl_->meshes, impl_->meshPipeline, clip, shadeAddress);
+    if (!meshes.empty() || !markers.empty()) {
+        const glm::mat4 clip(clipFromWorld(camera, meshOrigin, planes));
+        drawMeshes(cb, meshes, meshPipeline, clip, shadeAddress);
         if (options.grid) {
-            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->gridPipeline);
-            vkCmdPushConstants(cb, impl_->partLayout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof shadeAddress,
+            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, gridPipeline);
+            vkCmdPushConstants(cb, partLayout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof shadeAddress,
                                &shadeAddress);
             vkCmdDraw(cb, 3, 1, 0, 0);
         }
-        impl_->drawMeshes(cb, impl_->ghosts, impl_->ghostPipeline, clip, shadeAddress);
-        impl_->drawMeshes(cb, impl_->markers, impl_->markerPipeline, clip, shadeAddress);
+        drawMeshes(cb, ghosts, ghostPipeline, clip, shadeAddress);
+        drawMeshes(cb, markers, markerPipeline, clip, shadeAddress);
     } else if (options.grid) {
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->gridPipeline);
-        vkCmdPushConstants(cb, impl_->partLayout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof shadeAddress, &shadeAddress);
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, gridPipeline);
+        vkCmdPushConstants(cb, partLayout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof shadeAddress, &shadeAddress);
         vkCmdDraw(cb, 3, 1, 0, 0);
     }
 
@@ -510,8 +542,8 @@ void SceneRenderer::record(VkCommandBuffer cb, ComputeTracer& tracer, const Voxe
             gpu::GizmoPush push{};
             push.shade = shadeAddress;
             push.rect = {x, y, size, 0.0f};
-            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->gizmoPipeline);
-            vkCmdPushConstants(cb, impl_->gizmoLayout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push, &push);
+            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, gizmoPipeline);
+            vkCmdPushConstants(cb, gizmoLayout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push, &push);
             vkCmdDraw(cb, 3, 1, 0, 0);
         }
     }

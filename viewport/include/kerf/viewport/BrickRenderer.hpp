@@ -36,6 +36,10 @@ public:
     /// image.
     void setBricks(const BrickLeaves& bricks);
     std::size_t brickCount() const;
+    /// The bricks' bounds (world mm); empty without bricks.
+    Aabb bounds() const;
+    /// Changes with every setBricks().
+    std::uint64_t version() const;
     /// Bytes on the device: the atlases and the instance records.
     std::size_t residentBytes() const;
 

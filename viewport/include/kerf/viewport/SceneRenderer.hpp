@@ -19,9 +19,11 @@
 // recorded before have finished (per-frame buffers are reused).
 
 #include "kerf/tracer/Image.hpp"
+#include "kerf/viewport/BrickRenderer.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
 #include "kerf/viewport/ReferenceMesh.hpp"
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -72,6 +74,12 @@ public:
     /// camera's size) is in TRANSFER_SRC_OPTIMAL layout, ready to be copied.
     void record(VkCommandBuffer cb, ComputeTracer& tracer, const VoxelAddresses& voxels, const Camera& camera,
                 const std::vector<Feature>& features, const SceneOptions& options = {}, const Section& section = {});
+    /// The same with the brick renderer's picture of the part (voxels only:
+    /// no section plane, no exact edges; SceneOptions::quality is ignored).
+    RgbaImage render(BrickRenderer& bricks, const Camera& camera, const std::vector<Feature>& features,
+                     const SceneOptions& options = {});
+    void record(VkCommandBuffer cb, BrickRenderer& bricks, const Camera& camera, const std::vector<Feature>& features,
+                const SceneOptions& options = {});
     VkImage colorImage() const;
     /// Reads the last recorded picture back (after its commands finished;
     /// waits for the copy). Empty before the first frame.
