@@ -31,7 +31,7 @@ namespace {
 
 const char* kBenchHelp = R"(Usage: kerf bench [FILE.kerf] [--feature-sizes LIST] [--json OUT.json] [--plot OUT.png]
                   [--size WxH] [--view NAME] [--frames N] [--cpu] [--trace-only]
-                  [--exact-edges] [-D NAME=VALUE]...
+                  [--exact-edges] [--bricks] [-D NAME=VALUE]...
 
 Measures the trade between speed and accuracy for a part (the bundled side
 chair when no file is given), at each feature size of LIST:
@@ -65,6 +65,9 @@ Options:
   --exact-edges         also trace with the hybrid refinement (kerf render
                         --quality exact, the viewport's Exact Edges): its
                         trace time and picture error, in a second table
+  --bricks              also draw with the brick renderer (kerf render
+                        --renderer bricks; Vulkan only): its frame time,
+                        memory and picture error, in a table of its own
   -D NAME=VALUE         set the document's parameter NAME (a number or an
                         expression, like 19 or 3/4in) for this run; repeatable
   --help                show this help
@@ -235,6 +238,39 @@ void printReport(std::ostream& out, const std::string& file, const TradeReport& 
         }
     }
 
+    if (std::any_of(r.rows.begin(), r.rows.end(), [](const TradeRow& x) { return x.bricks; })) {
+        out << "\nScreen, brick renderer: the same voxels as bricks of 8x8x8 voxels, one cube drawn per brick\n";
+        const std::array<std::pair<const char*, std::size_t>, 8> columns{{{"feature", 9},
+                                                                          {"bricks", 9},
+                                                                          {"GPU MB", 9},
+                                                                          {"build", 10},
+                                                                          {"frame", 10},
+                                                                          {"vs tracer", 10},
+                                                                          {"depth err mm mean/p99/max", 28},
+                                                                          {"silhouette", 11}}};
+        out << " ";
+        for (const auto& [name, width] : columns)
+            out << " " << right(name, width);
+        out << "\n";
+        for (const TradeRow& row : r.rows) {
+            if (!row.bricks) continue;
+            const BrickFigures& b = *row.bricks;
+            const std::array<std::string, 8> cells{
+                mm(row.featureSize) + " mm",
+                std::to_string(b.bricks),
+                significant(double(b.deviceBytes) / 1e6, 3),
+                milliseconds(b.buildMs),
+                milliseconds(b.drawn.traceMs),
+                row.traceMs > 0.0 ? significant(b.drawn.traceMs / row.traceMs, 2) + "x" : std::string("-"),
+                triple(b.drawn.picture.depthMm, 2),
+                percent(b.drawn.picture.mismatchFraction())};
+            out << " ";
+            for (std::size_t i = 0; i < cells.size(); ++i)
+                out << " " << right(cells[i], columns[i].second);
+            out << "\n";
+        }
+    }
+
     const bool exported = std::any_of(r.rows.begin(), r.rows.end(), [](const TradeRow& x) { return x.exported; });
     if (!exported) return;
     out << "\nExport: marching cubes on the exact field (time excludes writing the STL)\n";
@@ -286,7 +322,7 @@ int runBench(const std::vector<std::string>& args, std::ostream& out, std::ostre
     std::string file;
     try {
         const Arguments a(args, {"--feature-sizes", "--json", "--plot", "--size", "--view", "--frames", "-D"},
-                          {"--cpu", "--trace-only", "--exact-edges", "--help", "-h"});
+                          {"--cpu", "--trace-only", "--exact-edges", "--bricks", "--help", "-h"});
         if (a.has("--help") || a.has("-h")) {
             out << kBenchHelp;
             return 0;
@@ -309,6 +345,7 @@ int runBench(const std::vector<std::string>& args, std::ostream& out, std::ostre
         options.cpu = a.has("--cpu");
         options.traceOnly = a.has("--trace-only");
         options.exactEdges = a.has("--exact-edges");
+        options.bricks = a.has("--bricks");
         const auto json = a.value("--json");
         const auto png = a.value("--plot");
         if (json) checkOutputFolder("--json", *json);
@@ -364,6 +401,8 @@ int runBench(const std::vector<std::string>& args, std::ostream& out, std::ostre
         if (!report.vulkan && !options.cpu)
             err << "kerf bench: no usable Vulkan device (" << report.vulkanProblem
                 << "); trace times are the CPU reference tracer's\n";
+        if (options.bricks && !report.vulkan)
+            err << "kerf bench: --bricks needs a Vulkan device; the brick renderer was not measured\n";
 
         printReport(out, file, report);
         if (json) {

@@ -5,7 +5,9 @@
 #include "kerf/mesher/MeshPart.hpp"
 #include "kerf/tracer/ExactTracer.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
+#include "kerf/viewport/BrickRenderer.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
+#include "kerf/voxelizer/BrickLeaves.hpp"
 #include "kerf/viewport/GpuVoxelizer.hpp"
 #include "kerf/viewport/VulkanError.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
@@ -217,6 +219,20 @@ TradeReport runTradeBench(const Document& doc, const TradeBenchOptions& options)
                 progress("tracing with exact edges" + at);
                 row.exactEdges = measure(TraceQuality::Exact);
             }
+            if (options.bricks && report.vulkan) {
+                progress("drawing with the brick renderer" + at);
+                BrickFigures b;
+                t0 = Clock::now();
+                const BrickLeaves leaves = BrickLeaves::fromVoxels(buffers);
+                b.buildMs = msSince(t0);
+                vk::BrickRenderer bricks(*context);
+                bricks.setBricks(leaves);
+                b.bricks = leaves.bricks.size();
+                b.deviceBytes = bricks.residentBytes();
+                b.drawn.picture = compareImages(bricks.render(camera), reference);
+                b.drawn.traceMs = bricks.sustainedMilliseconds(camera, options.frames);
+                row.bricks = b;
+            }
         }
         if (report.edit) {
             progress("re-voxelizing after moving '" + report.edit->nodeId + "'" + at);
@@ -303,6 +319,12 @@ nlohmann::ordered_json tradeReportJson(const TradeReport& r)
         x["picture"] = picture(row.picture);
         if (row.exactEdges)
             x["exact_edges"] = {{"trace_ms", row.exactEdges->traceMs}, {"picture", picture(row.exactEdges->picture)}};
+        if (row.bricks)
+            x["bricks"] = {{"trace_ms", row.bricks->drawn.traceMs},
+                           {"bricks", row.bricks->bricks},
+                           {"device_bytes", row.bricks->deviceBytes},
+                           {"build_ms", row.bricks->buildMs},
+                           {"picture", picture(row.bricks->drawn.picture)}};
         if (row.exported) {
             const ExportFigures& e = *row.exported;
             J m;

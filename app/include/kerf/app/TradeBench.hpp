@@ -57,6 +57,7 @@ struct TradeBenchOptions {
     bool cpu = false;       // trace with the CPU reference tracer even when Vulkan works
     bool traceOnly = false; // leave out the export measurements (mesh, distance, volume)
     bool exactEdges = false; // also trace with the hybrid refinement
+    bool bricks = false;     // also draw with the brick renderer (Vulkan only)
     /// Told what is being measured, one short phrase at a time (for a
     /// progress line); called on the calling thread.
     std::function<void(const std::string&)> progress;
@@ -86,6 +87,14 @@ struct PictureFigures {
     ImageError picture;
 };
 
+/// The same voxels drawn by the brick renderer (BrickRenderer.hpp).
+struct BrickFigures {
+    PictureFigures drawn;       // frame time (sustained, as the tracer's) and error
+    std::size_t bricks = 0;
+    std::size_t deviceBytes = 0; // its atlases and instances
+    double buildMs = 0.0;        // the bricks made from the voxels (host)
+};
+
 struct GpuVoxelizeFigures {
     double coldMs = 0.0, warmMs = 0.0;
     std::size_t populatedVoxels = 0;
@@ -105,6 +114,7 @@ struct TradeRow {
     double traceMs = 0.0;
     ImageError picture;
     std::optional<PictureFigures> exactEdges; // only when asked for
+    std::optional<BrickFigures> bricks;       // only when asked for, on Vulkan
     std::optional<ExportFigures> exported;    // none with traceOnly
 };
 
