@@ -303,6 +303,7 @@ private slots:
     void restoresTheAutosaveAfterACrash();
     void reVoxelizesOnlyTheTilesTheEditReaches();
     void viewportShowsThePartAndChangesAfterAnEdit();
+    void brickRendererDrawsTheSamePartAndStepsAsideWhereItCannot();
     void exportDialogWritesAClosedMesh();
     void exportDialogNamesWhatTheToleranceMissed();
     void exportDialogSaysWhereDetailHidesBetweenTheCells();
@@ -580,6 +581,35 @@ void MainWindowTest::viewportShowsThePartAndChangesAfterAnEdit()
     } else {
         QVERIFY2(status.vulkan, qPrintable(status.fallbackReason));
     }
+}
+
+// View > Brick Renderer: the same part drawn by the brick renderer once its
+// bricks are made, the status saying so; Exact Edges (which the bricks do not
+// draw) hands the part back to the tracer, and turning it off back to the
+// bricks.
+void MainWindowTest::brickRendererDrawsTheSamePartAndStepsAsideWhereItCannot()
+{
+    if (qEnvironmentVariableIsSet("KERF_NO_VULKAN")) QSKIP("the brick renderer needs Vulkan");
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "stool.kerf"));
+    QVERIFY(waitForViewport(*w));
+    const QImage traced = w->viewport()->grabFrame();
+    QVERIFY(!w->viewport()->status().bricks);
+    auto* frame = w->findChild<QLabel*>("status.frame");
+    action(w.get(), "action.brickRenderer")->trigger();
+    QTRY_VERIFY_WITH_TIMEOUT(w->viewport()->status().bricks, kVoxelTimeoutMs);
+    QTRY_VERIFY(frame->text().contains("bricks"));
+    const QImage bricks = w->viewport()->grabFrame();
+    QVERIFY(!bricks.isNull());
+    QVERIFY(woodFraction(bricks) > 0.05);
+    QVERIFY2(pictureDifference(traced, bricks) < 0.01, "the bricks draw the tracer's picture");
+    action(w.get(), "action.exactEdges")->trigger();
+    QTRY_VERIFY_WITH_TIMEOUT(!w->viewport()->status().bricks, kVoxelTimeoutMs);
+    QTRY_VERIFY(frame->text().contains("trace"));
+    action(w.get(), "action.exactEdges")->trigger();
+    QTRY_VERIFY_WITH_TIMEOUT(w->viewport()->status().bricks, kVoxelTimeoutMs);
+    const auto status = w->viewport()->status();
+    QVERIFY2(status.validationErrors == 0, qPrintable(status.lastValidationMessage));
 }
 
 // A part the export cannot hold to its tolerance: the report says how many

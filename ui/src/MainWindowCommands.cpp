@@ -221,7 +221,15 @@ void MainWindow::buildViewMenu()
     connect(commands_.exactEdges, &QAction::toggled, viewport_, &qt::ViewportWidget::setExactEdges);
     view->addActions({commands_.fitAll, commands_.orthographic});
     view->addSeparator();
-    view->addActions({grid, axes, commands_.exactEdges});
+    // The seed's brick renderer, for comparing: measured slower than the
+    // tracer on every scene (docs/benchmarks.md), so off by default.
+    QAction* bricks = newAction(tr("&Brick Renderer"), "action.brickRenderer");
+    bricks->setCheckable(true);
+    bricks->setToolTip(tr("Draw the part as bricks of voxels, one cube each, marched by the texture unit (Vulkan; "
+                          "slower than the default tracer; voxels only: a section or Exact Edges switch back to the "
+                          "tracer)"));
+    connect(bricks, &QAction::toggled, viewport_, &qt::ViewportWidget::setBrickRenderer);
+    view->addActions({grid, axes, commands_.exactEdges, bricks});
     view->addSeparator();
     // Modelling only what the scene requires: tiles as fine as the camera
     // sees them, within a memory budget.

@@ -64,7 +64,9 @@ void StatusReadout::show(const VoxelizerProgress& p, const VoxelSnapshot* snap, 
                                          : tr(" — %1 hidden tiles kept coarse").arg(snap->hiddenTiles);
     memory_->setText(memory);
     memory_->setStyleSheet(overBudget ? QStringLiteral("color: #b35900;") : QString());
-    frame_->setText(v.traceMs >= 0.0 ? tr("Frame %1 ms, trace %2 ms").arg(v.frameMs, 0, 'f', 1).arg(v.traceMs, 0, 'f', 1)
+    frame_->setText(v.traceMs >= 0.0 ? (v.bricks ? tr("Frame %1 ms, bricks %2 ms") : tr("Frame %1 ms, trace %2 ms"))
+                                           .arg(v.frameMs, 0, 'f', 1)
+                                           .arg(v.traceMs, 0, 'f', 1)
                                      : tr("Frame %1 ms").arg(v.frameMs, 0, 'f', 1));
     device_->setText(v.device);
     device_->setToolTip(v.fallbackReason);

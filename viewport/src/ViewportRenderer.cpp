@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <future>
 #include <cmath>
 #include <cstring>
 
@@ -54,9 +55,14 @@ struct ViewportRenderer::Impl {
     std::unique_ptr<GpuVoxelWorker> worker;
     std::shared_ptr<const GpuVoxelRequest> gpuRequest;
     std::unique_ptr<GpuVoxelResult> gpuShown;
+    // The brick renderer: the snapshot whose bricks it holds, and the bricks
+    // of another being made.
+    BrickRenderer bricks;
+    std::shared_ptr<const VoxelSnapshot> bricksOf, makingBricksOf;
+    std::future<BrickLeaves> makingBricks;
 
     Impl(const Context& c, VkSurfaceKHR surface, StreamingOptions streaming, std::function<void()> w)
-        : ctx(c), swapchain(c, surface), tracer(c), scene(c), streamer(c, streaming), wake(std::move(w))
+        : ctx(c), swapchain(c, surface), tracer(c), scene(c), streamer(c, streaming), wake(std::move(w)), bricks(c)
     {
         VkDevice dev = c.device();
         VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -189,7 +195,33 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
     const VoxelAddresses voxels = gpu                ? gpu->voxels->addresses(~std::uint64_t(0) - gpu->version)
                                   : resident.valid() ? VoxelAddresses::of(resident)
                                                      : VoxelAddresses{};
-    m.scene.record(m.cb, m.tracer, voxels, camera, features, options, scene.section);
+    // The brick renderer, where it can draw this frame: the bricks of the
+    // snapshot on screen, once made (on a thread of their own).
+    const bool bricksCanDraw = scene.bricks && !gpu && shown && resident.valid() && !scene.section.enabled &&
+                               scene.quality == TraceQuality::Voxels;
+    if (bricksCanDraw && m.bricksOf != shown) {
+        if (m.makingBricks.valid() &&
+            m.makingBricks.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+            BrickLeaves made = m.makingBricks.get();
+            if (m.makingBricksOf == shown) {
+                m.bricks.setBricks(made);
+                m.bricksOf = shown;
+            }
+        }
+        if (m.bricksOf != shown && !m.makingBricks.valid()) {
+            m.makingBricksOf = shown;
+            m.makingBricks = std::async(std::launch::async, [snapshot = shown, wake = m.wake] {
+                BrickLeaves made = BrickLeaves::fromVoxels(FlatVoxelBuffers::flatten(*snapshot));
+                if (wake) wake(); // a frame to show them
+                return made;
+            });
+        }
+    }
+    st.drewBricks = bricksCanDraw && m.bricksOf == shown;
+    if (st.drewBricks)
+        m.scene.record(m.cb, m.bricks, camera, features, options);
+    else
+        m.scene.record(m.cb, m.tracer, voxels, camera, features, options, scene.section);
     st.traced = m.scene.lastFrameTraced();
     // The voxelizer's occlusion picture: only a full-resolution trace of the
     // very view it plans for (the record's barrier makes the depth readable).
@@ -201,7 +233,8 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
             m.depthReadback = GpuBuffer(m.ctx, depthBytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, GpuBuffer::Kind::Readback,
                                         "occlusion depth");
         const VkBufferCopy region{0, 0, depthBytes};
-        vkCmdCopyBuffer(m.cb, m.tracer.targets().depth.buffer(), m.depthReadback.buffer(), 1, &region);
+        const TraceTargets& traced = st.drewBricks ? m.bricks.targets() : m.tracer.targets();
+        vkCmdCopyBuffer(m.cb, traced.depth.buffer(), m.depthReadback.buffer(), 1, &region);
         VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
         mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
         mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
@@ -244,7 +277,7 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
     check(vkWaitForFences(m.ctx.device(), 1, &f, VK_TRUE, UINT64_MAX), "vkWaitForFences (viewport)");
     check(vkResetFences(m.ctx.device(), 1, &f), "vkResetFences (viewport)");
 
-    if (st.traced) st.traceGpuMs = m.tracer.lastTiming().gpuMilliseconds;
+    if (st.traced) st.traceGpuMs = st.drewBricks ? m.bricks.lastGpuMilliseconds() : m.tracer.lastTiming().gpuMilliseconds;
     if (readDepth)
         st.picture = std::make_shared<const OcclusionMap>(
             OcclusionMap::fromDepths(*scene.occlusionView, tw, th,

@@ -160,6 +160,7 @@ vk::ViewportScene ViewportWidget::scene() const
     scene.markers = markers_;
     scene.ghosts = ghosts_;
     scene.quality = exactEdges_ ? TraceQuality::Exact : TraceQuality::Voxels;
+    scene.bricks = bricks_;
     scene.resolutionScale = interactive_ && status_.traceMs > kInteractiveTraceBudgetMs ? 0.5 : 1.0;
     // At rest, each new trace of the settled view tells the voxelizer what
     // the part hides.
@@ -442,6 +443,12 @@ void ViewportWidget::setGridVisible(bool on)
 void ViewportWidget::setExactEdges(bool on)
 {
     exactEdges_ = on;
+    sceneChanged();
+}
+
+void ViewportWidget::setBrickRenderer(bool on)
+{
+    bricks_ = on;
     sceneChanged();
 }
 

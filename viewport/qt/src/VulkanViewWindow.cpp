@@ -159,6 +159,7 @@ void VulkanViewWindow::renderLoop()
             s.vulkan = true;
             s.device = QString::fromStdString(context_->deviceDescription());
             s.frameMs = f.frameMs;
+            s.bricks = f.drewBricks;
             // A reshaded frame keeps the last trace's time. A CPU implementation
             // (lavapipe) has no meaningful GPU timestamps: its frame time,
             // which the trace dominates, stands in.

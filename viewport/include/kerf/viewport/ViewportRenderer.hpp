@@ -18,12 +18,19 @@
 // of the window's resolution (ViewportScene::resolutionScale), scaled up by
 // the copy to the window; still frames are traced at full resolution.
 //
+// With ViewportScene::bricks the part is drawn by the brick renderer
+// (BrickRenderer.hpp) instead of the compute tracer: the bricks of the
+// snapshot on screen are made on a thread of their own and go up in one
+// copy when done; until then, and wherever the bricks cannot draw (a
+// section, exact edges, voxels the GPU built), the tracer draws the part.
+//
 // Threading: one thread (the render thread) uses a renderer; the scene is a
 // value copied in for every frame. One frame in flight: drawFrame() waits
 // for its own frame's commands before it returns.
 
 #include "kerf/tracer/Section.hpp"
 #include "kerf/tracer/ViewController.hpp"
+#include "kerf/viewport/BrickRenderer.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
 #include "kerf/viewport/GpuVoxelWorker.hpp"
 #include "kerf/viewport/SceneRenderer.hpp"
@@ -52,6 +59,9 @@ struct ViewportScene {
     bool edges = true;
     /// Voxels, or the hybrid refinement on the exact field (TraceQuality.hpp).
     TraceQuality quality = TraceQuality::Voxels;
+    /// Draw the part with the brick renderer where it can (View > Brick
+    /// Renderer): measured slower than the tracer (docs/benchmarks.md).
+    bool bricks = false;
     /// Fraction of the window's resolution the part is traced at (0 < s <= 1).
     double resolutionScale = 1.0;
     /// The view the voxelizer was given: a full-resolution trace of exactly
@@ -66,6 +76,7 @@ struct ViewportScene {
 struct FrameStats {
     bool presented = false;       // a picture reached the window
     bool traced = false;          // the part was traced (else the last trace was reshaded)
+    bool drewBricks = false;      // the brick renderer drew the part (ViewportScene::bricks)
     double traceGpuMs = -1.0;     // the trace dispatch, from GPU timestamps (when traced)
     double frameMs = 0.0;         // wall time of the frame on the render thread
     FrameUpload upload;           // this frame's streaming

@@ -65,6 +65,7 @@ struct ViewportStatus {
     QString fallbackReason;  // why the CPU tracer is used, if it is
     double frameMs = 0.0;    // the last frame, on the render thread
     double traceMs = -1.0;   // the last trace (GPU timestamps or CPU wall time)
+    bool bricks = false;     // the brick renderer drew the last frame
     std::size_t voxelBytes = 0;   // voxel memory on the device (or in the CPU buffers)
     std::uint64_t shownVersion = 0;   // snapshot version on screen
     std::uint64_t shownRevision = 0;  // the document revision it shows
@@ -171,6 +172,9 @@ public:
     /// The hybrid refinement: edges and intersections from the exact field
     /// near the surface (slower; TraceQuality.hpp), or voxels alone.
     void setExactEdges(bool on);
+    /// Draw the part with the brick renderer where it can (no section, no
+    /// exact edges, voxels of the CPU voxelizer), else with the tracer.
+    void setBrickRenderer(bool on);
     void setAxesVisible(bool on);
 
     /// Standard views by name (iso, front, back, left, right, top, bottom),
@@ -251,7 +255,7 @@ private:
     mutable std::shared_ptr<const std::vector<PlacedMesh>> markers_;
     std::shared_ptr<const std::unordered_set<std::string>> selected_;
     Section section_;
-    bool grid_ = true, axes_ = true, exactEdges_ = false;
+    bool grid_ = true, axes_ = true, exactEdges_ = false, bricks_ = false;
 
     // Mouse state.
     enum class Drag { None, Pending, Orbit, Pan, Gizmo };
