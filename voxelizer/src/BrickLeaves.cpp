@@ -9,6 +9,8 @@
 #include <cmath>
 #include <unordered_map>
 
+#include <tbb/parallel_for.h>
+
 namespace kerf {
 
 namespace {
@@ -56,75 +58,95 @@ void fillUnknown(BrickLeaves& out, std::size_t brick, std::vector<std::uint8_t>&
     }
 }
 
-} // namespace
-
-BrickLeaves BrickLeaves::fromVoxels(const FlatVoxelBuffers& v)
+// One surface tile's bricks, in the order its voxels first reach them.
+BrickLeaves tileBricks(const FlatVoxelBuffers& v, std::size_t t)
 {
     BrickLeaves out;
     const GridLayout& grid = v.layout;
-    std::unordered_map<std::uint64_t, std::uint32_t> brickOf; // this tile's bricks by position
-    std::vector<std::vector<std::uint8_t>> known;               // this tile's bricks' known samples
-    std::vector<int> queue;
+    const TileEntry& entry = v.entries[v.tiles[t]];
+    const int levels = int(entry.levels);
+    if (levels < 1) return out;
+    const int finest = 1 << (2 * levels); // voxels along a tile edge
+    const int cells = std::min(kBrickCells, finest);
+    const double voxelMm = grid.tileSize / double(finest);
+    const glm::dvec3 tileMin = grid.origin + grid.tileSize * glm::dvec3(grid.tileCoord(long(t)));
+    std::unordered_map<std::uint64_t, std::uint32_t> brickOf; // the tile's bricks by position
+    std::vector<std::vector<std::uint8_t>> known;               // their known samples
     struct Visit {
         std::uint32_t node;
         int depth;
         glm::ivec3 origin; // finest cells in the tile
     };
-    std::vector<Visit> stack;
-    for (std::size_t t = 0; t < v.tiles.size(); ++t) {
-        const std::uint32_t slot = v.tiles[t];
-        if (slot == voxel::kEmptyTile || slot == voxel::kFullTile) continue;
-        const TileEntry& entry = v.entries[slot];
-        const int levels = int(entry.levels);
-        if (levels < 1) continue;
-        const int finest = 1 << (2 * levels); // voxels along a tile edge
-        const int cells = std::min(kBrickCells, finest);
-        const double voxelMm = grid.tileSize / double(finest);
-        const glm::dvec3 tileMin = grid.origin + grid.tileSize * glm::dvec3(grid.tileCoord(long(t)));
-        brickOf.clear();
-        known.clear();
-        const std::size_t firstBrick = out.bricks.size();
-        stack.assign(1, {entry.node, 0, glm::ivec3(0)});
-        while (!stack.empty()) {
-            const Visit at = stack.back();
-            stack.pop_back();
-            const voxel::Node nd = v.nodes[at.node];
-            const int childEdge = 1 << (2 * (levels - 1 - at.depth)); // finest cells per child
-            for (int c = 0; c < 64; ++c) {
-                if (!((nd.mask() >> c) & 1)) continue;
-                const glm::ivec3 child = at.origin + childEdge * glm::ivec3(c & 3, (c >> 2) & 3, c >> 4);
-                if (!nd.isLeaf()) {
-                    stack.push_back({entry.node + nd.pointer() + childRank(nd, c), at.depth + 1, child});
-                    continue;
-                }
-                // A populated voxel: its corners into its brick.
-                const voxel::LeafIndirection li = v.leafIndirections[entry.leafIndirection + nd.pointer()];
-                const voxel::LeafData ld = v.leafData[entry.leafData + li.leafData + childRank(nd, c)];
-                const glm::ivec3 brick = child / cells, local = child % cells;
-                const std::uint64_t key = std::uint64_t(brick.x) | std::uint64_t(brick.y) << 21 |
-                                          std::uint64_t(brick.z) << 42;
-                auto [it, inserted] = brickOf.try_emplace(key, std::uint32_t(out.bricks.size()));
-                if (inserted) {
-                    out.bricks.push_back({tileMin + voxelMm * glm::dvec3(brick * cells), voxelMm, cells, std::uint32_t(t)});
-                    out.distance.resize(out.distance.size() + kBrickSampleCount, 0);
-                    out.normal.resize(out.normal.size() + kBrickSampleCount, 0);
-                    out.feature.resize(out.feature.size() + kBrickSampleCount, 0);
-                    known.emplace_back(std::size_t(kBrickSampleCount), std::uint8_t(0));
-                }
-                const std::uint32_t b = it->second;
-                for (int q = 0; q < 8; ++q) {
-                    const glm::ivec3 s = local + glm::ivec3(q & 1, (q >> 1) & 1, q >> 2);
-                    const voxel::Vertex vx = v.vertices[entry.vertex + li.vertex + ld.corner[std::size_t(q)]];
-                    const std::size_t i = sampleIndex(b, s.x, s.y, s.z);
-                    out.distance[i] = std::int16_t(vx.distanceFeature & 0xFFFF);
-                    out.normal[i] = packSnorm8(voxel::decodeNormal(vx.normal));
-                    out.feature[i] = std::uint16_t(vx.distanceFeature >> 16);
-                    known[b - firstBrick][std::size_t(s.x + kBrickSamples * (s.y + kBrickSamples * s.z))] = 1;
-                }
+    std::vector<Visit> stack(1, {entry.node, 0, glm::ivec3(0)});
+    while (!stack.empty()) {
+        const Visit at = stack.back();
+        stack.pop_back();
+        const voxel::Node nd = v.nodes[at.node];
+        const int childEdge = 1 << (2 * (levels - 1 - at.depth)); // finest cells per child
+        for (int c = 0; c < 64; ++c) {
+            if (!((nd.mask() >> c) & 1)) continue;
+            const glm::ivec3 child = at.origin + childEdge * glm::ivec3(c & 3, (c >> 2) & 3, c >> 4);
+            if (!nd.isLeaf()) {
+                stack.push_back({entry.node + nd.pointer() + childRank(nd, c), at.depth + 1, child});
+                continue;
+            }
+            // A populated voxel: its corners into its brick.
+            const voxel::LeafIndirection li = v.leafIndirections[entry.leafIndirection + nd.pointer()];
+            const voxel::LeafData ld = v.leafData[entry.leafData + li.leafData + childRank(nd, c)];
+            const glm::ivec3 brick = child / cells, local = child % cells;
+            const std::uint64_t key =
+                std::uint64_t(brick.x) | std::uint64_t(brick.y) << 21 | std::uint64_t(brick.z) << 42;
+            auto [it, inserted] = brickOf.try_emplace(key, std::uint32_t(out.bricks.size()));
+            if (inserted) {
+                out.bricks.push_back({tileMin + voxelMm * glm::dvec3(brick * cells), voxelMm, cells, std::uint32_t(t)});
+                out.distance.resize(out.distance.size() + kBrickSampleCount, 0);
+                out.normal.resize(out.normal.size() + kBrickSampleCount, 0);
+                out.feature.resize(out.feature.size() + kBrickSampleCount, 0);
+                known.emplace_back(std::size_t(kBrickSampleCount), std::uint8_t(0));
+            }
+            const std::uint32_t b = it->second;
+            for (int q = 0; q < 8; ++q) {
+                const glm::ivec3 s = local + glm::ivec3(q & 1, (q >> 1) & 1, q >> 2);
+                const voxel::Vertex vx = v.vertices[entry.vertex + li.vertex + ld.corner[std::size_t(q)]];
+                const std::size_t i = BrickLeaves::sampleIndex(b, s.x, s.y, s.z);
+                out.distance[i] = std::int16_t(vx.distanceFeature & 0xFFFF);
+                out.normal[i] = packSnorm8(voxel::decodeNormal(vx.normal));
+                out.feature[i] = std::uint16_t(vx.distanceFeature >> 16);
+                known[b][std::size_t(s.x + kBrickSamples * (s.y + kBrickSamples * s.z))] = 1;
             }
         }
-        for (std::size_t b = firstBrick; b < out.bricks.size(); ++b)
-            fillUnknown(out, b, known[b - firstBrick], queue);
+    }
+    std::vector<int> queue;
+    for (std::size_t b = 0; b < out.bricks.size(); ++b)
+        fillUnknown(out, b, known[b], queue);
+    return out;
+}
+
+} // namespace
+
+BrickLeaves BrickLeaves::fromVoxels(const FlatVoxelBuffers& v)
+{
+    // Tile by tile on every core, then joined in the tiles' order (the same
+    // bricks in the same order whatever the threads).
+    std::vector<std::size_t> surface;
+    for (std::size_t t = 0; t < v.tiles.size(); ++t)
+        if (v.tiles[t] != voxel::kEmptyTile && v.tiles[t] != voxel::kFullTile) surface.push_back(t);
+    std::vector<BrickLeaves> parts(surface.size());
+    tbb::parallel_for(std::size_t(0), surface.size(), [&](std::size_t i) { parts[i] = tileBricks(v, surface[i]); });
+    BrickLeaves out;
+    std::size_t bricks = 0;
+    for (const BrickLeaves& p : parts)
+        bricks += p.bricks.size();
+    out.bricks.reserve(bricks);
+    out.distance.reserve(bricks * kBrickSampleCount);
+    out.normal.reserve(bricks * kBrickSampleCount);
+    out.feature.reserve(bricks * kBrickSampleCount);
+    for (BrickLeaves& p : parts) {
+        out.bricks.insert(out.bricks.end(), p.bricks.begin(), p.bricks.end());
+        out.distance.insert(out.distance.end(), p.distance.begin(), p.distance.end());
+        out.normal.insert(out.normal.end(), p.normal.begin(), p.normal.end());
+        out.feature.insert(out.feature.end(), p.feature.begin(), p.feature.end());
+        p = BrickLeaves{};
     }
     return out;
 }
