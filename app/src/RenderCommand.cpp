@@ -67,7 +67,8 @@ Options:
                         3D textures, one cube drawn per brick, the texture
                         unit interpolating): the same picture, measured 19
                         to 34 times slower on an H200 (docs/benchmarks.md);
-                        voxels only (no --quality exact), CPU voxelizer
+                        voxels only (no --quality exact); with --voxelizer
+                        gpu the bricks are made from the GPU's voxels
   --json                print the figures as one JSON object
   -D NAME=VALUE         set the document's parameter NAME (a number or an
                         expression, like 19 or 3/4in) for this run; repeatable
@@ -114,8 +115,6 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const bool withBricks = rendererName == "bricks";
         if (withBricks && a.has("--cpu"))
             throw UsageError("--renderer bricks draws with the Vulkan device, and --cpu leaves it out");
-        if (withBricks && voxelizerName == "gpu")
-            throw UsageError("--renderer bricks makes its bricks from the CPU voxelizer's voxels: leave out --voxelizer gpu");
         if (withBricks && *quality != TraceQuality::Voxels)
             throw UsageError("--renderer bricks draws the voxels only: --quality " + qualityName +
                              " needs the compute tracer");
@@ -215,7 +214,8 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
                 options.quality = *quality;
                 if (withBricks) {
                     vk::BrickRenderer bricks(ctx);
-                    bricks.setBricks(BrickLeaves::fromVoxels(*buffers));
+                    // The GPU voxelizer's voxels come back to the host to be made into bricks.
+                    bricks.setBricks(BrickLeaves::fromVoxels(gpuVoxels ? gpuVoxels->readBack(ctx) : *buffers));
                     t0 = std::chrono::steady_clock::now();
                     picture = renderer.render(bricks, camera, tape.features(), options);
                     traceMs = msSince(t0);
