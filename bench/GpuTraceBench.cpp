@@ -524,30 +524,26 @@ int bricksBench(const std::vector<std::string>& args)
             for (auto [w, h] : std::vector<std::pair<int, int>>{{1920, 1080}, {2560, 1440}}) {
                 const Camera camera = Camera::standardView(tape.bounds(), "iso", w, h);
                 // Alternated, twice: the faster of each.
-                double contreeMs = 1e30, brickMs = 1e30, faceDepthMs = 1e30;
+                double contreeMs = 1e30, brickMs = 1e30;
                 for (int round = 0; round < 2; ++round) {
                     contreeMs = std::min(contreeMs, tracer.sustainedMilliseconds(camera, frames, TraceQuality::Voxels));
                     brickMs = std::min(brickMs, renderer.sustainedMilliseconds(camera, frames));
-                    // What the depth written costs: the cube's face in the test instead.
-                    renderer.setFaceDepthOnly(true);
-                    faceDepthMs = std::min(faceDepthMs, renderer.sustainedMilliseconds(camera, frames));
-                    renderer.setFaceDepthOnly(false);
                 }
                 renderer.render(camera); // a moved eye: the sort's cost
                 const Camera moved = Camera::standardView(tape.bounds(), "front", w, h);
                 renderer.render(moved);
                 const double sortMs = renderer.lastSortMilliseconds();
-                std::printf("%-9s %6g %9zu %9zu %10.1f %10.1f %10.1f %10.1f %5dx%-5d %11.3f %12.3f %12.1f   face depth %.3f ms\n",
+                std::printf("%-9s %6g %9zu %9zu %10.1f %10.1f %10.1f %10.1f %5dx%-5d %11.3f %12.3f %12.1f\n",
                             scene.name.c_str(), fs, bricks.bricks.size(), snap.populatedVoxels(),
                             double(snap.bytes()) / 1e6, double(renderer.residentBytes()) / 1e6, voxelizeMs, bricksMs, w,
-                            h, contreeMs, brickMs, sortMs, faceDepthMs);
+                            h, contreeMs, brickMs, sortMs);
                 std::fflush(stdout);
                 results.push_back({{"scene", scene.name}, {"feature_size", fs}, {"bricks", bricks.bricks.size()},
                                    {"populated_voxels", snap.populatedVoxels()}, {"contree_bytes", snap.bytes()},
                                    {"brick_device_bytes", renderer.residentBytes()}, {"voxelize_ms", voxelizeMs},
                                    {"bricks_from_contree_ms", bricksMs}, {"width", w}, {"height", h},
                                    {"contree_sustained_ms", contreeMs}, {"bricks_sustained_ms", brickMs},
-                                   {"sort_ms", sortMs}, {"bricks_face_depth_sustained_ms", faceDepthMs}});
+                                   {"sort_ms", sortMs}});
             }
             if (accuracyWidth > 0) {
                 // Against the exact picture (the exact tracer, 1e-4 voxel), on

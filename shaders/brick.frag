@@ -1,12 +1,12 @@
 #version 460
 // Marches one brick's samples along the pixel's ray with hardware trilinear
 // filtering, and writes what the compute tracer writes (depth along the
-// ray, unit normal, feature) where it meets the surface. The depth it
-// writes is never nearer than the cube's face, so the early depth test
-// still drops fragments behind a nearer brick's hit (conservative depth).
-// Compiled with KERF_BRICK_FACE_DEPTH it writes no depth (the cube's face
-// stands in the depth test: wrong where bricks overlap on screen), for the
-// benchmark that measures what writing the depth costs.
+// ray, unit normal, feature) where it meets the surface. The fragment is
+// one of the cube's far faces (BrickRenderer.cpp) and writes no depth of its
+// own: the depth test keeps the brick whose far face is nearest, which is
+// the first brick along the ray that found the surface (bricks are
+// disjoint boxes, so a ray leaves them in the order it enters them), and the
+// early depth test drops the bricks behind it before their march.
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_GOOGLE_include_directive : require
@@ -22,9 +22,6 @@ layout(location = 1) flat in uint instance;
 layout(location = 0) out float outDepth;
 layout(location = 1) out vec4 outNormal;
 layout(location = 2) out uint outFeature;
-#ifndef KERF_BRICK_FACE_DEPTH
-layout(depth_greater) out float gl_FragDepth;
-#endif
 
 const int kBisectionSteps = 10;
 
@@ -124,11 +121,6 @@ void main()
     // first nearest corner).
     const ivec3 nearest = clamp(ivec3(ceil(q - 0.5)), ivec3(0), ivec3(int(cells)));
     outFeature = texelFetch(featureAtlas, ivec3(slotOrigin) + nearest, 0).r;
-    const vec3 at = origin + hit * dir;
     outDepth = hit;
     outNormal = vec4(n, 0.0);
-    const vec4 clip = pc.p.clipFromEye * vec4(at, 1.0);
-#ifndef KERF_BRICK_FACE_DEPTH
-    gl_FragDepth = max(clip.z / clip.w, gl_FragCoord.z);
-#endif
 }

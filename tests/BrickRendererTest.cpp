@@ -61,6 +61,37 @@ TEST_P(BrickRendererOnEveryExample, MatchesTheCpuReferenceTracer)
     EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
 }
 
+// A camera close enough to the surface to be inside a brick (zoomed in on a
+// face): the brick must still draw its surface (the renderer draws the
+// cubes' far faces, which are in front of such an eye).
+TEST_F(VulkanTracer, BricksDrawTheSurfaceOfTheBrickTheEyeIsIn)
+{
+    const Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"cube","type":"box",
+        "size":[41.4,41.4,41.4]}})", "cube.kerf");
+    const Tape tape = compileTape(doc);
+    const GridLayout layout = GridLayout::choose(tape.bounds(), 0.5);
+    const FlatVoxelBuffers buffers = FlatVoxelBuffers::flatten(voxelize(tape, layout));
+    vk::BrickRenderer renderer(*context);
+    renderer.setBricks(BrickLeaves::fromVoxels(buffers));
+    // 0.2 mm in front of the cube's front face (y = -20.7), looking at it
+    // and a little across: the bricks there span y from -24 to -20 mm, so
+    // the eye is in the one that holds the face.
+    for (const Projection projection : {Projection::Perspective, Projection::Orthographic}) {
+        SCOPED_TRACE(projection == Projection::Orthographic ? "orthographic" : "perspective");
+        const Camera camera = projection == Projection::Perspective
+                                  ? Camera::perspective({1.3, -20.9, 0.9}, {3, 0, 2}, {0, 0, 1}, 60.0, 160, 120)
+                                  : Camera::orthographic({1.3, -20.9, 0.9}, {1.3, 0, 0.9}, {0, 0, 1}, 6.0, 160, 120);
+        const TraceImage gpu = renderer.render(camera);
+        const TraceImage cpu = traceVoxels(buffers, camera, 0, {}, TraceQuality::Voxels);
+        const Comparison c = compare(gpu, cpu, 0.05 * layout.voxelSize);
+        EXPECT_EQ(c.holes, 0u);
+        EXPECT_EQ(c.extra, 0u);
+        EXPECT_GE(double(c.depthClose), 0.995 * double(c.bothHit));
+        EXPECT_GT(c.bothHit, 15000u) << "the face fills the picture";
+    }
+    EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
+}
+
 INSTANTIATE_TEST_SUITE_P(Examples, BrickRendererOnEveryExample,
                          ::testing::Values("side-chair", "bookshelf-side", "table-top", "stool", "door-frame",
                                            "turned-leg"));

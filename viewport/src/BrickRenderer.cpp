@@ -6,7 +6,6 @@
 #include "kerf/viewport/VulkanError.hpp"
 
 #include "BrickShared.h"
-#include "brick.frag.facedepth.h"
 #include "brick.frag.h"
 #include "brick.vert.h"
 
@@ -70,8 +69,7 @@ struct BrickRenderer::Impl {
     VkDescriptorSet set = VK_NULL_HANDLE;
     PipelineLayout layout;
     RenderPass renderPass;
-    Pipeline pipeline, faceDepthPipeline;
-    bool faceDepthOnly = false;
+    Pipeline pipeline;
     Sampler linear, nearest;
     QueryPool timestamps;
 
@@ -186,8 +184,6 @@ BrickRenderer::BrickRenderer(const Context& ctx) : impl_(std::make_unique<Impl>(
 
     const ShaderModule vs = makeShaderModule(dev, kBrickVert, sizeof kBrickVert, "shader brick.vert");
     const ShaderModule fs = makeShaderModule(dev, kBrickFrag, sizeof kBrickFrag, "shader brick.frag");
-    const ShaderModule faceDepthFs =
-        makeShaderModule(dev, kBrickFaceDepthFrag, sizeof kBrickFaceDepthFrag, "shader brick.frag (face depth)");
     VkPipelineShaderStageCreateInfo stages[2]{};
     stages[0].sType = stages[1].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
     stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
@@ -204,9 +200,12 @@ BrickRenderer::BrickRenderer(const Context& ctx) : impl_(std::make_unique<Impl>(
     vp.scissorCount = 1;
     VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
     rs.polygonMode = VK_POLYGON_MODE_FILL;
-    // The cube's faces wind counter-clockwise seen from outside in the
-    // world; the projection flips y into Vulkan's downward framebuffer,
-    // which turns them clockwise there.
+    // The cubes' far faces: the faces wind counter-clockwise seen from
+    // outside, and so they look on screen (the projection turns y upright),
+    // which Vulkan calls counter-clockwise; clockwise as the front culls the
+    // near faces. A far face is in front of an eye inside its brick (zoomed in
+    // on a surface), and its depth orders the bricks along a ray as their hits
+    // do (brick.frag).
     rs.cullMode = VK_CULL_MODE_BACK_BIT;
     rs.frontFace = VK_FRONT_FACE_CLOCKWISE;
     rs.lineWidth = 1.0f;
@@ -244,9 +243,6 @@ BrickRenderer::BrickRenderer(const Context& ctx) : impl_(std::make_unique<Impl>(
     VkPipeline p;
     check(vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &gci, nullptr, &p), "vkCreateGraphicsPipelines (bricks)");
     impl_->pipeline = Pipeline(dev, p);
-    stages[1].module = faceDepthFs;
-    check(vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &gci, nullptr, &p), "vkCreateGraphicsPipelines (bricks)");
-    impl_->faceDepthPipeline = Pipeline(dev, p);
 
     impl_->linear = makeSampler(dev, VK_FILTER_LINEAR);
     impl_->nearest = makeSampler(dev, VK_FILTER_NEAREST);
@@ -293,11 +289,15 @@ void BrickRenderer::setBricks(const BrickLeaves& leaves)
 
     // The samples in the atlases' texel order, in one staging buffer.
     const std::size_t texels = std::size_t(extent.width) * extent.height * extent.depth;
-    const std::size_t distanceAt = 0, normalAt = texels * 2, featureAt = texels * 6;
-    GpuBuffer staging(m.ctx, texels * 8, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GpuBuffer::Kind::HostVisible,
+    // Each array at a 16-byte boundary: a copy's offset must be a multiple
+    // of its texel's size (and the host writes whole words).
+    auto aligned = [](std::size_t bytes16) { return (bytes16 + 15) & ~std::size_t(15); };
+    const std::size_t distanceAt = 0, normalAt = aligned(texels * 2), featureAt = normalAt + aligned(texels * 4);
+    const std::size_t stagingBytes = featureAt + aligned(texels * 2);
+    GpuBuffer staging(m.ctx, stagingBytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GpuBuffer::Kind::HostVisible,
                       "brick atlas staging");
     auto* bytes = static_cast<std::uint8_t*>(staging.mapped());
-    std::memset(bytes, 0, texels * 8);
+    std::memset(bytes, 0, stagingBytes);
     auto* dist = reinterpret_cast<std::int16_t*>(bytes + distanceAt);
     auto* nrm = reinterpret_cast<std::uint32_t*>(bytes + normalAt);
     auto* feat = reinterpret_cast<std::uint16_t*>(bytes + featureAt);
@@ -450,7 +450,7 @@ void BrickRenderer::record(VkCommandBuffer cb, const Camera& camera)
         push.forward = {float(f.x), float(f.y), float(f.z), camera.projection() == Projection::Orthographic ? 1.0f : 0.0f};
         push.atlasScale = {1.0f / float(m.atlasTexels.x), 1.0f / float(m.atlasTexels.y), 1.0f / float(m.atlasTexels.z), 0.0f};
         push.instances = m.instances.address();
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, m.faceDepthOnly ? m.faceDepthPipeline : m.pipeline);
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipeline);
         vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, m.layout, 0, 1, &m.set, 0, nullptr);
         vkCmdPushConstants(cb, m.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push, &push);
         vkCmdDraw(cb, 36, std::uint32_t(m.bricks.size()), 0, 0);
@@ -484,8 +484,6 @@ double BrickRenderer::lastGpuMilliseconds() const
           "vkGetQueryPoolResults (bricks)");
     return double(stamps[1] - stamps[0]) * double(impl_->ctx.properties().limits.timestampPeriod) * 1e-6;
 }
-
-void BrickRenderer::setFaceDepthOnly(bool on) { impl_->faceDepthOnly = on; }
 
 double BrickRenderer::lastSortMilliseconds() const { return impl_->sortMilliseconds; }
 

@@ -2,19 +2,19 @@
 // The brick renderer (../shared/seeds/hierarchical-evaluator-and-brick-renderer.md):
 // the brick leaves' samples in three 3D texture atlases (distance and
 // normal filtered trilinearly by the texture unit, feature fetched), one
-// instanced cube per brick rasterized front to back, and a fragment shader
-// (shaders/brick.frag) that marches the brick's samples along the pixel's
-// ray. It writes what the compute tracer writes (TraceTargets: depth along
-// the ray, unit normal, feature per pixel), so whatever reads a trace reads
-// it. The depth test keeps the nearest brick's hit; a fragment's depth is
-// never nearer than its cube's face (conservative depth), so bricks behind a
-// hit already drawn are dropped before their shader runs.
+// instanced cube per brick (its far faces) rasterized front to back, and a
+// fragment shader (shaders/brick.frag) that marches the brick's samples
+// along the pixel's ray. It writes what the compute tracer writes
+// (TraceTargets: depth along the ray, unit normal, feature per pixel), so
+// whatever reads a trace reads it. The fragments write no depth: the depth
+// test keeps the brick whose far face is nearest, the first along the ray
+// that found the surface, and drops the bricks behind it before their
+// shader runs.
 //
 // Not yet: section planes and the exact-edges refinement (the compute
-// tracer's; the viewport hands such frames to the tracer), and a camera
-// inside a brick (its front faces are behind the eye) does not see that
-// brick's surface. Measured 19 to 34 times slower than the compute tracer
-// (docs/benchmarks.md), so it is offered only on request.
+// tracer's; the viewport hands such frames to the tracer). Measured 18 to 30
+// times slower than the compute tracer on an H200 (docs/benchmarks.md), so
+// it is offered only on request.
 //
 // Threading: one thread. One frame in flight. The context must outlive it.
 
@@ -54,12 +54,6 @@ public:
     double lastGpuMilliseconds() const;
     /// Host milliseconds of the last front-to-back sort (0 when none was needed).
     double lastSortMilliseconds() const;
-
-    /// For the benchmark only: with `on`, fragments write no depth and the
-    /// cube's face stands in the depth test (a wrong picture where bricks
-    /// overlap on screen, but nothing keeps the early depth test from
-    /// working), to measure what the conservative depth costs.
-    void setFaceDepthOnly(bool on);
 
     /// Draws and reads the image back.
     TraceImage render(const Camera& camera, double* gpuMilliseconds = nullptr);
