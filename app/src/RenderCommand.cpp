@@ -65,8 +65,8 @@ Options:
                         pixel's ray down the voxels' trees; bricks: the
                         brick renderer (the voxels as 8x8x8-voxel bricks in
                         3D textures, one cube drawn per brick, the texture
-                        unit interpolating): the same picture, measured 19
-                        to 34 times slower on an H200 (docs/benchmarks.md);
+                        unit interpolating): the same picture, measured 18
+                        to 32 times slower on an H200 (docs/benchmarks.md);
                         voxels only (no --quality exact); with --voxelizer
                         gpu the bricks are made from the GPU's voxels
   --json                print the figures as one JSON object

@@ -12,7 +12,7 @@
 // shader runs.
 //
 // Not yet: section planes and the exact-edges refinement (the compute
-// tracer's; the viewport hands such frames to the tracer). Measured 18 to 30
+// tracer's; the viewport hands such frames to the tracer). Measured 18 to 32
 // times slower than the compute tracer on an H200 (docs/benchmarks.md), so
 // it is offered only on request.
 //
