@@ -2,6 +2,7 @@
 
 #include "kerf/viewport/ClipFromWorld.hpp"
 #include "kerf/viewport/DeviceImage.hpp"
+#include "kerf/viewport/GraphicsPipeline.hpp"
 #include "kerf/viewport/ShaderModules.hpp"
 #include "kerf/viewport/VulkanError.hpp"
 
@@ -34,19 +35,6 @@ constexpr VkFormat kNormalTargetFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 constexpr VkFormat kFeatureTargetFormat = VK_FORMAT_R32_UINT;
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 
-void transition(VkCommandBuffer cb, VkImage image, VkImageLayout from, VkImageLayout to, VkAccessFlags srcAccess,
-                VkAccessFlags dstAccess, VkPipelineStageFlags srcStage, VkPipelineStageFlags dstStage)
-{
-    VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-    b.oldLayout = from;
-    b.newLayout = to;
-    b.srcAccessMask = srcAccess;
-    b.dstAccessMask = dstAccess;
-    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = image;
-    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    vkCmdPipelineBarrier(cb, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &b);
-}
 
 Sampler makeSampler(VkDevice dev, VkFilter filter)
 {
@@ -135,114 +123,26 @@ BrickRenderer::BrickRenderer(const Context& ctx) : impl_(std::make_unique<Impl>(
     check(vkCreatePipelineLayout(dev, &plci, nullptr, &pl), "vkCreatePipelineLayout (bricks)");
     impl_->layout = PipelineLayout(dev, pl);
 
-    // Render pass: three colour targets (cleared to "nothing hit") and depth;
-    // the colour targets end ready to be copied into the trace buffers.
-    VkAttachmentDescription att[4]{};
-    const VkFormat formats[4] = {kRayDepthFormat, kNormalTargetFormat, kFeatureTargetFormat, kDepthFormat};
-    for (int i = 0; i < 4; ++i) {
-        att[i].format = formats[i];
-        att[i].samples = VK_SAMPLE_COUNT_1_BIT;
-        att[i].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        att[i].storeOp = i < 3 ? VK_ATTACHMENT_STORE_OP_STORE : VK_ATTACHMENT_STORE_OP_DONT_CARE;
-        att[i].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-        att[i].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-        att[i].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-        att[i].finalLayout = i < 3 ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-    }
-    VkAttachmentReference colorRefs[3] = {{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
-                                          {1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
-                                          {2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL}};
-    VkAttachmentReference depthRef{3, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-    VkSubpassDescription sub{};
-    sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-    sub.colorAttachmentCount = 3;
-    sub.pColorAttachments = colorRefs;
-    sub.pDepthStencilAttachment = &depthRef;
-    VkSubpassDependency deps[2]{};
-    deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;
-    deps[0].dstSubpass = 0;
-    deps[0].srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-    deps[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
-    deps[0].srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-    deps[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-    deps[1].srcSubpass = 0;
-    deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
-    deps[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-    deps[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-    deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-    deps[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-    VkRenderPassCreateInfo rpci{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-    rpci.attachmentCount = 4;
-    rpci.pAttachments = att;
-    rpci.subpassCount = 1;
-    rpci.pSubpasses = &sub;
-    rpci.dependencyCount = 2;
-    rpci.pDependencies = deps;
-    VkRenderPass rp;
-    check(vkCreateRenderPass(dev, &rpci, nullptr, &rp), "vkCreateRenderPass (bricks)");
-    impl_->renderPass = RenderPass(dev, rp);
+    // Three colour targets (cleared to "nothing hit"), copied into the trace
+    // buffers after the pass, and depth.
+    const VkFormat colours[3] = {kRayDepthFormat, kNormalTargetFormat, kFeatureTargetFormat};
+    impl_->renderPass = makeCopiedRenderPass(dev, colours, kDepthFormat, "vkCreateRenderPass (bricks)");
 
     const ShaderModule vs = makeShaderModule(dev, kBrickVert, sizeof kBrickVert, "shader brick.vert");
     const ShaderModule fs = makeShaderModule(dev, kBrickFrag, sizeof kBrickFrag, "shader brick.frag");
-    VkPipelineShaderStageCreateInfo stages[2]{};
-    stages[0].sType = stages[1].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-    stages[0].module = vs;
-    stages[0].pName = "main";
-    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-    stages[1].module = fs;
-    stages[1].pName = "main";
-    VkPipelineVertexInputStateCreateInfo vin{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-    VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-    vp.viewportCount = 1;
-    vp.scissorCount = 1;
-    VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    rs.polygonMode = VK_POLYGON_MODE_FILL;
+    GraphicsPipelineStyle style;
+    style.depthCompare = VK_COMPARE_OP_LESS;
+    style.colorAttachments = 3;
     // The cubes' far faces: the faces wind counter-clockwise seen from
     // outside, and so they look on screen (the projection turns y upright),
     // which Vulkan calls counter-clockwise; clockwise as the front culls the
     // near faces. A far face is in front of an eye inside its brick (zoomed in
     // on a surface), and its depth orders the bricks along a ray as their hits
     // do (brick.frag).
-    rs.cullMode = VK_CULL_MODE_BACK_BIT;
-    rs.frontFace = VK_FRONT_FACE_CLOCKWISE;
-    rs.lineWidth = 1.0f;
-    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    ds.depthTestEnable = VK_TRUE;
-    ds.depthWriteEnable = VK_TRUE;
-    ds.depthCompareOp = VK_COMPARE_OP_LESS;
-    VkPipelineColorBlendAttachmentState blend[3]{};
-    // Identical for every target (without the independentBlend feature).
-    for (auto& b : blend)
-        b.colorWriteMask =
-            VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-    VkPipelineColorBlendStateCreateInfo cbs{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    cbs.attachmentCount = 3;
-    cbs.pAttachments = blend;
-    const VkDynamicState dynamic[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-    VkPipelineDynamicStateCreateInfo dy{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-    dy.dynamicStateCount = 2;
-    dy.pDynamicStates = dynamic;
-    VkGraphicsPipelineCreateInfo gci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-    gci.stageCount = 2;
-    gci.pStages = stages;
-    gci.pVertexInputState = &vin;
-    gci.pInputAssemblyState = &ia;
-    gci.pViewportState = &vp;
-    gci.pRasterizationState = &rs;
-    gci.pMultisampleState = &ms;
-    gci.pDepthStencilState = &ds;
-    gci.pColorBlendState = &cbs;
-    gci.pDynamicState = &dy;
-    gci.layout = impl_->layout;
-    gci.renderPass = impl_->renderPass;
-    VkPipeline p;
-    check(vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &gci, nullptr, &p), "vkCreateGraphicsPipelines (bricks)");
-    impl_->pipeline = Pipeline(dev, p);
+    style.cullMode = VK_CULL_MODE_BACK_BIT;
+    style.frontFace = VK_FRONT_FACE_CLOCKWISE;
+    impl_->pipeline = makeGraphicsPipeline(dev, impl_->renderPass, impl_->layout, vs, fs, style,
+                                           "vkCreateGraphicsPipelines (bricks)");
 
     impl_->linear = makeSampler(dev, VK_FILTER_LINEAR);
     impl_->nearest = makeSampler(dev, VK_FILTER_NEAREST);
@@ -318,14 +218,14 @@ void BrickRenderer::setBricks(const BrickLeaves& leaves)
         const std::pair<VkImage, std::size_t> copies[3] = {
             {m.distance.image, distanceAt}, {m.normal.image, normalAt}, {m.feature.image, featureAt}};
         for (const auto& [image, offset] : copies) {
-            transition(cb, image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+            imageBarrier(cb, image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
                        VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
             VkBufferImageCopy region{};
             region.bufferOffset = offset;
             region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
             region.imageExtent = extent;
             vkCmdCopyBufferToImage(cb, staging.buffer(), image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-            transition(cb, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+            imageBarrier(cb, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                        VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                        VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
         }

@@ -1,5 +1,6 @@
 #include "kerf/viewport/ViewportRenderer.hpp"
 
+#include "kerf/viewport/DeviceImage.hpp"
 #include "kerf/viewport/VulkanError.hpp"
 
 #include <algorithm>
@@ -20,19 +21,6 @@ Semaphore makeSemaphore(VkDevice dev)
     return Semaphore(dev, s);
 }
 
-void imageBarrier(VkCommandBuffer cb, VkImage image, VkImageLayout from, VkImageLayout to, VkAccessFlags srcAccess,
-                  VkAccessFlags dstAccess, VkPipelineStageFlags srcStage, VkPipelineStageFlags dstStage)
-{
-    VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-    b.oldLayout = from;
-    b.newLayout = to;
-    b.srcAccessMask = srcAccess;
-    b.dstAccessMask = dstAccess;
-    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = image;
-    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    vkCmdPipelineBarrier(cb, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &b);
-}
 
 } // namespace
 
