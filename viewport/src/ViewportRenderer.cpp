@@ -198,10 +198,11 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
         }
         if (m.bricksOf != shown && !m.makingBricks.valid()) {
             m.makingBricksOf = shown;
-            m.makingBricks = std::async(std::launch::async, [snapshot = shown, wake = m.wake] {
-                BrickLeaves made = BrickLeaves::fromVoxels(FlatVoxelBuffers::flatten(*snapshot));
-                if (wake) wake(); // a frame to show them
-                return made;
+            // No wake from the task: the owner may be tearing the renderer
+            // down (and hold what wake takes) while this future's destructor
+            // waits for it. Frames go on instead while it works (upToDate).
+            m.makingBricks = std::async(std::launch::async, [snapshot = shown] {
+                return BrickLeaves::fromVoxels(FlatVoxelBuffers::flatten(*snapshot));
             });
         }
     }
@@ -283,7 +284,8 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
         st.heapBytes = gpu->report.poolBytes;
         st.gpuBuildMs = gpu->requestMilliseconds;
     } else {
-        st.upToDate = m.streamer.upToDate();
+        // Bricks still being made for the snapshot on screen: not there yet.
+        st.upToDate = m.streamer.upToDate() && !(bricksCanDraw && !st.drewBricks);
         st.shownVersion = shown ? shown->version : 0;
         st.shownRevision = shown ? shown->documentRevision : 0;
         st.shownComplete = shown && shown->complete;

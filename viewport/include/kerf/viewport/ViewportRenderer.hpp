@@ -21,8 +21,9 @@
 // With ViewportScene::bricks the part is drawn by the brick renderer
 // (BrickRenderer.hpp) instead of the compute tracer: the bricks of the
 // snapshot on screen are made on a thread of their own and go up in one
-// copy when done; until then, and wherever the bricks cannot draw (a
-// section, exact edges, voxels the GPU built), the tracer draws the part.
+// copy when done; until then (the frame is not up to date, so frames go on)
+// and wherever the bricks cannot draw (a section, exact edges, voxels the
+// GPU built), the tracer draws the part.
 //
 // Threading: one thread (the render thread) uses a renderer; the scene is a
 // value copied in for every frame. One frame in flight: drawFrame() waits
