@@ -595,6 +595,7 @@ void MainWindowTest::brickRendererDrawsTheSamePartAndStepsAsideWhereItCannot()
     QVERIFY(waitForViewport(*w));
     const QImage traced = w->viewport()->grabFrame();
     QVERIFY(!w->viewport()->status().bricks);
+    const std::size_t tracedBytes = w->viewport()->status().voxelBytes;
     auto* frame = w->findChild<QLabel*>("status.frame");
     action(w.get(), "action.brickRenderer")->trigger();
     QTRY_VERIFY_WITH_TIMEOUT(w->viewport()->status().bricks, kVoxelTimeoutMs);
@@ -608,6 +609,12 @@ void MainWindowTest::brickRendererDrawsTheSamePartAndStepsAsideWhereItCannot()
     QTRY_VERIFY(frame->text().contains("trace"));
     action(w.get(), "action.exactEdges")->trigger();
     QTRY_VERIFY_WITH_TIMEOUT(w->viewport()->status().bricks, kVoxelTimeoutMs);
+    // The bricks' memory counts while they are there, and goes with them.
+    const std::size_t withBricks = w->viewport()->status().voxelBytes;
+    QVERIFY(withBricks > 2 * tracedBytes);
+    action(w.get(), "action.brickRenderer")->trigger();
+    QTRY_VERIFY_WITH_TIMEOUT(!w->viewport()->status().bricks, kVoxelTimeoutMs);
+    QTRY_COMPARE(w->viewport()->status().voxelBytes, tracedBytes);
     const auto status = w->viewport()->status();
     QVERIFY2(status.validationErrors == 0, qPrintable(status.lastValidationMessage));
 }

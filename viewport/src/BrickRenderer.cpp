@@ -167,7 +167,13 @@ void BrickRenderer::setBricks(const BrickLeaves& leaves)
     m.sortedFor.reset();
     ++m.uploads;
     if (n == 0) {
+        // Nothing to draw: the atlases go too (record() draws nothing, so the
+        // descriptor set's stale views are never read).
         m.instances = {};
+        m.distance = {};
+        m.normal = {};
+        m.feature = {};
+        m.atlasSlots = m.atlasTexels = glm::uvec3(0);
         return;
     }
     // Slots of kBrickSamples texels along each axis, as near a cube as the

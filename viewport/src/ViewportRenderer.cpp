@@ -187,6 +187,16 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
     // snapshot on screen, once made (on a thread of their own).
     const bool bricksCanDraw = scene.bricks && !gpu && shown && resident.valid() && !scene.section.enabled &&
                                scene.quality == TraceQuality::Voxels;
+    if (!scene.bricks) {
+        // Off: the atlases go (the last frame that read them has finished),
+        // and so do bricks made for nothing.
+        if (m.bricksOf) {
+            m.bricks.setBricks(BrickLeaves{});
+            m.bricksOf.reset();
+        }
+        if (m.makingBricks.valid() && m.makingBricks.wait_for(std::chrono::seconds(0)) == std::future_status::ready)
+            m.makingBricks.get();
+    }
     if (bricksCanDraw && m.bricksOf != shown) {
         if (m.makingBricks.valid() &&
             m.makingBricks.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
@@ -289,7 +299,9 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
         st.shownVersion = shown ? shown->version : 0;
         st.shownRevision = shown ? shown->documentRevision : 0;
         st.shownComplete = shown && shown->complete;
-        st.residentBytes = resident.bytes;
+        // The bricks drawn are device memory too (about three times the
+        // voxels'), outside the voxel budget.
+        st.residentBytes = resident.bytes + (m.bricksOf ? m.bricks.residentBytes() : 0);
         st.heapBytes = m.streamer.heapCapacity();
     }
     if (m.worker) {
