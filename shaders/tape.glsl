@@ -150,7 +150,9 @@ vec2 maxT(vec2 a, vec2 b) { return max(a, b); }
 
 #define T vec4
 #define cT(c) vec4(c, 0.0, 0.0, 0.0)
+#define KERF_TAPE_DUALS
 #include "tape_shapes.glsl"
+#undef KERF_TAPE_DUALS
 #define KERF_TAPE_EVALUATE evaluateTileTapeDual
 #define KERF_TAPE_FEATURES
 #include "tape_machine.glsl"

@@ -97,10 +97,60 @@ T coneT(T x, T y, T z, float r1, float r2, float h, float k2x, float k2y, float 
     return scaleT(sqrtT(minT(addT(sqT(cax), sqT(cay)), addT(sqT(cbx), sqT(cby)))), s);
 }
 
+#ifdef KERF_TAPE_DUALS
+// sdf::polygon2d's form for duals (Primitives.hpp, which says why): the
+// nearest edge in plain floats, then the gradient once, from it: the edge's
+// outward normal where the nearest point lies inside the edge, the signed
+// (p - q) / |p - q| where it is a vertex q. The value is the generic form's.
+vec4 polygonDual(uint t, uint first, uint count, vec4 x, vec4 y, bool axisEdges)
+{
+    const float px = x.x, py = y.x;
+    float d = kTapeFloatMax, qx = 0.0, qy = 0.0, edgeX = 0.0, edgeY = 0.0, area = 0.0;
+    if (axisEdges) {
+        qx = px - tapeFloat(t, first);
+        qy = py - tapeFloat(t, first + 1u);
+        d = qx * qx + qy * qy;
+    }
+    bool inside = false;
+    for (uint i = 0u, j = count - 1u; i < count; j = i++) {
+        const float vix = tapeFloat(t, first + 2u * i), viy = tapeFloat(t, first + 2u * i + 1u);
+        const float vjx = tapeFloat(t, first + 2u * j), vjy = tapeFloat(t, first + 2u * j + 1u);
+        area += vjx * viy - vix * vjy;
+        if (!axisEdges && vix == 0.0 && vjx == 0.0) continue;
+        const float ex = vjx - vix, ey = vjy - viy;
+        const float wx = px - vix, wy = py - viy;
+        const float raw = (wx * ex + wy * ey) / (ex * ex + ey * ey);
+        const float s = min(max(raw, 0.0), 1.0);
+        const float bx = wx - s * ex, by = wy - s * ey;
+        const float di = bx * bx + by * by;
+        if (di < d) {
+            d = di;
+            qx = bx;
+            qy = by;
+            const bool within = 0.0 < raw && raw < 1.0;
+            edgeX = within ? ex : 0.0;
+            edgeY = within ? ey : 0.0;
+        }
+        const bool c1 = py >= viy, c2 = py < vjy, c3 = ex * wy > ey * wx;
+        if ((c1 && c2 && c3) || (!c1 && !c2 && !c3)) inside = !inside;
+    }
+    const float dist = sqrt(d);
+    vec2 g = vec2(0.0);
+    if (edgeX != 0.0 || edgeY != 0.0)
+        g = vec2(-edgeY, edgeX) * ((area < 0.0 ? -1.0 : 1.0) / sqrt(edgeX * edgeX + edgeY * edgeY));
+    else if (dist > 0.0)
+        g = vec2(qx, qy) * ((inside ? -1.0 : 1.0) / dist);
+    return vec4(inside ? -dist : dist, g.x * x.yzw + g.y * y.yzw);
+}
+#endif
+
 // sdf::polygon2d over the `count` points (x, y floats) from word `first`;
 // without a revolve's edges on the axis when axisEdges is false.
 T polygonT(uint t, uint first, uint count, T x, T y, bool axisEdges)
 {
+#ifdef KERF_TAPE_DUALS
+    return polygonDual(t, first, count, x, y, axisEdges);
+#else
     T d = axisEdges ? addT(sqT(subT(x, cT(tapeFloat(t, first)))), sqT(subT(y, cT(tapeFloat(t, first + 1u)))))
                     : cT(kTapeFloatMax);
     bool inside = false;
@@ -117,6 +167,7 @@ T polygonT(uint t, uint first, uint count, T x, T y, bool axisEdges)
     }
     const T dist = sqrtT(d);
     return inside ? negT(dist) : dist;
+#endif
 }
 
 // sdf::revolution: the profile's [r, z] points at (length(x, y), z).

@@ -15,6 +15,7 @@
 #include "kerf/mesher/MeshFile.hpp"
 #include "kerf/mesher/MeshPart.hpp"
 #include "kerf/mesher/OpenMeshAdapter.hpp"
+#include "kerf/mesher/SelfIntersections.hpp"
 #include "kerf/mesher/StlWriter.hpp"
 #include "kerf/mesher/Triangulate.hpp"
 #include "support/RandomShapes.hpp"
@@ -567,6 +568,55 @@ TEST(Mesher, ProgressRisesToOneAndCancelReturnsNothing)
 // the part reaches: float32's at the part's largest coordinate for STL,
 // float32's at its half extent for 3MF (written next to the part). Anything
 // finer is refused before meshing, with the finest it holds.
+TEST(Mesher, TheCrossingGuardAppliedAfterwardsRedoesWhatComesTooClose)
+{
+    // CrossingGuard::Afterwards simplifies each cube (and the last pass)
+    // unguarded and checks the result. Walls half a cell thin: a collapse on
+    // one face reaches through the other, the check finds it and that cube
+    // is simplified again guarded. A plate: nothing to redo. Either way no
+    // triangle crosses another or comes within the file's rounding of one,
+    // as with the guard on every collapse.
+    struct Part {
+        const char* name;
+        std::string root;
+        bool thin;
+    };
+    const Part parts[] = {
+        {"thin shell", R"({"id":"s","type":"shell","thickness":0.8,"children":[
+            {"id":"b","type":"box","size":[40,30,20],"round":3}]})", true},
+        {"plate", R"({"id":"d","type":"difference","children":[
+            {"id":"b","type":"box","size":[60,40,18]},
+            {"id":"c","type":"cylinder","radius":4,"height":20,"transform":{"translate":[10,0,0]}}]})", false},
+    };
+    for (const Part& part : parts) {
+        SCOPED_TRACE(part.name);
+        const Document doc = parse(part.root);
+        const Tape tape = compileTape(doc);
+        const double clearance = 4.0 * float32Spacing(tape.bounds());
+        for (const CrossingGuard guard : {CrossingGuard::Afterwards, CrossingGuard::EveryCollapse}) {
+            MeshOptions o;
+            o.featureSize = 1.0;
+            o.tolerance = 0.05;
+            o.crossingGuard = guard;
+            MeshStats stats;
+            const auto mesh = meshPart(doc, o, {}, &stats);
+            ASSERT_TRUE(mesh.has_value());
+            expectWatertight(*mesh, part.name);
+            EXPECT_EQ(findTrianglesCloserThan(*mesh, clearance, 0).pairs, 0u);
+            EXPECT_EQ(findSelfIntersections(*mesh, 0).pairs, 0u);
+            if (guard == CrossingGuard::EveryCollapse) {
+                EXPECT_EQ(stats.crossingChecks, 0u);
+                continue;
+            }
+            EXPECT_GT(stats.crossingChecks, 0u);
+            if (part.thin)
+                EXPECT_GT(stats.crossingRedos, 0u) << "the walls are thin enough to need it";
+            else
+                EXPECT_EQ(stats.crossingRedos, 0u);
+        }
+    }
+}
+
 TEST(MeshFile, RefusesAToleranceFinerThanItsCoordinatesHold)
 {
     const Aabb nearOrigin{glm::dvec3(-500.0), glm::dvec3(500.0)};

@@ -292,6 +292,8 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             j["lattice_seconds"] = stats.seconds - stats.simplifySeconds - stats.refineSeconds;
             j["simplify_seconds"] = stats.simplifySeconds;
             j["refine_seconds"] = stats.refineSeconds;
+            j["crossing_checks"] = stats.crossingChecks;
+            j["crossing_redos"] = stats.crossingRedos;
             out << j.dump(2) << "\n";
             return 0;
         }

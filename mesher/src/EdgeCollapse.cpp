@@ -516,6 +516,7 @@ private:
             }
         }
         if (limits_.tolerance > 0.0 && !withinTolerance(a, b, at, normal, moves, strict)) return false;
+        if (!guarded_) return true;
         return (!moves && retilesItsPlane(a, b)) || !wouldCross(a, b, at);
     }
 
@@ -799,7 +800,7 @@ private:
     // is checked (the micro passes, which check none, would otherwise build
     // one of every marching-cubes triangle: 2.5 GB of the side chair's
     // 4.1 GB peak at 0.5 mm).
-    bool guarded_ = limits_.checkGeometry;
+    bool guarded_ = limits_.checkGeometry && limits_.guardCrossings;
     TriangleTree grid_;
     std::uint32_t triangleCount_ = 0; // tree entries from here on are obstacles
     std::vector<Triangle> changed_;
@@ -828,8 +829,76 @@ std::size_t collapseEdges(CollapseMesh& mesh, const CollapseLimits& limits, Surf
     return Collapser(mesh, limits, surface).run(work);
 }
 
+namespace {
+
+// Whether a live triangle of `mesh` crosses or comes within `clearance` of
+// another live triangle or of an obstacle (TriangleClearance.hpp's rule,
+// which the guard applies to every triangle a collapse makes).
+bool anyTrianglesTooClose(const CollapseMesh& mesh, double clearance)
+{
+    const std::uint32_t n = std::uint32_t(mesh.triangles.size());
+    auto corners = [&](std::uint32_t t, glm::dvec3 (&q)[3]) -> const Triangle& {
+        if (t >= n) {
+            for (int k = 0; k < 3; ++k)
+                q[k] = mesh.obstacleCorners[t - n][std::size_t(k)];
+            return mesh.obstacles[t - n];
+        }
+        for (int k = 0; k < 3; ++k)
+            q[k] = mesh.positions[mesh.triangles[t][std::size_t(k)]];
+        return mesh.triangles[t];
+    };
+    auto boxOf = [&](std::uint32_t t) {
+        glm::dvec3 q[3];
+        corners(t, q);
+        return std::pair{glm::min(q[0], glm::min(q[1], q[2])) - glm::dvec3(clearance),
+                         glm::max(q[0], glm::max(q[1], q[2])) + glm::dvec3(clearance)};
+    };
+    TriangleTree tree;
+    for (std::uint32_t t = 0; t < n + mesh.obstacles.size(); ++t) {
+        if (t < n && mesh.triangles[t][0] == kRemoved) continue;
+        const auto [lo, hi] = boxOf(t);
+        tree.insert(t, lo, hi);
+    }
+    for (std::uint32_t t = 0; t < n; ++t) {
+        if (mesh.triangles[t][0] == kRemoved) continue;
+        glm::dvec3 a[3];
+        const Triangle& A = corners(t, a);
+        const auto [lo, hi] = boxOf(t);
+        bool found = false;
+        tree.query(lo, hi, [&](std::uint32_t u) {
+            if (found || u <= t) return; // each pair once; obstacles come after every triangle
+            glm::dvec3 b[3];
+            const Triangle& B = corners(u, b);
+            found = trianglesTooClose(A, a, B, b, clearance);
+        });
+        if (found) return true;
+    }
+    return false;
+}
+
+} // namespace
+
+std::size_t collapseEdgesCheckedAfter(CollapseMesh& mesh, const CollapseLimits& limits, SurfaceQueries& surface,
+                                      const Progress& work, CrossingChecks* checks)
+{
+    if (!limits.checkGeometry || !limits.guardCrossings) return collapseEdges(mesh, limits, surface, work);
+    CollapseMesh attempt = mesh;
+    CollapseLimits unguarded = limits;
+    unguarded.guardCrossings = false;
+    const std::size_t made = collapseEdges(attempt, unguarded, surface, work);
+    if (work.cancelled()) return 0;
+    if (checks) ++checks->checked;
+    if (!anyTrianglesTooClose(attempt, limits.clearance)) {
+        mesh = std::move(attempt);
+        return made;
+    }
+    if (checks) ++checks->redone;
+    return collapseEdges(mesh, limits, surface, work);
+}
+
 std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits, double cube, const glm::dvec3& shift,
-                                tbb::task_arena& arena, SurfaceQueries& surface, const Progress& work)
+                                tbb::task_arena& arena, SurfaceQueries& surface, const Progress& work,
+                                CrossingChecks* checks)
 {
     const std::size_t vertexCount = mesh.positions.size();
     if (mesh.removed.size() != vertexCount) mesh.removed.assign(vertexCount, 0);
@@ -910,6 +979,7 @@ std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits
     CollapseLimits cubeLimits = limits;
     cubeLimits.maxEdgeAfter = 0.25 * cube;
     std::atomic<std::size_t> total{0};
+    std::atomic<std::size_t> checked{0}, redone{0};
     // Progress: the share of the triangles whose cube is done (cubes are
     // small against the mesh, so the fraction moves steadily).
     std::atomic<std::size_t> trianglesDone{0};
@@ -982,7 +1052,11 @@ std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits
                         }
                     }
             SurfaceQueries cubeSurface = surface.region(lo - margin, hi + margin);
-            total += collapseEdges(part, cubeLimits, cubeSurface, work);
+            CrossingChecks cubeChecks;
+            total += cubeLimits.checkAfterwards ? collapseEdgesCheckedAfter(part, cubeLimits, cubeSurface, work, &cubeChecks)
+                                                : collapseEdges(part, cubeLimits, cubeSurface, work);
+            checked += cubeChecks.checked;
+            redone += cubeChecks.redone;
             // Back: this cube alone owns its triangles and its vertices that
             // were not held, so the writes of different cubes never meet.
             for (std::size_t k = first; k < last; ++k) {
@@ -1003,6 +1077,10 @@ std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits
             work.report(double(trianglesDone += last - first) / double(order.size()));
         });
     });
+    if (checks) {
+        checks->checked += checked;
+        checks->redone += redone;
+    }
     return total;
 }
 

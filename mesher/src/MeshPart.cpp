@@ -282,7 +282,9 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     simplify.placement = 0.25 * options.tolerance;
     simplify.tolerance = options.tolerance;
     simplify.microLength = 4.0 * stats.edgeMargin;
-    stats.collapses = simplifyToTolerance(mesh, normals, tape, simplify, arena, work.stage(0.15, 0.8));
+    simplify.guardEveryCollapse = options.crossingGuard == CrossingGuard::EveryCollapse;
+    CrossingChecks checks;
+    stats.collapses = simplifyToTolerance(mesh, normals, tape, simplify, arena, work.stage(0.15, 0.8), &checks);
     if (work.cancelled()) return std::nullopt;
     stats.simplifySeconds = secondsSince(t0);
     t0 = Clock::now();
@@ -305,7 +307,7 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     t0 = Clock::now();
     simplify.microLength = 0.0;
     if (refine.splits > 0) {
-        stats.collapses += simplifyToTolerance(mesh, normals, tape, simplify, arena, work.stage(0.92, 1.0));
+        stats.collapses += simplifyToTolerance(mesh, normals, tape, simplify, arena, work.stage(0.92, 1.0), &checks);
         if (work.cancelled()) return std::nullopt;
         // The simplification may reshape a triangle left over the tolerance
         // (never beyond the worst it replaces): report the mesh as it is.
@@ -315,6 +317,8 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
         stats.worstSampleAt = left.worstAt;
     }
     stats.simplifySeconds += secondsSince(t0);
+    stats.crossingChecks = checks.checked;
+    stats.crossingRedos = checks.redone;
     work.report(1.0);
     return finish(std::move(mesh));
 }

@@ -1,5 +1,7 @@
 #include "kerf/mesher/SelfIntersections.hpp"
 
+#include "TriangleClearance.hpp"
+
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -212,25 +214,19 @@ bool trianglesCross(const std::array<std::uint32_t, 3>& A, const glm::dvec3* a, 
 
 namespace {
 
-bool intersect(const Mesh& mesh, std::uint32_t s, std::uint32_t t)
-{
-    const auto& A = mesh.triangles[s];
-    const auto& B = mesh.triangles[t];
-    const glm::dvec3 a[3] = {mesh.vertices[A[0]], mesh.vertices[A[1]], mesh.vertices[A[2]]};
-    const glm::dvec3 b[3] = {mesh.vertices[B[0]], mesh.vertices[B[1]], mesh.vertices[B[2]]};
-    return trianglesCross(A, a, B, b);
-}
-
-} // namespace
-
-SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples,
-                                        const Progress& work)
+// The pairs of triangles whose boxes, grown by `margin`, meet and for which
+// `hit(s, t, a, b)` holds (corners a of s, b of t).
+template <class Hit>
+SelfIntersections findPairs(const Mesh& mesh, double margin, std::size_t examples, const Progress& work, Hit&& hit)
 {
     SelfIntersections out;
     std::vector<Box> boxes(mesh.triangles.size());
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         for (const std::uint32_t v : mesh.triangles[t])
             boxes[t].add(mesh.vertices[v]);
+        boxes[t].lo -= glm::dvec3(0.5 * margin);
+        boxes[t].hi += glm::dvec3(0.5 * margin);
+    }
     const Hierarchy hierarchy(boxes);
     std::atomic<std::size_t> pairs{0};
     std::mutex mutex;
@@ -244,7 +240,12 @@ SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples,
         }
         for (std::size_t s = range.begin(); s != range.end(); ++s)
             hierarchy.query(boxes[s], [&](std::uint32_t t) {
-                if (t <= s || !intersect(mesh, std::uint32_t(s), t)) return;
+                if (t <= s) return;
+                const auto& A = mesh.triangles[s];
+                const auto& B = mesh.triangles[t];
+                const glm::dvec3 a[3] = {mesh.vertices[A[0]], mesh.vertices[A[1]], mesh.vertices[A[2]]};
+                const glm::dvec3 b[3] = {mesh.vertices[B[0]], mesh.vertices[B[1]], mesh.vertices[B[2]]};
+                if (!hit(A, a, B, b)) return;
                 ++pairs;
                 std::lock_guard lock(mutex);
                 if (out.examples.size() < examples) out.examples.push_back({std::uint32_t(s), t});
@@ -254,6 +255,24 @@ SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples,
     out.stopped = stop;
     std::sort(out.examples.begin(), out.examples.end());
     return out;
+}
+
+} // namespace
+
+SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples, const Progress& work)
+{
+    return findPairs(mesh, 0.0, examples, work, [](const auto& A, const glm::dvec3* a, const auto& B, const glm::dvec3* b) {
+        return trianglesCross(A, a, B, b);
+    });
+}
+
+SelfIntersections findTrianglesCloserThan(const Mesh& mesh, double clearance, std::size_t examples,
+                                          const Progress& work)
+{
+    return findPairs(mesh, clearance, examples, work,
+                     [clearance](const auto& A, const glm::dvec3* a, const auto& B, const glm::dvec3* b) {
+        return mesher::trianglesTooClose(A, a, B, b, clearance);
+    });
 }
 
 } // namespace kerf

@@ -108,7 +108,7 @@ bool hasEdgeShorterThan(const CollapseMesh& mesh, double length)
 
 std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape,
                                   const SimplifySettings& settings, tbb::task_arena& arena,
-                                  const Progress& progress)
+                                  const Progress& progress, CrossingChecks* checks)
 {
     if (mesh.triangles.empty()) return 0;
     // Work relative to the middle of the mesh: quadrics lose precision with
@@ -141,6 +141,7 @@ std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, 
     limits.placement = settings.placement;
     limits.tolerance = settings.tolerance;
     limits.clearance = settings.clearance;
+    limits.checkAfterwards = !settings.guardEveryCollapse;
 
     // The passes' shares of the progress, as they share the time on the
     // examples: the first partitioned pass over the whole marching-cubes
@@ -156,15 +157,16 @@ std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, 
         collapses += collapsePartitioned(work, micro, settings.cube, lo - origin, arena, field, microPass);
         if (hasEdgeShorterThan(work, settings.microLength)) collapses += collapseEdges(work, micro, field, microPass);
     }
-    collapses += collapsePartitioned(work, limits, settings.cube, lo - origin, arena, field, firstPass);
+    collapses += collapsePartitioned(work, limits, settings.cube, lo - origin, arena, field, firstPass, checks);
     // Most of the marching-cubes mesh is gone by now (the side chair at
     // 0.5 mm: 9.5 M triangles to about 0.2 M): what follows walks and
     // indexes only what is left.
     work.dropRemoved();
     collapses += collapsePartitioned(work, limits, settings.cube, lo - origin + glm::dvec3(0.5 * settings.cube), arena,
-                                     field, secondPass);
+                                     field, secondPass, checks);
     lastPass.report(0.0);
-    collapses += collapseEdges(work, limits, field, lastPass);
+    collapses += limits.checkAfterwards ? collapseEdgesCheckedAfter(work, limits, field, lastPass, checks)
+                                        : collapseEdges(work, limits, field, lastPass);
     if (progress.cancelled()) return 0;
     progress.report(1.0);
 

@@ -14,6 +14,7 @@
 #include "kerf/document/Progress.hpp"
 #include "kerf/evaluator/Tape.hpp"
 #include "kerf/mesher/Mesh.hpp"
+#include "EdgeCollapse.hpp"
 
 #include <tbb/task_arena.h>
 
@@ -36,6 +37,9 @@ struct SimplifySettings {
     /// mm: edges shorter than this collapse first, on topology alone
     /// (CollapseLimits::checkGeometry); 0: none.
     double microLength = 0.0;
+    /// The crossing guard on every collapse; off (the default), on each
+    /// cube's result and on the last pass's (collapseEdgesCheckedAfter).
+    bool guardEveryCollapse = false;
 };
 
 /// Simplifies `mesh` (world coordinates), the surface of `tape`, whose vertex
@@ -45,6 +49,6 @@ struct SimplifySettings {
 /// work has its own copy).
 std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape,
                                   const SimplifySettings& settings, tbb::task_arena& arena,
-                                  const Progress& work = {});
+                                  const Progress& work = {}, CrossingChecks* checks = nullptr);
 
 } // namespace kerf::mesher

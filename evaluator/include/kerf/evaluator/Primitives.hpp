@@ -132,42 +132,63 @@ template <class T, class Points> T polygon2d(T x, T y, const Points& v, bool axi
 /// The same distance with its gradient. The generic form carries the three
 /// derivatives through every edge's arithmetic, and the exporter's walks to
 /// the surface spent a fifth of their time there on the side chair's rails
-/// (32 points each). Here the nearest point is found in plain numbers and
-/// the derivative taken once, from it: the gradient of the distance to a
-/// point q of the boundary is (p - q) / |p - q|, whether q is inside an
-/// edge (the term along the edge vanishes at the nearest point) or at a
-/// vertex. The value is the generic form's to the bit (the same operations
-/// on the values); the gradient agrees to rounding, and is 0 on the
-/// boundary itself as the generic sqrt makes it.
+/// (32 points each). Here the nearest edge is found in plain numbers and the
+/// gradient taken once, from it: the edge's outward normal where the nearest
+/// point lies inside the edge, (p - q) / |p - q| (signed) where it is a
+/// vertex q. Not (p - q) / |p - q| everywhere, nor the generic form's
+/// product rule: on the surface p - q is rounding noise, and both turned
+/// the tracer's normals at its hits by degrees, or inwards where the
+/// crossing parity and the noise disagree (Gradient.OnAProfilesFace...).
+/// The outward side comes from the profile's turning (its signed area). The
+/// value is the generic form's to the bit (the same operations on the
+/// values).
 template <class B, class Points> Dual<B> polygon2d(const Dual<B>& x, const Dual<B>& y, const Points& v, bool axisEdges = true)
 {
     const std::size_t n = v.size();
     const B px = x.v, py = y.v;
-    B d = std::numeric_limits<B>::max(), qx = 0, qy = 0;
+    B d = std::numeric_limits<B>::max(), qx = 0, qy = 0; // the nearest so far, and p - q for it
+    B edgeX = 0, edgeY = 0;                               // its edge, when q lies inside it (else 0)
     if (axisEdges) {
         qx = px - B(v[0].x);
         qy = py - B(v[0].y);
         d = qx * qx + qy * qy;
     }
     bool inside = false;
+    B area = 0; // twice the signed area, positive for a counter-clockwise profile
     for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+        area += B(v[j].x) * B(v[i].y) - B(v[i].x) * B(v[j].y);
         if (!axisEdges && v[i].x == 0 && v[j].x == 0) continue;
         const B ex = B(v[j].x - v[i].x), ey = B(v[j].y - v[i].y);
         const B wx = px - B(v[i].x), wy = py - B(v[i].y);
-        const B t = std::clamp((wx * ex + wy * ey) / (ex * ex + ey * ey), B(0), B(1));
+        const B raw = (wx * ex + wy * ey) / (ex * ex + ey * ey);
+        const B t = std::min(std::max(raw, B(0)), B(1));
         const B bx = wx - t * ex, by = wy - t * ey;
         const B di = bx * bx + by * by;
         if (di < d) {
             d = di;
             qx = bx;
             qy = by;
+            const bool within = B(0) < raw && raw < B(1);
+            edgeX = within ? ex : B(0);
+            edgeY = within ? ey : B(0);
         }
         const bool c1 = py >= B(v[i].y), c2 = py < B(v[j].y), c3 = wy * ex > wx * ey;
         if ((c1 && c2 && c3) || (!c1 && !c2 && !c3)) inside = !inside;
     }
     const B dist = std::sqrt(d);
-    const B k = dist > B(0) ? (inside ? B(-1) : B(1)) / dist : B(0);
-    const B gx = qx * k, gy = qy * k;
+    B gx = 0, gy = 0;
+    if (edgeX != B(0) || edgeY != B(0)) {
+        // The edge vector points from v[i] back to v[j], against the
+        // profile's order: (-ey, ex), to its right as travelled, is outside
+        // of a counter-clockwise profile.
+        const B k = (area < B(0) ? B(-1) : B(1)) / std::sqrt(edgeX * edgeX + edgeY * edgeY);
+        gx = -edgeY * k;
+        gy = edgeX * k;
+    } else if (dist > B(0)) {
+        const B k = (inside ? B(-1) : B(1)) / dist;
+        gx = qx * k;
+        gy = qy * k;
+    }
     return {inside ? -dist : dist, gx * x.d[0] + gy * y.d[0], gx * x.d[1] + gy * y.d[1], gx * x.d[2] + gy * y.d[2]};
 }
 

@@ -34,6 +34,14 @@ struct SelfIntersections {
 SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples = 8,
                                         const Progress& work = {});
 
+/// The pairs of triangles that cross or come within `clearance` (mm) of
+/// each other other than at what they share: the rule the simplifier's and
+/// the refiner's crossing guard keep every change to (a clearance of a few
+/// float32 spacings survives the rounding of the written coordinates;
+/// mesher/src/TriangleClearance.hpp). Found the same way as crossings.
+SelfIntersections findTrianglesCloserThan(const Mesh& mesh, double clearance, std::size_t examples = 8,
+                                          const Progress& work = {});
+
 /// Whether triangles A and B (vertex indices, and their positions a[3], b[3])
 /// intersect other than along the vertices or the edge they share by index.
 bool trianglesCross(const std::array<std::uint32_t, 3>& A, const glm::dvec3* a, const std::array<std::uint32_t, 3>& B,
