@@ -6,6 +6,7 @@
 #include "kerf/mesher/SelfIntersections.hpp"
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -925,7 +926,7 @@ std::size_t collapseEdgesCheckedAfter(CollapseMesh& mesh, const CollapseLimits& 
 
 std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits, double cube, const glm::dvec3& shift,
                                 tbb::task_arena& arena, SurfaceQueries& surface, const Progress& work,
-                                CrossingChecks* checks)
+                                CrossingChecks* checks, const CollapseLimits* beforehand)
 {
     const std::size_t vertexCount = mesh.positions.size();
     if (mesh.removed.size() != vertexCount) mesh.removed.assign(vertexCount, 0);
@@ -960,14 +961,14 @@ std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits
                 order[t] = {bits(q.x) | bits(q.y) << 21 | bits(q.z) << 42, t};
             }
         });
-        tbb::parallel_sort(order.begin(), order.end());
     });
-    while (!order.empty() && order.back().cube == kRemovedKey)
-        order.pop_back();
     // A vertex whose triangles lie in two cubes is held still by both.
     constexpr std::uint64_t kUnset = ~std::uint64_t(0);
     std::vector<std::uint64_t> cubeOf(vertexCount, kUnset);
     std::vector<std::uint8_t> straddles(vertexCount, 0);
+    arena.execute([&] { tbb::parallel_sort(order.begin(), order.end()); });
+    while (!order.empty() && order.back().cube == kRemovedKey)
+        order.pop_back();
     for (const Keyed& k : order)
         for (const std::uint32_t v : mesh.triangles[k.triangle]) {
             if (cubeOf[v] == kUnset)
@@ -1010,22 +1011,32 @@ std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits
     // Progress: the share of the triangles whose cube is done (cubes are
     // small against the mesh, so the fraction moves steadily).
     std::atomic<std::size_t> trianglesDone{0};
+    // Each thread's map from the mesh's vertex numbers to its cube's (kNone
+    // where the cube has no such vertex; set back after each cube).
+    constexpr std::uint32_t kNone = ~std::uint32_t(0);
+    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> localMaps;
+    const bool needsObstacles = limits.checkGeometry && limits.guardCrossings;
     for (const std::vector<std::size_t>& phase : phases)
     arena.execute([&] {
         tbb::parallel_for(std::size_t(0), phase.size(), [&](std::size_t member) {
             if (work.cancelled()) return;
             const std::size_t g = phase[member];
             const auto [first, last] = groups[g];
-            // The cube's vertices, numbered locally.
+            // The cube's vertices, numbered locally in the mesh's order (the
+            // collapser breaks ties by index).
+            std::vector<std::uint32_t>& localOf = localMaps.local();
+            if (localOf.size() != vertexCount) localOf.assign(vertexCount, kNone);
             std::vector<std::uint32_t> global;
             for (std::size_t k = first; k < last; ++k)
                 for (const std::uint32_t v : mesh.triangles[order[k].triangle])
-                    global.push_back(v);
+                    if (localOf[v] == kNone) {
+                        localOf[v] = 0;
+                        global.push_back(v);
+                    }
             std::sort(global.begin(), global.end());
-            global.erase(std::unique(global.begin(), global.end()), global.end());
-            auto local = [&](std::uint32_t v) {
-                return std::uint32_t(std::lower_bound(global.begin(), global.end(), v) - global.begin());
-            };
+            for (std::uint32_t l = 0; l < global.size(); ++l)
+                localOf[global[l]] = l;
+            auto local = [&](std::uint32_t v) { return localOf[v]; };
             CollapseMesh part;
             part.positions.reserve(global.size());
             part.quadrics.reserve(global.size());
@@ -1052,7 +1063,7 @@ std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits
             // The neighbours' triangles near this cube's, as obstacles.
             const std::uint64_t key = order[first].cube;
             std::uint32_t outside = kObstacleVertex;
-            for (int dz = -1; dz <= 1; ++dz)
+            for (int dz = -1; dz <= 1 && needsObstacles; ++dz)
                 for (int dy = -1; dy <= 1; ++dy)
                     for (int dx = -1; dx <= 1; ++dx) {
                         if (!dx && !dy && !dz) continue;
@@ -1069,17 +1080,18 @@ std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits
                                 continue;
                             Triangle o;
                             for (int j = 0; j < 3; ++j) {
-                                const auto at = std::lower_bound(global.begin(), global.end(), t[std::size_t(j)]);
-                                o[std::size_t(j)] = at != global.end() && *at == t[std::size_t(j)]
-                                                        ? std::uint32_t(at - global.begin())
-                                                        : outside++;
+                                const std::uint32_t l = localOf[t[std::size_t(j)]];
+                                o[std::size_t(j)] = l != kNone ? l : outside++;
                             }
                             part.obstacles.push_back(o);
                             part.obstacleCorners.push_back(c);
                         }
                     }
+            for (const std::uint32_t v : global)
+                localOf[v] = kNone;
             SurfaceQueries cubeSurface = surface.region(lo - margin, hi + margin);
             CrossingChecks cubeChecks;
+            if (beforehand) total += collapseEdges(part, *beforehand, cubeSurface, work);
             total += cubeLimits.checkAfterwards ? collapseEdgesCheckedAfter(part, cubeLimits, cubeSurface, work, &cubeChecks)
                                                 : collapseEdges(part, cubeLimits, cubeSurface, work);
             checked += cubeChecks.checked;

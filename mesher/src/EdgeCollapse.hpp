@@ -160,9 +160,12 @@ std::size_t collapseEdgesCheckedAfter(CollapseMesh& mesh, const CollapseLimits& 
 
 /// The same in parallel over cubes of edge `cube` mm whose corners lie at
 /// `shift` + cube * (i, j, k) (in the mesh's coordinates), in `arena`; each
-/// cube asks `surface.region()` of its vertices' box.
+/// cube asks `surface.region()` of its vertices' box. With `beforehand`,
+/// each cube is first simplified under those limits (the micro collapses:
+/// one partition of the mesh serves both).
 std::size_t collapsePartitioned(CollapseMesh& mesh, const CollapseLimits& limits, double cube,
                                 const glm::dvec3& shift, tbb::task_arena& arena, SurfaceQueries& surface,
-                                const Progress& work = {}, CrossingChecks* checks = nullptr);
+                                const Progress& work = {}, CrossingChecks* checks = nullptr,
+                                const CollapseLimits* beforehand = nullptr);
 
 } // namespace kerf::mesher

@@ -143,27 +143,33 @@ std::uint64_t simplifyToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, 
     limits.clearance = settings.clearance;
     limits.checkAfterwards = !settings.guardEveryCollapse;
 
+    // The micro collapses (edges shorter than settings.microLength, on
+    // topology alone) come first in every cube of the two partitioned
+    // passes, which cut the mesh into cubes once for both; one that
+    // straddles the cubes of both (none on the examples) is left to a
+    // sequential micro pass before the last.
+    CollapseLimits micro;
+    micro.maxMeanSquaredError = std::numeric_limits<double>::infinity();
+    micro.maxEdgeLength = settings.microLength;
+    micro.checkGeometry = false;
+    const CollapseLimits* microFirst =
+        settings.microLength > 0.0 && hasEdgeShorterThan(work, settings.microLength) ? &micro : nullptr;
+
     // The passes' shares of the progress, as they share the time on the
     // examples: the first partitioned pass over the whole marching-cubes
     // mesh is most of it.
-    const Progress microPass = progress.stage(0.0, 0.1), firstPass = progress.stage(0.1, 0.75),
-                   secondPass = progress.stage(0.75, 0.9), lastPass = progress.stage(0.9, 1.0);
-    std::uint64_t collapses = 0;
-    if (settings.microLength > 0.0 && hasEdgeShorterThan(work, settings.microLength)) {
-        CollapseLimits micro;
-        micro.maxMeanSquaredError = std::numeric_limits<double>::infinity();
-        micro.maxEdgeLength = settings.microLength;
-        micro.checkGeometry = false;
-        collapses += collapsePartitioned(work, micro, settings.cube, lo - origin, arena, field, microPass);
-        if (hasEdgeShorterThan(work, settings.microLength)) collapses += collapseEdges(work, micro, field, microPass);
-    }
-    collapses += collapsePartitioned(work, limits, settings.cube, lo - origin, arena, field, firstPass, checks);
+    const Progress firstPass = progress.stage(0.0, 0.75), secondPass = progress.stage(0.75, 0.9),
+                   lastPass = progress.stage(0.9, 1.0);
+    std::uint64_t collapses =
+        collapsePartitioned(work, limits, settings.cube, lo - origin, arena, field, firstPass, checks, microFirst);
     // Most of the marching-cubes mesh is gone by now (the side chair at
     // 0.5 mm: 9.5 M triangles to about 0.2 M): what follows walks and
     // indexes only what is left.
     work.dropRemoved();
     collapses += collapsePartitioned(work, limits, settings.cube, lo - origin + glm::dvec3(0.5 * settings.cube), arena,
-                                     field, secondPass, checks);
+                                     field, secondPass, checks, microFirst);
+    if (microFirst && hasEdgeShorterThan(work, settings.microLength))
+        collapses += collapseEdges(work, micro, field, lastPass);
     lastPass.report(0.0);
     collapses += limits.checkAfterwards ? collapseEdgesCheckedAfter(work, limits, field, lastPass, checks)
                                         : collapseEdges(work, limits, field, lastPass);
