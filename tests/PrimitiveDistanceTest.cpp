@@ -11,6 +11,9 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
 
 namespace kerf {
 namespace {
@@ -243,6 +246,59 @@ TEST(PrimitiveDistance, FloatEvaluationFarFromTheOriginKeepsPrecisionAfterRebasi
     EXPECT_NEAR(f.evaluate(local, 10.123f, 0.0f, 0.0f), 0.123f, 1e-5);
     PointEvaluator<double> d;
     EXPECT_NEAR(d.evaluate(world, 1e6 + 10.123, 2e6, -1e6), 0.123, 1e-8);
+}
+
+// A block of points close together skips a long profile's far edges
+// (PointEvaluator.cpp's profileBlock): the values are those of the points
+// one by one, to the bit, in double and float, for extrusions and revolves
+// of 9 to 60 edges, at clusters from a hundredth of the profile to all of it.
+template <class S>
+void expectBlocksEqualSinglePoints(const Tape& tape, test::RandomShapes& r, const std::string& what)
+{
+    PointEvaluator<S> eval;
+    for (int block = 0; block < 40; ++block) {
+        const std::size_t n = std::size_t(r.integer(8, 64));
+        const glm::dvec3 centre = r.vec(-25.0, 25.0);
+        const double spread = std::pow(10.0, r.uniform(-1.0, 1.6));
+        std::vector<S> x(n), y(n), z(n), together(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const glm::dvec3 p = centre + r.vec(-spread, spread);
+            x[i] = S(p.x);
+            y[i] = S(p.y);
+            z[i] = S(p.z);
+        }
+        eval.evaluate(tape, x.data(), y.data(), z.data(), n, together.data());
+        for (std::size_t i = 0; i < n; ++i) {
+            const S alone = eval.evaluate(tape, x[i], y[i], z[i]);
+            ASSERT_EQ(together[i], alone) << what << ", block " << block << " of " << n << " points, spread " << spread
+                                          << ", point (" << x[i] << ", " << y[i] << ", " << z[i] << ")";
+        }
+    }
+}
+
+TEST(PrimitiveDistance, LongProfilesGiveBlocksOfPointsTheirValuesOneByOne)
+{
+    test::RandomShapes r(9);
+    for (int shape = 0; shape < 30; ++shape) {
+        auto poly = r.simplePolygon(r.integer(9, 60), 20.0);
+        Node e = makeNode(NodeType::Extrude, "e");
+        e.params = ExtrudeParams{poly, r.uniform(1.0, 30.0)};
+        // The same outline against the axis: its leftmost point on it.
+        double left = poly[0].x;
+        for (const glm::dvec2& q : poly)
+            left = std::min(left, q.x);
+        for (glm::dvec2& q : poly)
+            q.x -= left;
+        Node v = makeNode(NodeType::Revolve, "v");
+        v.params = RevolveParams{poly};
+        for (const Node* n : {&e, &v}) {
+            const Tape tape = compileTape(*n);
+            const std::string what = std::string(n == &e ? "extrusion" : "revolve") + " " + std::to_string(shape) +
+                                     " (" + std::to_string(poly.size()) + " points)";
+            expectBlocksEqualSinglePoints<double>(tape, r, what);
+            expectBlocksEqualSinglePoints<float>(tape, r, what + ", float");
+        }
+    }
 }
 
 } // namespace
