@@ -861,8 +861,13 @@ namespace {
 
 // Whether a live triangle of `mesh` crosses or comes within `clearance` of
 // another live triangle or of an obstacle (TriangleClearance.hpp's rule,
-// which the guard applies to every triangle a collapse makes).
-bool anyTrianglesTooClose(const CollapseMesh& mesh, double clearance)
+// which the guard applies to every triangle a collapse makes). Only pairs
+// with a triangle that `changed` marks are tested (all where it is empty):
+// a pair of triangles both as they were before the collapses was there for
+// the guard too, which keeps new triangles clear of old ones and cannot
+// undo such a pair. (After the first pass most of the mesh is untouched:
+// testing its flat neighbours again was most of the check.)
+bool anyTrianglesTooClose(const CollapseMesh& mesh, double clearance, const std::vector<std::uint8_t>& changed = {})
 {
     const std::uint32_t n = std::uint32_t(mesh.triangles.size());
     auto corners = [&](std::uint32_t t, glm::dvec3 (&q)[3]) -> const Triangle& {
@@ -887,14 +892,15 @@ bool anyTrianglesTooClose(const CollapseMesh& mesh, double clearance)
         const auto [lo, hi] = boxOf(t);
         tree.insert(t, lo, hi);
     }
+    auto tested = [&](std::uint32_t t) { return changed.empty() || (t < n && changed[t]); };
     for (std::uint32_t t = 0; t < n; ++t) {
-        if (mesh.triangles[t][0] == kRemoved) continue;
+        if (mesh.triangles[t][0] == kRemoved || !tested(t)) continue;
         glm::dvec3 a[3];
         const Triangle& A = corners(t, a);
         const auto [lo, hi] = boxOf(t);
         bool found = false;
         tree.query(lo, hi, [&](std::uint32_t u) {
-            if (found || u <= t) return; // each pair once; obstacles come after every triangle
+            if (found || u == t || (u < t && tested(u))) return; // each pair once; obstacles come after every triangle
             glm::dvec3 b[3];
             const Triangle& B = corners(u, b);
             found = trianglesTooClose(A, a, B, b, clearance);
@@ -916,7 +922,15 @@ std::size_t collapseEdgesCheckedAfter(CollapseMesh& mesh, const CollapseLimits& 
     const std::size_t made = collapseEdges(attempt, unguarded, surface, work);
     if (work.cancelled()) return 0;
     if (checks) ++checks->checked;
-    if (!anyTrianglesTooClose(attempt, limits.clearance)) {
+    std::vector<std::uint8_t> changed(attempt.triangles.size(), 0);
+    for (std::size_t t = 0; t < changed.size(); ++t) {
+        const Triangle& now = attempt.triangles[t];
+        if (now[0] == kRemoved) continue;
+        changed[t] = now != mesh.triangles[t] || attempt.positions[now[0]] != mesh.positions[now[0]] ||
+                     attempt.positions[now[1]] != mesh.positions[now[1]] ||
+                     attempt.positions[now[2]] != mesh.positions[now[2]];
+    }
+    if (!anyTrianglesTooClose(attempt, limits.clearance, changed)) {
         mesh = std::move(attempt);
         return made;
     }
