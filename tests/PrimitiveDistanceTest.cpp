@@ -3,6 +3,8 @@
 // in the (r, z) half-plane to the profile's boundary).
 
 #include "kerf/evaluator/PointEvaluator.hpp"
+#include "kerf/evaluator/PolygonIndex.hpp"
+#include "kerf/evaluator/Primitives.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "support/RandomShapes.hpp"
 
@@ -12,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -248,13 +251,29 @@ TEST(PrimitiveDistance, FloatEvaluationFarFromTheOriginKeepsPrecisionAfterRebasi
     EXPECT_NEAR(d.evaluate(world, 1e6 + 10.123, 2e6, -1e6), 0.123, 1e-8);
 }
 
-// A block of points close together skips a long profile's far edges
-// (PointEvaluator.cpp's profileBlock): the values are those of the points
-// one by one, to the bit, in double and float, for extrusions and revolves
-// of 9 to 60 edges, at clusters from a hundredth of the profile to all of it.
-template <class S>
-void expectBlocksEqualSinglePoints(const Tape& tape, test::RandomShapes& r, const std::string& what)
+// The same tape with its profiles unindexed: every edge visited.
+Tape withoutProfileIndexes(const Tape& tape)
 {
+    std::vector<ShapeInstance> shapes = tape.shapes();
+    for (ShapeInstance& s : shapes)
+        if (s.polygon) {
+            auto plain = std::make_shared<Polygon>(*s.polygon);
+            plain->index = {};
+            plain->indexF = {};
+            s.polygon = plain;
+        }
+    return Tape::assemble(tape.code(), shapes, tape.sharedFeatures(), tape.origin(), tape.bounds());
+}
+
+// A block of points close together skips a long profile's far edges
+// (PointEvaluator.cpp's profileBlock, through the profile's index from 16
+// points): the values are those of the points one by one over every edge,
+// to the bit, in double and float, for extrusions and revolves
+// of 9 to 400 edges, at clusters from a hundredth of the profile to all of it.
+template <class S>
+void expectBlocksEqualSinglePoints(const Tape& indexedTape, test::RandomShapes& r, const std::string& what)
+{
+    const Tape tape = withoutProfileIndexes(indexedTape);
     PointEvaluator<S> eval;
     for (int block = 0; block < 40; ++block) {
         const std::size_t n = std::size_t(r.integer(8, 64));
@@ -267,7 +286,7 @@ void expectBlocksEqualSinglePoints(const Tape& tape, test::RandomShapes& r, cons
             y[i] = S(p.y);
             z[i] = S(p.z);
         }
-        eval.evaluate(tape, x.data(), y.data(), z.data(), n, together.data());
+        eval.evaluate(indexedTape, x.data(), y.data(), z.data(), n, together.data());
         for (std::size_t i = 0; i < n; ++i) {
             const S alone = eval.evaluate(tape, x[i], y[i], z[i]);
             ASSERT_EQ(together[i], alone) << what << ", block " << block << " of " << n << " points, spread " << spread
@@ -280,7 +299,7 @@ TEST(PrimitiveDistance, LongProfilesGiveBlocksOfPointsTheirValuesOneByOne)
 {
     test::RandomShapes r(9);
     for (int shape = 0; shape < 30; ++shape) {
-        auto poly = r.simplePolygon(r.integer(9, 60), 20.0);
+        auto poly = r.simplePolygon(shape % 2 ? r.integer(9, 15) : r.integer(16, 400), 20.0);
         Node e = makeNode(NodeType::Extrude, "e");
         e.params = ExtrudeParams{poly, r.uniform(1.0, 30.0)};
         // The same outline against the axis: its leftmost point on it.
@@ -299,6 +318,82 @@ TEST(PrimitiveDistance, LongProfilesGiveBlocksOfPointsTheirValuesOneByOne)
             expectBlocksEqualSinglePoints<float>(tape, r, what + ", float");
         }
     }
+}
+
+// The profile's index (PolygonIndex.hpp) gives the loop over every edge's
+// values to the bit: distance, side and gradient, in double and float, with
+// and without the axis edges, at random points, at points on the vertices'
+// heights (the slabs' borders), on vertices and edges, and far away; also
+// for a comb whose slab lists would be too long (built without them).
+template <class P>
+void expectIndexedEqualsEveryEdge(const std::vector<P>& points, test::RandomShapes& r, bool axisEdges,
+                                  const std::string& what)
+{
+    using S = typename P::value_type;
+    const PolygonIndex<P> index = buildPolygonIndex(points);
+    ASSERT_TRUE(index.indexed()) << what;
+    const sdf::IndexedProfile<P> indexed{points, index};
+    glm::dvec2 lo(1e300), hi(-1e300);
+    for (const P& q : points) {
+        lo = glm::min(lo, glm::dvec2(q));
+        hi = glm::max(hi, glm::dvec2(q));
+    }
+    const glm::dvec2 size = hi - lo;
+    for (int k = 0; k < 600; ++k) {
+        glm::dvec2 q(r.uniform(lo.x - 0.2 * size.x, hi.x + 0.2 * size.x), r.uniform(lo.y - 0.2 * size.y, hi.y + 0.2 * size.y));
+        const std::size_t at = std::size_t(r.integer(0, int(points.size()) - 1));
+        if (k % 6 == 1) q.y = double(points[at].y);                                 // a slab's border
+        if (k % 6 == 2) q = glm::dvec2(points[at]);                                 // a vertex
+        if (k % 6 == 3) q = glm::mix(glm::dvec2(points[at]), glm::dvec2(points[(at + 1) % points.size()]), 0.5); // an edge
+        if (k % 6 == 4) q *= 50.0;                                                  // far away
+        if (k % 6 == 5) q.x = 0.0;                                                  // the axis
+        const S x = S(q.x), y = S(q.y);
+        const S plain = sdf::polygon2d(x, y, points, axisEdges), fast = sdf::polygon2d(x, y, indexed, axisEdges);
+        ASSERT_EQ(plain, fast) << what << " at (" << x << ", " << y << ")";
+        const Dual<S> dx(x, S(1), S(0), S(0)), dy(y, S(0), S(1), S(0));
+        const Dual<S> dualPlain = sdf::polygon2d(dx, dy, points, axisEdges), dualFast = sdf::polygon2d(dx, dy, indexed, axisEdges);
+        ASSERT_EQ(dualPlain.v, dualFast.v) << what << " at (" << x << ", " << y << ")";
+        ASSERT_EQ(dualPlain.d[0], dualFast.d[0]) << what << " at (" << x << ", " << y << ")";
+        ASSERT_EQ(dualPlain.d[1], dualFast.d[1]) << what << " at (" << x << ", " << y << ")";
+    }
+}
+
+TEST(PrimitiveDistance, AProfilesIndexGivesEveryEdgesValuesToTheBit)
+{
+    test::RandomShapes r(10);
+    for (int shape = 0; shape < 24; ++shape) {
+        auto poly = r.simplePolygon(shape < 20 ? r.integer(16, 400) : r.integer(2000, 5000), 20.0);
+        for (const bool axis : {true, false}) {
+            if (!axis) {
+                // Against the axis, with a run of edges on it.
+                for (glm::dvec2& q : poly)
+                    q.x = std::max(q.x, 0.0);
+            }
+            const std::string what = std::to_string(poly.size()) + " points" + (axis ? "" : ", on the axis");
+            expectIndexedEqualsEveryEdge(poly, r, axis, what);
+            std::vector<glm::vec2> rounded;
+            for (const glm::dvec2& q : poly)
+                rounded.emplace_back(float(q.x), float(q.y));
+            expectIndexedEqualsEveryEdge(rounded, r, axis, what + ", float");
+        }
+    }
+    // A comb of 400 teeth: each tooth's long edges span most slabs.
+    std::vector<glm::dvec2> comb;
+    for (int t = 0; t < 400; ++t) {
+        comb.emplace_back(2.0 * t, 0.0);
+        comb.emplace_back(2.0 * t + 0.5, 100.0 + 0.01 * t);
+        comb.emplace_back(2.0 * t + 1.0, 0.01 * t + 0.005);
+    }
+    comb.emplace_back(800.0, -10.0);
+    comb.emplace_back(0.0, -10.0);
+    std::reverse(comb.begin(), comb.end());
+    EXPECT_FALSE(buildPolygonIndex(comb).hasSlabs);
+    expectIndexedEqualsEveryEdge(comb, r, true, "comb");
+    // NaN: the index steps aside (the loop's parity flips at every edge).
+    const PolygonIndex<glm::dvec2> index = buildPolygonIndex(comb);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double plain = sdf::polygon2d(nan, 5.0, comb), fast = sdf::polygon2d(nan, 5.0, sdf::IndexedProfile<glm::dvec2>{comb, index});
+    EXPECT_TRUE(std::isnan(plain) == std::isnan(fast) && (std::isnan(plain) || plain == fast));
 }
 
 } // namespace

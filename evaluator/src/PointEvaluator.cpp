@@ -96,9 +96,15 @@ void profileBlock(const ShapeInstance& s, const S* x, const S* y, const S* z, st
         const S bx = wx - ex * t, by = wy - ey * t;
         return bx * bx + by * by;
     };
-    // The pruning pays for itself from a few points on (two passes over the
-    // edges instead of one over edges and points); every value is finite.
-    const bool prune = n >= 8 && m > 8 && finite;
+    const auto& index = [&]() -> const auto& {
+        if constexpr (std::is_same_v<S, float>) return s.polygon->indexF;
+        else return s.polygon->index;
+    }();
+    const bool indexed = finite && index.indexed();
+    // Without an index (a short profile), the pruning pays for itself from
+    // a few points on (two passes over the edges instead of one over edges
+    // and points); every value is finite.
+    const bool prune = n >= 8 && m > 8 && finite && !indexed;
     S reach = std::numeric_limits<S>::infinity(); // every point has an edge within this (squared)
     if (prune)
         for (std::size_t e = 0, j = m - 1; e < m; j = e++) {
@@ -111,9 +117,61 @@ void profileBlock(const ShapeInstance& s, const S* x, const S* y, const S* z, st
                                             squaredDistance(uHi, vHi, vx, vy, ex, ey, invLen2)));
             reach = std::min(reach, far);
         }
+    if (indexed) {
+        // A long profile (PolygonIndex.hpp): the leaves of edges near the
+        // points' box against their box, the same test per edge within
+        // them, and the parity of each point from its slab's edges; the same
+        // formulas as the loop below.
+        const std::size_t leaves = index.leafMin.size();
+        S gap[kPolygonIndexMaxLeaves];
+        std::size_t nearestLeaf = 0;
+        for (std::size_t k = 0; k < leaves; ++k) {
+            const S gu = std::max({S(index.leafMin[k].x) - uHi, uLo - S(index.leafMax[k].x), S(0)});
+            const S gv = std::max({S(index.leafMin[k].y) - vHi, vLo - S(index.leafMax[k].y), S(0)});
+            gap[k] = gu * gu + gv * gv;
+            if (gap[k] < gap[nearestLeaf]) nearestLeaf = k;
+        }
+        auto edgesOf = [&](std::size_t k, auto&& visit) {
+            const std::size_t first = k * index.leafSize, last = std::min(m, first + index.leafSize);
+            for (std::size_t e = first; e < last; ++e) {
+                const std::size_t j = e == 0 ? m - 1 : e - 1;
+                if (!skipped(e, j)) visit(e, j);
+            }
+        };
+        edgesOf(nearestLeaf, [&](std::size_t e, std::size_t j) {
+            const S vx = S(v[e].x), vy = S(v[e].y), ex = S(v[j].x) - vx, ey = S(v[j].y) - vy;
+            const S invLen2 = S(1) / (ex * ex + ey * ey);
+            reach = std::min(reach, std::max(std::max(squaredDistance(uLo, vLo, vx, vy, ex, ey, invLen2),
+                                                      squaredDistance(uLo, vHi, vx, vy, ex, ey, invLen2)),
+                                             std::max(squaredDistance(uHi, vLo, vx, vy, ex, ey, invLen2),
+                                                      squaredDistance(uHi, vHi, vx, vy, ex, ey, invLen2))));
+        });
+        const S cutoff = reach * S(1.001) + S(1e-12);
+        for (std::size_t k = 0; k < leaves; ++k) {
+            if (gap[k] > cutoff) continue;
+            edgesOf(k, [&](std::size_t e, std::size_t j) {
+                const S vx = S(v[e].x), vy = S(v[e].y), vjx = S(v[j].x), vjy = S(v[j].y);
+                const S gu = std::max({std::min(vx, vjx) - uHi, uLo - std::max(vx, vjx), S(0)});
+                const S gv = std::max({std::min(vy, vjy) - vHi, vLo - std::max(vy, vjy), S(0)});
+                if (gu * gu + gv * gv > cutoff) return;
+                const S ex = vjx - vx, ey = vjy - vy;
+                const S invLen2 = S(1) / (ex * ex + ey * ey);
+                for (std::size_t i = 0; i < n; ++i)
+                    d[i] = std::min(d[i], squaredDistance(pu[i], pv[i], vx, vy, ex, ey, invLen2));
+            });
+        }
+        for (std::size_t i = 0; i < n; ++i)
+            visitEdgesAcross(v, index, pv[i], [&](std::size_t e, std::size_t j) {
+                if (skipped(e, j)) return;
+                const S vx = S(v[e].x), vy = S(v[e].y), ex = S(v[j].x) - vx, ey = S(v[j].y) - vy;
+                const S wx = pu[i] - vx, wy = pv[i] - vy;
+                const bool c1 = pv[i] >= vy, c2 = pv[i] < S(v[j].y), c3 = ex * wy > ey * wx;
+                if ((c1 && c2 && c3) || (!c1 && !c2 && !c3)) sign[i] = -sign[i];
+            });
+    }
     // (A margin far above the rounding of either side.)
     const S cutoff = reach * S(1.001) + S(1e-12);
-    for (std::size_t e = 0, j = m - 1; e < m; j = e++) {
+    for (std::size_t e = 0, j = m - 1; e < m && !indexed; j = e++) {
         if (skipped(e, j)) continue;
         const S vx = S(v[e].x), vy = S(v[e].y);
         const S ex = S(v[j].x) - vx, ey = S(v[j].y) - vy;
@@ -170,10 +228,11 @@ void evaluateShape(const ShapeInstance& s, const S* x, const S* y, const S* z, s
             param[i] = V(s.param[i]);
     }
     const auto p = [&](int i) { return param[i]; };
-    static const std::vector<glm::tvec2<S>> none;
-    const auto& profile = !s.polygon ? none : [&]() -> const auto& {
-        if constexpr (std::is_same_v<S, float>) return s.polygon->pointsF;
-        else return s.polygon->points;
+    static const Polygon none;
+    const Polygon& polygon = s.polygon ? *s.polygon : none;
+    const auto profile = [&] {
+        if constexpr (std::is_same_v<S, float>) return sdf::IndexedProfile<glm::vec2>{polygon.pointsF, polygon.indexF};
+        else return sdf::IndexedProfile<glm::dvec2>{polygon.points, polygon.index};
     }();
     // The kind is decided once per block: the loop body has no dispatch.
     const bool known = primitive::with(s.kind, [&](auto unit) {

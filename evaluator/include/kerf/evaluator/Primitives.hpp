@@ -102,6 +102,17 @@ template <class T> T extrusion(T d2, T z, T halfHeight)
     return min(max(d2, wz), T(0)) + sqrt(sq(max(d2, T(0))) + sq(max(wz, T(0))));
 }
 
+/// A profile's points with their index (PolygonIndex.hpp): what the
+/// evaluators pass for a placed extrusion or revolve, so that polygon2d
+/// visits only the edges that can matter. The encoded tiles' profiles
+/// (voxelizer) come without one and take the loop over every edge.
+template <class P> struct IndexedProfile {
+    const std::vector<P>& points;
+    const PolygonIndex<P>& index;
+    std::size_t size() const { return points.size(); }
+    const P& operator[](std::size_t i) const { return points[i]; }
+};
+
 /// Signed distance to a simple polygon in XY (negative inside), exact.
 /// `v`: the points in order, anything with size() and [i].x, [i].y.
 /// `axisEdges`: false for a revolve's profile, whose edges on the axis
@@ -129,6 +140,103 @@ template <class T, class Points> T polygon2d(T x, T y, const Points& v, bool axi
     return inside ? -dist : dist;
 }
 
+/// The same through the profile's index: the same value, to the bit, from
+/// the edges that can decide it.
+template <class T, class P>
+    requires std::is_floating_point_v<T>
+T polygon2d(T x, T y, const IndexedProfile<P>& profile, bool axisEdges = true)
+{
+    const auto& v = profile.points;
+    if (!(std::isfinite(x) && std::isfinite(y))) return polygon2d(x, y, v, axisEdges);
+    auto skip = [&](std::size_t i, std::size_t j) { return !axisEdges && v[i].x == 0 && v[j].x == 0; };
+    auto squared = [&](std::size_t i, std::size_t j) {
+        const T ex = T(v[j].x - v[i].x), ey = T(v[j].y - v[i].y);
+        const T wx = x - T(v[i].x), wy = y - T(v[i].y);
+        const T t = clamp01((wx * ex + wy * ey) / (ex * ex + ey * ey));
+        return sq(wx - t * ex) + sq(wy - t * ey);
+    };
+    T d = axisEdges ? sq(x - T(v[0].x)) + sq(y - T(v[0].y)) : std::numeric_limits<T>::max();
+    visitNearEdges(v, profile.index, x, y, d, squared, skip,
+                   [&](std::size_t i, std::size_t j) { d = min(d, squared(i, j)); });
+    bool inside = false;
+    visitEdgesAcross(v, profile.index, y, [&](std::size_t i, std::size_t j) {
+        if (skip(i, j)) return;
+        const T ex = T(v[j].x - v[i].x), ey = T(v[j].y - v[i].y);
+        const T wx = x - T(v[i].x), wy = y - T(v[i].y);
+        const bool c1 = y >= T(v[i].y), c2 = y < T(v[j].y), c3 = wy * ex > wx * ey;
+        if ((c1 && c2 && c3) || (!c1 && !c2 && !c3)) inside = !inside;
+    });
+    const T dist = sqrt(d);
+    return inside ? -dist : dist;
+}
+
+namespace detail {
+
+/// polygon2d's distance with its gradient, over the edges that the
+/// visitors give (every edge, or those the index leaves): see below.
+template <class B, class Points, class Near, class Across>
+Dual<B> polygonDual(const Dual<B>& x, const Dual<B>& y, const Points& v, bool axisEdges, B area, const Near& visitNear,
+                    const Across& visitAcross)
+{
+    const B px = x.v, py = y.v;
+    B d = std::numeric_limits<B>::max(), qx = 0, qy = 0; // the nearest so far, and p - q for it
+    B edgeX = 0, edgeY = 0;                               // its edge, when q lies inside it (else 0)
+    if (axisEdges) {
+        qx = px - B(v[0].x);
+        qy = py - B(v[0].y);
+        d = qx * qx + qy * qy;
+    }
+    auto skip = [&](std::size_t i, std::size_t j) { return !axisEdges && v[i].x == 0 && v[j].x == 0; };
+    auto squared = [&](std::size_t i, std::size_t j) {
+        const B ex = B(v[j].x - v[i].x), ey = B(v[j].y - v[i].y);
+        const B wx = px - B(v[i].x), wy = py - B(v[i].y);
+        const B t = std::min(std::max((wx * ex + wy * ey) / (ex * ex + ey * ey), B(0)), B(1));
+        const B bx = wx - t * ex, by = wy - t * ey;
+        return bx * bx + by * by;
+    };
+    visitNear(d, squared, skip, [&](std::size_t i, std::size_t j) {
+        const B ex = B(v[j].x - v[i].x), ey = B(v[j].y - v[i].y);
+        const B wx = px - B(v[i].x), wy = py - B(v[i].y);
+        const B raw = (wx * ex + wy * ey) / (ex * ex + ey * ey);
+        const B t = std::min(std::max(raw, B(0)), B(1));
+        const B bx = wx - t * ex, by = wy - t * ey;
+        const B di = bx * bx + by * by;
+        if (di < d) {
+            d = di;
+            qx = bx;
+            qy = by;
+            const bool within = B(0) < raw && raw < B(1);
+            edgeX = within ? ex : B(0);
+            edgeY = within ? ey : B(0);
+        }
+    });
+    bool inside = false;
+    visitAcross([&](std::size_t i, std::size_t j) {
+        if (skip(i, j)) return;
+        const B ex = B(v[j].x - v[i].x), ey = B(v[j].y - v[i].y);
+        const B wx = px - B(v[i].x), wy = py - B(v[i].y);
+        const bool c1 = py >= B(v[i].y), c2 = py < B(v[j].y), c3 = wy * ex > wx * ey;
+        if ((c1 && c2 && c3) || (!c1 && !c2 && !c3)) inside = !inside;
+    });
+    const B dist = std::sqrt(d);
+    B gx = 0, gy = 0;
+    if (edgeX != B(0) || edgeY != B(0)) {
+        // The edge vector points from v[i] back to v[j], against the
+        // profile's order: (-ey, ex), to its right as travelled, is outside
+        // of a counter-clockwise profile.
+        const B k = (area < B(0) ? B(-1) : B(1)) / std::sqrt(edgeX * edgeX + edgeY * edgeY);
+        gx = -edgeY * k;
+        gy = edgeX * k;
+    } else if (dist > B(0)) {
+        const B k = (inside ? B(-1) : B(1)) / dist;
+        gx = qx * k;
+        gy = qy * k;
+    }
+    return {inside ? -dist : dist, gx * x.d[0] + gy * y.d[0], gx * x.d[1] + gy * y.d[1], gx * x.d[2] + gy * y.d[2]};
+}
+
+} // namespace detail
+
 /// The same distance with its gradient. The generic form carries the three
 /// derivatives through every edge's arithmetic, and the exporter's walks to
 /// the surface spent a fifth of their time there on the side chair's rails
@@ -145,51 +253,36 @@ template <class T, class Points> T polygon2d(T x, T y, const Points& v, bool axi
 template <class B, class Points> Dual<B> polygon2d(const Dual<B>& x, const Dual<B>& y, const Points& v, bool axisEdges = true)
 {
     const std::size_t n = v.size();
-    const B px = x.v, py = y.v;
-    B d = std::numeric_limits<B>::max(), qx = 0, qy = 0; // the nearest so far, and p - q for it
-    B edgeX = 0, edgeY = 0;                               // its edge, when q lies inside it (else 0)
-    if (axisEdges) {
-        qx = px - B(v[0].x);
-        qy = py - B(v[0].y);
-        d = qx * qx + qy * qy;
-    }
-    bool inside = false;
     B area = 0; // twice the signed area, positive for a counter-clockwise profile
-    for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    for (std::size_t i = 0, j = n - 1; i < n; j = i++)
         area += B(v[j].x) * B(v[i].y) - B(v[i].x) * B(v[j].y);
-        if (!axisEdges && v[i].x == 0 && v[j].x == 0) continue;
-        const B ex = B(v[j].x - v[i].x), ey = B(v[j].y - v[i].y);
-        const B wx = px - B(v[i].x), wy = py - B(v[i].y);
-        const B raw = (wx * ex + wy * ey) / (ex * ex + ey * ey);
-        const B t = std::min(std::max(raw, B(0)), B(1));
-        const B bx = wx - t * ex, by = wy - t * ey;
-        const B di = bx * bx + by * by;
-        if (di < d) {
-            d = di;
-            qx = bx;
-            qy = by;
-            const bool within = B(0) < raw && raw < B(1);
-            edgeX = within ? ex : B(0);
-            edgeY = within ? ey : B(0);
-        }
-        const bool c1 = py >= B(v[i].y), c2 = py < B(v[j].y), c3 = wy * ex > wx * ey;
-        if ((c1 && c2 && c3) || (!c1 && !c2 && !c3)) inside = !inside;
-    }
-    const B dist = std::sqrt(d);
-    B gx = 0, gy = 0;
-    if (edgeX != B(0) || edgeY != B(0)) {
-        // The edge vector points from v[i] back to v[j], against the
-        // profile's order: (-ey, ex), to its right as travelled, is outside
-        // of a counter-clockwise profile.
-        const B k = (area < B(0) ? B(-1) : B(1)) / std::sqrt(edgeX * edgeX + edgeY * edgeY);
-        gx = -edgeY * k;
-        gy = edgeX * k;
-    } else if (dist > B(0)) {
-        const B k = (inside ? B(-1) : B(1)) / dist;
-        gx = qx * k;
-        gy = qy * k;
-    }
-    return {inside ? -dist : dist, gx * x.d[0] + gy * y.d[0], gx * x.d[1] + gy * y.d[1], gx * x.d[2] + gy * y.d[2]};
+    auto everyEdge = [&](const auto& visit) {
+        for (std::size_t i = 0, j = n - 1; i < n; j = i++)
+            visit(i, j);
+    };
+    return detail::polygonDual(
+        x, y, v, axisEdges, area,
+        [&](B, const auto&, const auto& skip, const auto& visit) {
+            everyEdge([&](std::size_t i, std::size_t j) {
+                if (!skip(i, j)) visit(i, j);
+            });
+        },
+        everyEdge);
+}
+
+/// The same through the profile's index (the same value and gradient, to
+/// the bit).
+template <class B, class P>
+Dual<B> polygon2d(const Dual<B>& x, const Dual<B>& y, const IndexedProfile<P>& profile, bool axisEdges = true)
+{
+    const auto& v = profile.points;
+    if (!(std::isfinite(x.v) && std::isfinite(y.v))) return polygon2d(x, y, v, axisEdges);
+    return detail::polygonDual(
+        x, y, v, axisEdges, B(profile.index.twiceArea),
+        [&](B bound, const auto& squared, const auto& skip, const auto& visit) {
+            visitNearEdges(v, profile.index, x.v, y.v, bound, squared, skip, visit);
+        },
+        [&](const auto& visit) { visitEdgesAcross(v, profile.index, y.v, visit); });
 }
 
 /// A profile of [r, z] points turned about Z, at (length(x, y), z).
@@ -223,6 +316,8 @@ inline std::shared_ptr<const Polygon> packPolygon(const std::vector<glm::dvec2>&
         poly->min = glm::min(poly->min, v);
         poly->max = glm::max(poly->max, v);
     }
+    poly->index = buildPolygonIndex(poly->points);
+    poly->indexF = buildPolygonIndex(poly->pointsF);
     return poly;
 }
 
@@ -458,15 +553,15 @@ template <class T> T shapeDistanceLocal(const ShapeInstance& s, T x, T y, T z)
 {
     using B = BaseScalarT<T>;
     if constexpr (std::is_same_v<B, float>) {
-        static const std::vector<glm::vec2> none;
-        const auto& profile = s.polygon ? s.polygon->pointsF : none;
+        static const Polygon none;
+        const Polygon& polygon = s.polygon ? *s.polygon : none;
         return primitiveDistance(s.kind, x, y, z, [&](int i) { return T(s.paramF[static_cast<std::size_t>(i)]); },
-                                 profile);
+                                 sdf::IndexedProfile<glm::vec2>{polygon.pointsF, polygon.indexF});
     } else {
-        static const std::vector<glm::dvec2> none;
-        const auto& profile = s.polygon ? s.polygon->points : none;
+        static const Polygon none;
+        const Polygon& polygon = s.polygon ? *s.polygon : none;
         return primitiveDistance(s.kind, x, y, z, [&](int i) { return T(s.param[static_cast<std::size_t>(i)]); },
-                                 profile);
+                                 sdf::IndexedProfile<glm::dvec2>{polygon.points, polygon.index});
     }
 }
 

@@ -13,6 +13,7 @@
 #include "kerf/document/Aabb.hpp"
 #include "kerf/document/Affine.hpp"
 #include "kerf/document/Node.hpp"
+#include "kerf/evaluator/PolygonIndex.hpp"
 #include "kerf/evaluator/ShapeKinds.h"
 
 #include <glm/vec2.hpp>
@@ -43,6 +44,8 @@ bool isBinary(Op op);
 struct Polygon {
     std::vector<glm::dvec2> points;
     std::vector<glm::vec2> pointsF; // the same points in float
+    PolygonIndex<glm::dvec2> index; // of points
+    PolygonIndex<glm::vec2> indexF; // of pointsF
     glm::dvec2 min{std::numeric_limits<double>::infinity()}, max{-std::numeric_limits<double>::infinity()}; // bounds
 };
 
