@@ -77,7 +77,9 @@ template <class P> PolygonIndex<P> buildPolygonIndex(const std::vector<P>& v)
     const std::size_t slabs = index.slabY.size();
     auto slabOf = [&](S y) { return std::size_t(std::lower_bound(index.slabY.begin(), index.slabY.end(), y) - index.slabY.begin()); };
     // Count, then fill; a profile whose edges span many slabs each (a comb
-    // of long teeth) would need lists of n^2: it goes without.
+    // of long teeth) would need lists of n^2: it goes without. (At most 8
+    // entries a point: the format's million profile points cost at most
+    // 64 MB of lists in its two precisions; outlines need two to four.)
     std::vector<std::uint32_t> count(slabs + 1, 0);
     std::size_t total = 0;
     for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
@@ -85,7 +87,7 @@ template <class P> PolygonIndex<P> buildPolygonIndex(const std::vector<P>& v)
         for (std::size_t k = a; k < b; ++k)
             ++count[k];
         total += b - a;
-        if (total > 32 * n + 1024) return index;
+        if (total > 8 * n + 1024) return index;
     }
     index.slabStart.assign(slabs + 1, 0);
     for (std::size_t k = 0; k < slabs; ++k)
