@@ -96,6 +96,16 @@ void profileBlock(const ShapeInstance& s, const S* x, const S* y, const S* z, st
         const S bx = wx - ex * t, by = wy - ey * t;
         return bx * bx + by * by;
     };
+    // An edge's largest squared distance to a point of the points' box: at
+    // one of its corners (the distance to a segment is convex).
+    auto farthest = [&](std::size_t e, std::size_t j) {
+        const S vx = S(v[e].x), vy = S(v[e].y), ex = S(v[j].x) - vx, ey = S(v[j].y) - vy;
+        const S invLen2 = S(1) / (ex * ex + ey * ey);
+        return std::max(std::max(squaredDistance(uLo, vLo, vx, vy, ex, ey, invLen2),
+                                 squaredDistance(uLo, vHi, vx, vy, ex, ey, invLen2)),
+                        std::max(squaredDistance(uHi, vLo, vx, vy, ex, ey, invLen2),
+                                 squaredDistance(uHi, vHi, vx, vy, ex, ey, invLen2)));
+    };
     const auto& index = [&]() -> const auto& {
         if constexpr (std::is_same_v<S, float>) return s.polygon->indexF;
         else return s.polygon->index;
@@ -109,47 +119,18 @@ void profileBlock(const ShapeInstance& s, const S* x, const S* y, const S* z, st
     if (prune)
         for (std::size_t e = 0, j = m - 1; e < m; j = e++) {
             if (skipped(e, j)) continue;
-            const S vx = S(v[e].x), vy = S(v[e].y), ex = S(v[j].x) - vx, ey = S(v[j].y) - vy;
-            const S invLen2 = S(1) / (ex * ex + ey * ey);
-            const S far = std::max(std::max(squaredDistance(uLo, vLo, vx, vy, ex, ey, invLen2),
-                                            squaredDistance(uLo, vHi, vx, vy, ex, ey, invLen2)),
-                                   std::max(squaredDistance(uHi, vLo, vx, vy, ex, ey, invLen2),
-                                            squaredDistance(uHi, vHi, vx, vy, ex, ey, invLen2)));
-            reach = std::min(reach, far);
+            reach = std::min(reach, farthest(e, j));
         }
     if (indexed) {
         // A long profile (PolygonIndex.hpp): the leaves of edges near the
         // points' box against their box, the same test per edge within
         // them, and the parity of each point from its slab's edges; the same
         // formulas as the loop below.
-        const std::size_t leaves = index.leafMin.size();
         S gap[kPolygonIndexMaxLeaves];
-        std::size_t nearestLeaf = 0;
-        for (std::size_t k = 0; k < leaves; ++k) {
-            const S gu = std::max({S(index.leafMin[k].x) - uHi, uLo - S(index.leafMax[k].x), S(0)});
-            const S gv = std::max({S(index.leafMin[k].y) - vHi, vLo - S(index.leafMax[k].y), S(0)});
-            gap[k] = gu * gu + gv * gv;
-            if (gap[k] < gap[nearestLeaf]) nearestLeaf = k;
-        }
-        auto edgesOf = [&](std::size_t k, auto&& visit) {
-            const std::size_t first = k * index.leafSize, last = std::min(m, first + index.leafSize);
-            for (std::size_t e = first; e < last; ++e) {
-                const std::size_t j = e == 0 ? m - 1 : e - 1;
-                if (!skipped(e, j)) visit(e, j);
-            }
-        };
-        edgesOf(nearestLeaf, [&](std::size_t e, std::size_t j) {
-            const S vx = S(v[e].x), vy = S(v[e].y), ex = S(v[j].x) - vx, ey = S(v[j].y) - vy;
-            const S invLen2 = S(1) / (ex * ex + ey * ey);
-            reach = std::min(reach, std::max(std::max(squaredDistance(uLo, vLo, vx, vy, ex, ey, invLen2),
-                                                      squaredDistance(uLo, vHi, vx, vy, ex, ey, invLen2)),
-                                             std::max(squaredDistance(uHi, vLo, vx, vy, ex, ey, invLen2),
-                                                      squaredDistance(uHi, vHi, vx, vy, ex, ey, invLen2))));
-        });
-        const S cutoff = reach * S(1.001) + S(1e-12);
-        for (std::size_t k = 0; k < leaves; ++k) {
+        const S cutoff = nearEdgesCutoff(index, m, ProfileBox<S>{uLo, uHi, vLo, vHi}, reach, farthest, skipped, gap);
+        for (std::size_t k = 0; k < index.leafMin.size(); ++k) {
             if (gap[k] > cutoff) continue;
-            edgesOf(k, [&](std::size_t e, std::size_t j) {
+            forEdgesOfLeaf(index, m, k, skipped, [&](std::size_t e, std::size_t j) {
                 const S vx = S(v[e].x), vy = S(v[e].y), vjx = S(v[j].x), vjy = S(v[j].y);
                 const S gu = std::max({std::min(vx, vjx) - uHi, uLo - std::max(vx, vjx), S(0)});
                 const S gv = std::max({std::min(vy, vjy) - vHi, vLo - std::max(vy, vjy), S(0)});

@@ -103,6 +103,49 @@ template <class P> PolygonIndex<P> buildPolygonIndex(const std::vector<P>& v)
     return index;
 }
 
+/// A box of the profile's plane (a point where lo == hi).
+template <class S> struct ProfileBox {
+    S uLo, uHi, vLo, vHi;
+};
+
+/// The squared gap between leaf k's box and `box` (0 where they meet).
+template <class S, class P> S leafGap(const PolygonIndex<P>& index, std::size_t k, const ProfileBox<S>& box)
+{
+    const S du = std::max({S(index.leafMin[k].x) - box.uHi, box.uLo - S(index.leafMax[k].x), S(0)});
+    const S dv = std::max({S(index.leafMin[k].y) - box.vHi, box.vLo - S(index.leafMax[k].y), S(0)});
+    return du * du + dv * dv;
+}
+
+/// Calls visit(i, j) for each edge of leaf k of a profile of n points that
+/// skip(i, j) does not rule out, in order.
+template <class P, class Skip, class Visit>
+void forEdgesOfLeaf(const PolygonIndex<P>& index, std::size_t n, std::size_t k, const Skip& skip, const Visit& visit)
+{
+    const std::size_t first = k * index.leafSize, last = std::min(n, first + index.leafSize);
+    for (std::size_t i = first; i < last; ++i) {
+        const std::size_t j = i == 0 ? n - 1 : i - 1;
+        if (!skip(i, j)) visit(i, j);
+    }
+}
+
+/// The squared distance beyond which no edge is the nearest to any point
+/// of `box`: `farthest(i, j)` bounds edge i's squared distance over the box
+/// from above (at a point, its distance), taken over the leaf whose box is
+/// nearest, and `bound` already holds (with a margin far above the rounding
+/// of either side). gap[k] is leaf k's leafGap.
+template <class S, class P, class Farthest, class Skip>
+S nearEdgesCutoff(const PolygonIndex<P>& index, std::size_t n, const ProfileBox<S>& box, S bound,
+                  const Farthest& farthest, const Skip& skip, S* gap)
+{
+    std::size_t nearest = 0;
+    for (std::size_t k = 0; k < index.leafMin.size(); ++k) {
+        gap[k] = leafGap(index, k, box);
+        if (gap[k] < gap[nearest]) nearest = k;
+    }
+    forEdgesOfLeaf(index, n, nearest, skip, [&](std::size_t i, std::size_t j) { bound = std::min(bound, farthest(i, j)); });
+    return bound + bound * S(1e-3) + S(1e-30);
+}
+
 /// Calls visit(i, j) for every edge (v[j], v[i]) that can be the nearest to
 /// (x, y) with a squared distance of at most `bound`, in the profile's
 /// order; `squared(i, j)` is the caller's squared distance to an edge, and
@@ -118,27 +161,10 @@ void visitNearEdges(const std::vector<P>& v, const PolygonIndex<P>& index, S x, 
             if (!skip(i, j)) visit(i, j);
         return;
     }
-    const std::size_t leaves = index.leafMin.size();
     S gap[kPolygonIndexMaxLeaves];
-    std::size_t nearest = 0;
-    for (std::size_t k = 0; k < leaves; ++k) {
-        const S dx = std::max({S(index.leafMin[k].x) - x, x - S(index.leafMax[k].x), S(0)});
-        const S dy = std::max({S(index.leafMin[k].y) - y, y - S(index.leafMax[k].y), S(0)});
-        gap[k] = dx * dx + dy * dy;
-        if (gap[k] < gap[nearest]) nearest = k;
-    }
-    auto edgesOf = [&](std::size_t k, auto&& f) {
-        const std::size_t first = k * index.leafSize, last = std::min(n, first + index.leafSize);
-        for (std::size_t i = first; i < last; ++i) {
-            const std::size_t j = i == 0 ? n - 1 : i - 1;
-            if (!skip(i, j)) f(i, j);
-        }
-    };
-    edgesOf(nearest, [&](std::size_t i, std::size_t j) { bound = std::min(bound, squared(i, j)); });
-    // (A margin far above the rounding of either side.)
-    const S cutoff = bound + bound * S(1e-3) + S(1e-30);
-    for (std::size_t k = 0; k < leaves; ++k)
-        if (!(gap[k] > cutoff)) edgesOf(k, visit);
+    const S cutoff = nearEdgesCutoff(index, n, ProfileBox<S>{x, x, y, y}, bound, squared, skip, gap);
+    for (std::size_t k = 0; k < index.leafMin.size(); ++k)
+        if (!(gap[k] > cutoff)) forEdgesOfLeaf(index, n, k, skip, visit);
 }
 
 /// The edges that can flip the crossing parity at height y: calls
