@@ -764,7 +764,9 @@ int main(int argc, char** argv)
                                      {"check_clearance_voxels", KERF_EDGE_CHECK_CLEARANCE},
                                      {"check_smooth_clearance_voxels", KERF_EDGE_CHECK_SMOOTH_CLEARANCE},
                                      {"check_clearance_per_radian", KERF_EDGE_CHECK_CLEARANCE_PER_RADIAN},
-                                     {"refine_budget_evaluations", KERF_EDGE_REFINE_BUDGET},
+                                     {"refine_lanes", KERF_EDGE_REFINE_LANES},
+                                     {"refine_rounds", KERF_EDGE_REFINE_ROUNDS},
+                                     {"refine_window_rounds", KERF_EDGE_REFINE_WINDOW_ROUNDS},
                                      {"check_smooth_angle_degrees", KERF_EDGE_CHECK_SMOOTH_ANGLE}};
             j["results"] = results;
             std::ofstream(jsonPath) << j.dump(2) << "\n";

@@ -5,6 +5,8 @@
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_shuffle : require
 
 #include "TraceShared.h"
 #include "kerf/tracer/ExactRefinement.h"
@@ -58,8 +60,12 @@ struct Hit {
     float nearFrom, nearTo; // ... and RayHit::nearFrom, nearTo
 };
 
-// Plain exact evaluations of the refinement so far (KERF_EDGE_REFINE_BUDGET).
-uint refineEvaluations = 0u;
+// Rounds of the listed pass's refinement so far (KERF_EDGE_REFINE_ROUNDS).
+uint refineRounds = 0u;
+// The listed pass: this invocation's lane among the KERF_EDGE_REFINE_LANES
+// that trace one listed ray together, and the subgroup invocation of its
+// first lane.
+uint refineLane = 0u, refineLaneBase = 0u;
 
 // A section's cap, pending while the ray, started on the section plane, has
 // met no populated voxel (ReferenceTracer.cpp, CapState).
@@ -195,7 +201,6 @@ float exactCrossing(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float
     int side = 0;
     for (int k = 0; k < kMaxEvaluations; ++k) {
         const float g = exactAt(tape, e, dir, tileSize, at);
-        ++refineEvaluations;
         if (phase == kStart) {
             if (g <= 0.0) {
                 phase = kBack;
@@ -286,6 +291,116 @@ float exactCrossing(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float
         return hi;
     }
     return hi;
+}
+
+// Exact's refinement of a listed ray: KERF_EDGE_REFINE_LANES lanes search
+// the window together, one point each a round (ReferenceTracer.cpp,
+// exactCrossingLanes, which says why and how). Every lane of the ray runs
+// this with the same arguments and takes the same decisions; the values are
+// exchanged by subgroup shuffles, the first segment not certified found by
+// a ballot.
+int refineSpacingOffset(bool first) { return first ? 0 : 1; }
+int refineSpacingDivisions(bool first, bool knownEnd)
+{
+    return first ? KERF_EDGE_REFINE_LANES - 1 : (knownEnd ? KERF_EDGE_REFINE_LANES + 1 : KERF_EDGE_REFINE_LANES);
+}
+float refinePoint(float lo, float end, int j, int offset, int divisions)
+{
+    if (j + offset == divisions) return end;
+    return lo + (end - lo) * (float(j + offset) / float(divisions));
+}
+bool refineSegmentCertified(float x0, float f0, float x1, float f1, float eps, float gap)
+{
+    return !(f1 < eps) && (f0 + f1 >= x1 - x0 || x1 - x0 <= gap);
+}
+float refineFinish(float x0, float f0, float x1, float f1, float eps)
+{
+    if (!(f1 < f0)) return x1;
+    const float root = x1 - f1 * ((x1 - x0) / (f1 - f0));
+    return clamp(root, min(x0 + f0, x1), f1 <= 0.0 ? x1 : x1 + eps);
+}
+// The value lane j of this ray holds.
+float laneValue(float v, int j) { return subgroupShuffle(v, refineLaneBase + uint(j)); }
+
+float exactCrossingLanes(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float s1, float sTileEnd,
+                         float voxelEdge, inout float searched)
+{
+    const int lanes = KERF_EDGE_REFINE_LANES;
+    const float margin = float(KERF_EXACT_MARGIN) * voxelEdge;
+    const float eps = float(KERF_EXACT_EPSILON) * voxelEdge;
+    const float gap = float(KERF_EDGE_REFINE_GAP) * voxelEdge;
+    const float finish = float(KERF_EDGE_REFINE_FINISH) * voxelEdge;
+    const float a = max(searched, s0 - margin);
+    const float b = min(s1 + margin, sTileEnd);
+    if (!(a < b)) return -1.0;
+    float lo = a, fLo = kInf;
+    float hi = b;
+    float end = b, fEnd = 0.0;
+    bool known = false;
+    bool bracketed = false;
+    float span = b - a;
+    const int j = int(refineLane);
+    for (int round = 0; round < KERF_EDGE_REFINE_WINDOW_ROUNDS; ++round) {
+        ++refineRounds;
+        if (round > 0 && !known) end = span < hi - lo ? lo + span : hi;
+        const int offset = refineSpacingOffset(round == 0), divisions = refineSpacingDivisions(round == 0, known);
+        const float x = refinePoint(lo, end, j, offset, divisions);
+        const float f = exactAt(tape, e, dir, tileSize, x);
+        // This lane's segment: from the previous lane's point (lane 0: lo).
+        const float fBefore = laneValue(f, max(j - 1, 0));
+        const float xBefore = j == 0 ? lo : refinePoint(lo, end, j - 1, offset, divisions);
+        const bool certified = refineSegmentCertified(xBefore, j == 0 ? fLo : fBefore, x, f, eps, gap);
+        const uvec4 votes = subgroupBallot(!certified);
+        const uint mine = (votes[refineLaneBase >> 5u] >> (refineLaneBase & 31u)) & ((1u << uint(lanes)) - 1u);
+        int k = mine == 0u ? lanes : findLSB(mine);
+        const float fLast = laneValue(f, lanes - 1);
+        // The known end, one more point after the lanes'.
+        if (k == lanes && known && !refineSegmentCertified(refinePoint(lo, end, lanes - 1, offset, divisions), fLast,
+                                                             end, fEnd, eps, gap))
+            k = lanes + 1; // not a lane: stands for the known end below
+        if (k == lanes) {
+            const float xLast = known ? end : refinePoint(lo, end, lanes - 1, offset, divisions);
+            const float fAtLast = known ? fEnd : fLast;
+            if (xLast == b) {
+                searched = b;
+                return -1.0;
+            }
+            span = (xLast - lo) * float(lanes + 1);
+            lo = xLast;
+            fLo = fAtLast;
+            known = false;
+            continue;
+        }
+        const bool atEnd = k == lanes + 1;
+        const int kk = atEnd ? lanes : k;
+        const float xk = atEnd ? end : refinePoint(lo, end, kk, offset, divisions);
+        const float fk = atEnd ? fEnd : laneValue(f, kk);
+        const float xPrev = kk == 0 ? lo : refinePoint(lo, end, kk - 1, offset, divisions);
+        const float fPrev = kk == 0 ? fLo : laneValue(f, kk - 1);
+        if (fk < eps) {
+            if (round == 0 && kk == 0) {
+                if (fk > -eps) return xk;
+                float at = xk, g = fk;
+                for (int count = 0; count < KERF_EXACT_STEPS && g < -eps && at > searched; ++count) {
+                    at = max(at + g, searched);
+                    ++refineRounds;
+                    g = exactAt(tape, e, dir, tileSize, at);
+                }
+                return at;
+            }
+            if (!(xk - (xPrev + fPrev) > finish)) return refineFinish(xPrev, fPrev, xk, fk, eps);
+            bracketed = true;
+            hi = xk;
+        }
+        lo = xPrev;
+        fLo = fPrev;
+        end = xk;
+        fEnd = fk;
+        known = true;
+    }
+    if (bracketed) return hi;
+    searched = max(searched, lo);
+    return -1.0;
 }
 
 bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 invDir, float tileSize, float tEnter,
@@ -393,10 +508,13 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
                 hit.nearTo = max(hit.nearTo, tEnter + (sExit + margin) * tileSize);
             }
             if (kHybrid && tape != KERF_NO_TAPE &&
-                (kPass != kTraceListed || refineEvaluations < KERF_EDGE_REFINE_BUDGET)) {
+                (kPass != kTraceListed || refineRounds < KERF_EDGE_REFINE_ROUNDS)) {
                 const float voxelEdge = 1.0 / voxelScale;
-                const float sHit = exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
-                                                 w >= 0.0 ? s + w / voxelScale : -1.0, searched);
+                const float sHit =
+                    kPass == kTraceListed
+                        ? exactCrossingLanes(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge, searched)
+                        : exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
+                                        w >= 0.0 ? s + w / voxelScale : -1.0, searched);
                 if (sHit >= 0.0) {
                     hit.tape = tape;
                     hit.point = (e + max(sHit - float(KERF_EXACT_EPSILON) * voxelEdge, 0.0) * dir) * tileSize;
@@ -635,12 +753,12 @@ void tracePixel(uvec2 px)
     vec3 origin, direction;
     cameraRay(px, origin, direction);
     capPending = false;
-    refineEvaluations = 0u;
+    refineRounds = 0u;
     // A listed ray: only the stretch where the voxels met the surface or came near it.
     const vec2 stretch = kPass == kTraceListed ? ReadVec4s(P.outVoxelPass).v[i].yz : vec2(0.0, kInf);
     Hit h = traceRay(origin, direction, stretch.x, stretch.y);
     if (kPass == kTraceListed && h.tape == KERF_NO_TAPE && h.depth < kInf &&
-        refineEvaluations >= KERF_EDGE_REFINE_BUDGET) {
+        refineRounds >= KERF_EDGE_REFINE_ROUNDS) {
         // ReferenceTracer.cpp: the budget ran out before this voxel hit; the check's Newton steps.
         h.clearance = kInf;
         const vec3 dir = nonZero(direction);
@@ -654,6 +772,7 @@ void tracePixel(uvec2 px)
         h.normal = len > 0.0 ? fg.yzw / len : h.normal;
         h.feature = feature;
     }
+    if (kPass == kTraceListed && refineLane != 0u) return; // the ray's first lane writes it
     Floats(P.outDepth).f[i] = h.depth;
     Vec4s(P.outNormal).v[i] = vec4(h.normal, 0.0);
     Uints(P.outFeature).u[i] = h.feature;
@@ -680,8 +799,8 @@ void checkPixel(uvec2 px)
     } else if (verdict == kVerdictRefine) {
         const uint slot = atomicAdd(RefineArgs(P.refineArgs).count, 1u);
         RefineList(P.refineList).pixel[slot] = i;
-        // One more workgroup of the refinement's indirect dispatch per 64 pixels listed.
-        if (slot % uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) == 0u)
+        // One more workgroup of the refinement's indirect dispatch per 64 lanes listed.
+        if (slot % uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE / KERF_EDGE_REFINE_LANES) == 0u)
             atomicAdd(RefineArgs(P.refineArgs).groups, 1u);
     }
 }
@@ -690,9 +809,13 @@ void main()
 {
     P = ParamsRef(pc.params).p;
     if (kPass == kTraceListed) {
-        const uint slot =
-            gl_WorkGroupID.x * uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) + gl_LocalInvocationIndex;
-        if (slot >= RefineArgs(P.refineArgs).count) return;
+        // KERF_EDGE_REFINE_LANES consecutive invocations of a subgroup per listed pixel.
+        const uint lanes = uint(KERF_EDGE_REFINE_LANES);
+        refineLane = gl_SubgroupInvocationID % lanes;
+        refineLaneBase = gl_SubgroupInvocationID - refineLane;
+        const uint slot = (gl_WorkGroupID.x * uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) +
+                           gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID) / lanes;
+        if (slot >= RefineArgs(P.refineArgs).count) return; // the same for the ray's every lane
         const uint listed = RefineList(P.refineList).pixel[slot];
         tracePixel(uvec2(listed % P.image.x, listed / P.image.x));
         return;

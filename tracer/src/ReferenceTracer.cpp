@@ -181,6 +181,45 @@ float exactAt(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& di
     return voxel::evaluateTileTape(tape, (e + s * dir) * tileSize) / tileSize;
 }
 
+// How a round of exactCrossingLanes spreads its points over [lo, end]: the
+// first from lo itself to end; inside a segment whose end is known, strictly
+// between the two; over the next span of the window, up to end.
+struct RefineSpacing {
+    int offset, divisions;
+};
+RefineSpacing refineSpacing(bool first, bool knownEnd)
+{
+    if (first) return {0, KERF_EDGE_REFINE_LANES - 1};
+    return {1, knownEnd ? KERF_EDGE_REFINE_LANES + 1 : KERF_EDGE_REFINE_LANES};
+}
+float refinePoint(float lo, float end, int j, RefineSpacing spacing)
+{
+    if (j + spacing.offset == spacing.divisions) return end; // exactly: the window's end is recognised by it
+    return lo + (end - lo) * (float(j + spacing.offset) / float(spacing.divisions));
+}
+
+// No crossing between x0 (outside, f0 >= eps) and x1: x1 outside too and
+// the two values too large for the surface to fit between them, or the two
+// closer than `gap` (a near miss that close is left to the voxels: ruling
+// it out takes rounds in proportion to how near it passes).
+bool refineSegmentCertified(float x0, float f0, float x1, float f1, float eps, float gap)
+{
+    return !(f1 < eps) && (f0 + f1 >= x1 - x0 || x1 - x0 <= gap);
+}
+
+// The hit in the first segment that reaches the surface, from x0 (outside)
+// to x1 (within eps of the surface, or inside), once the crossing is known
+// to within KERF_EDGE_REFINE_FINISH: where the line through the two values
+// crosses zero (the field is all but linear there), kept where the crossing
+// can be (no nearer x0 than f0: the field is 1-Lipschitz; not beyond an
+// inside x1, nor more than eps beyond an outside one); else x1.
+float refineFinish(float x0, float f0, float x1, float f1, float eps)
+{
+    if (!(f1 < f0)) return x1;
+    const float root = x1 - f1 * ((x1 - x0) / (f1 - f0));
+    return glm::clamp(root, glm::min(x0 + f0, x1), f1 <= 0.0f ? x1 : x1 + eps);
+}
+
 // The ray's first crossing of the exact surface around a populated voxel
 // whose segment is [s0, s1]: searched on [s0 - margin, s1 + margin] within
 // the tile, and not before `searched` (up to where an earlier search found
@@ -317,6 +356,106 @@ float exactCrossing(const std::uint32_t* tape, const glm::vec3& e, const glm::ve
     return hi; // not reached: every phase ends within its steps
 }
 
+// Exact's refinement of the rays the check sent back (Refinement::Budgeted):
+// the same window as exactCrossing, searched KERF_EDGE_REFINE_LANES points
+// at a time. On the GPU each point is one lane's evaluation, so that a round
+// costs one evaluation's latency: the serial search spent up to 44 in a row
+// on one ray, and a frame waits for its slowest ray (docs/benchmarks.md).
+//
+// Everything before `lo` is known to hold no crossing, and f(lo) >= eps. A
+// round places its points evenly over [lo, end]: the first over the whole
+// window from its start; later ones inside a segment whose far end's value
+// is known (an open segment, a bracket), or over the next `span` of the
+// window. Each segment between neighbouring points is then
+//  - certified empty when both ends are outside and their values add up to
+//    its length or more (the field is 1-Lipschitz: no crossing fits),
+//  - reached when its far end is within eps of the surface or inside,
+//  - open otherwise (a near miss the points are too far apart to rule out).
+// The first segment that is not certified is looked into: a point within
+// eps of the surface is the hit; a bracket is narrowed until its ends lie
+// within eps, the hit then its inner end; an open segment gets points
+// closer together. When every segment is certified the search moves past
+// them, the span grown back. After KERF_EDGE_REFINE_WINDOW_ROUNDS rounds
+// without a bracket the window is left (`searched` = lo: the next voxel's
+// window goes on from there); with one, the hit is its inner end. A window
+// whose start is inside walks back as exactCrossing does (kBack). The GPU
+// (trace.comp, exactCrossingLanes) makes the same decisions point by point.
+float exactCrossingLanes(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& dir, float tileSize,
+                         float s0, float s1, float sTileEnd, float voxelEdge, float& searched, RayHit& hit)
+{
+    constexpr int lanes = KERF_EDGE_REFINE_LANES;
+    const float margin = float(KERF_EXACT_MARGIN) * voxelEdge;
+    const float eps = float(KERF_EXACT_EPSILON) * voxelEdge;
+    const float gap = float(KERF_EDGE_REFINE_GAP) * voxelEdge;
+    const float finish = float(KERF_EDGE_REFINE_FINISH) * voxelEdge;
+    const float a = glm::max(searched, s0 - margin);
+    const float b = glm::min(s1 + margin, sTileEnd);
+    if (!(a < b)) return -1.0f;
+    float lo = a, fLo = kInf; // kInf: the window's start is certified against nothing
+    float hi = b;             // the window's end, or a bracket's inner end
+    float end = b, fEnd = 0.0f;
+    bool known = false; // fEnd holds end's value (a round inside an open segment or a bracket)
+    bool bracketed = false;
+    float span = b - a;
+    for (int round = 0; round < KERF_EDGE_REFINE_WINDOW_ROUNDS; ++round) {
+        ++hit.rounds;
+        if (round > 0 && !known) end = span < hi - lo ? lo + span : hi;
+        const RefineSpacing spacing = refineSpacing(round == 0, known);
+        float x[lanes + 1], f[lanes + 1];
+        for (int j = 0; j < lanes; ++j) {
+            x[j] = refinePoint(lo, end, j, spacing);
+            f[j] = exactAt(tape, e, dir, tileSize, x[j], hit.evaluations);
+        }
+        int points = lanes;
+        if (known) {
+            x[lanes] = end;
+            f[lanes] = fEnd;
+            points = lanes + 1;
+        }
+        int k = 0;
+        while (k < points && refineSegmentCertified(k == 0 ? lo : x[k - 1], k == 0 ? fLo : f[k - 1], x[k], f[k], eps, gap))
+            ++k;
+        if (k == points) {
+            if (x[points - 1] == b) { // the whole window certified
+                searched = b;
+                return -1.0f;
+            }
+            span = (x[points - 1] - lo) * float(lanes + 1);
+            lo = x[points - 1];
+            fLo = f[points - 1];
+            known = false;
+            continue;
+        }
+        const float fPrev = k == 0 ? fLo : f[k - 1];
+        const float xPrev = k == 0 ? lo : x[k - 1];
+        if (f[k] < eps) {
+            if (round == 0 && k == 0) { // the window's start reached
+                if (f[0] > -eps) return x[0];
+                // Inside: exactCrossing's walk back.
+                float at = x[0], g = f[0];
+                for (int count = 0; count < KERF_EXACT_STEPS && g < -eps && at > searched; ++count) {
+                    at = glm::max(at + g, searched);
+                    ++hit.rounds;
+                    g = exactAt(tape, e, dir, tileSize, at, hit.evaluations);
+                }
+                return at;
+            }
+            // The first crossing lies in (xPrev, x[k]], no earlier than xPrev + fPrev.
+            if (!(x[k] - (xPrev + fPrev) > finish)) return refineFinish(xPrev, fPrev, x[k], f[k], eps);
+            bracketed = true;
+            hi = x[k];
+        }
+        lo = xPrev;
+        fLo = fPrev;
+        end = x[k];
+        fEnd = f[k];
+        known = true;
+    }
+    if (bracketed) return hi;
+    searched = glm::max(searched, lo);
+    return -1.0f;
+}
+
 // A section's cap, pending while the ray, started on the section plane, has
 // met no populated voxel yet: until then no surface was crossed, so the
 // first voxel's value at the ray's entry says whether the plane point was
@@ -351,8 +490,8 @@ enum class Refinement {
     None,       // none: the voxels alone (TraceQuality::Voxels, and Exact's first look)
     EveryVoxel, // every one the ray meets (TraceQuality::ExactEverywhere)
     // Exact's rays that the check sent back: every one the ray meets (on the
-    // stretch traceGrid is given), until the ray has spent
-    // KERF_EDGE_REFINE_BUDGET evaluations.
+    // stretch traceGrid is given), KERF_EDGE_REFINE_LANES points a round
+    // (exactCrossingLanes), until the ray has spent KERF_EDGE_REFINE_ROUNDS.
     Budgeted,
 };
 
@@ -463,14 +602,17 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
             // stops searching once it has spent its budget (the few rays
             // that skim along edges for many voxels keep their voxels'
             // answer there: on the GPU one such ray sets the frame time).
-            if (tape && (refinement == Refinement::EveryVoxel || hit.evaluations < KERF_EDGE_REFINE_BUDGET)) {
+            if (tape && (refinement == Refinement::EveryVoxel || hit.rounds < KERF_EDGE_REFINE_ROUNDS)) {
                 // Near the surface: the exact field decides, the trilinear
                 // crossing only brackets it; where the exact field has no
                 // crossing nearby, the voxels' stands (never a hole where
                 // the voxels show surface).
                 const float voxelEdge = 1.0f / voxelScale;
-                const float sHit = exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
-                                                 w >= 0.0f ? s + w / voxelScale : -1.0f, searched, hit.evaluations);
+                const float sHit =
+                    refinement == Refinement::Budgeted
+                        ? exactCrossingLanes(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge, searched, hit)
+                        : exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
+                                        w >= 0.0f ? s + w / voxelScale : -1.0f, searched, hit.evaluations);
                 if (sHit >= 0.0f) {
                     // The normal is taken a hair in front of the hit: exactly
                     // on the surface some fields have no derivative (a
@@ -673,22 +815,35 @@ RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::v
     // Without tapes (none built) the refinement has nothing to refine with: the voxels, as on the GPU.
     if (quality == TraceQuality::Voxels || b.tapes.empty())
         return traceRefined(b, origin, direction, plane, Refinement::None);
-    if (quality == TraceQuality::ExactEverywhere) return traceRefined(b, origin, direction, plane, Refinement::EveryVoxel);
+    if (quality == TraceQuality::ExactEverywhere) {
+        RayHit hit = traceRefined(b, origin, direction, plane, Refinement::EveryVoxel);
+        hit.evaluationsInARow = hit.evaluations;
+        return hit;
+    }
     // Exact: the voxels first; the refinement only where the exact field does not confirm their hit.
     const RayHit voxels = traceRefined(b, origin, direction, plane, Refinement::None);
     RayHit checked;
     const glm::vec3 dir(nonZero(direction.x), nonZero(direction.y), nonZero(direction.z));
-    if (checkVoxelHit(b, origin, dir, plane, voxels, checked) != VoxelHitVerdict::Refine) return checked;
+    if (checkVoxelHit(b, origin, dir, plane, voxels, checked) != VoxelHitVerdict::Refine) {
+        checked.evaluationsInARow = checked.evaluations;
+        return checked;
+    }
     // Only the stretch where the voxels met the surface or came near it:
     // nothing before or after it would be searched.
     RayHit hit = traceRefined(b, origin, direction, plane, Refinement::Budgeted, voxels.nearFrom, voxels.nearTo);
-    if (hit.hit() && !hit.exactHit && hit.evaluations >= KERF_EDGE_REFINE_BUDGET) {
+    // A round's evaluations run side by side (one lane each); then the gradient at the hit.
+    std::uint32_t inARow = hit.rounds + (hit.exactHit ? 1u : 0u);
+    if (hit.hit() && !hit.exactHit && hit.rounds >= KERF_EDGE_REFINE_ROUNDS) {
         // The budget ran out before the hit: it is a voxel hit, which the
         // check's two Newton steps put on the exact surface where they can.
         RayHit voxelHit = hit, onSurface;
         voxelHit.passedClearance = kInf;
-        if (checkVoxelHit(b, origin, dir, plane, voxelHit, onSurface) == VoxelHitVerdict::Confirm) hit = onSurface;
+        if (checkVoxelHit(b, origin, dir, plane, voxelHit, onSurface) == VoxelHitVerdict::Confirm) {
+            inARow += onSurface.evaluations - voxelHit.evaluations;
+            hit = onSurface;
+        }
     }
+    hit.evaluationsInARow = inARow + checked.evaluations;
     hit.evaluations += checked.evaluations;
     hit.steps += checked.steps;
     hit.refined = true;

@@ -1,5 +1,6 @@
 #include "kerf/viewport/ComputeTracer.hpp"
 
+#include "kerf/tracer/ExactRefinement.h"
 #include "kerf/tracer/ReferenceTracer.hpp"
 #include "kerf/viewport/ShaderModules.hpp"
 #include "kerf/viewport/VulkanError.hpp"
@@ -43,6 +44,12 @@ struct ComputeTracer::Impl {
     GpuBuffer refineArgs;            // the refinement's indirect dispatch and count
     GpuBuffer refineArgsRead;        // its copy the host reads (lastTiming)
     bool lastWasExact = false;
+    // TraceQuality::Exact's listed pass traces each ray with
+    // KERF_EDGE_REFINE_LANES lanes of one subgroup (trace.comp,
+    // exactCrossingLanes). A device whose subgroups cannot hold them whole
+    // refines every ray instead (ExactEverywhere: the same picture within
+    // the refinement's accuracy, slower).
+    bool refineLanes = false;
     GpuBuffer params;
 
     explicit Impl(const Context& c) : ctx(c) {}
@@ -138,6 +145,15 @@ void ComputeTracer::Impl::recordExactPasses(VkCommandBuffer cb, int w, int h)
 
 ComputeTracer::ComputeTracer(const Context& ctx) : impl_(std::make_unique<Impl>(ctx))
 {
+    VkPhysicalDeviceSubgroupProperties subgroups{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    properties.pNext = &subgroups;
+    vkGetPhysicalDeviceProperties2(ctx.physicalDevice(), &properties);
+    const VkSubgroupFeatureFlags needed = VK_SUBGROUP_FEATURE_BALLOT_BIT | VK_SUBGROUP_FEATURE_SHUFFLE_BIT;
+    impl_->refineLanes = (subgroups.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
+                         (subgroups.supportedOperations & needed) == needed &&
+                         subgroups.subgroupSize % KERF_EDGE_REFINE_LANES == 0 &&
+                         (KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) % subgroups.subgroupSize == 0;
     VkDevice dev = ctx.device();
     impl_->module = makeShaderModule(dev, kTraceComp, sizeof(kTraceComp), "vkCreateShaderModule (trace.comp)");
 
@@ -267,7 +283,7 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
     vkCmdPushConstants(cb, impl_->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof address, &address);
     vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, impl_->timestamps, 0);
     const std::uint32_t g = KERF_TRACE_LOCAL_SIZE;
-    impl_->lastWasExact = refine && quality == TraceQuality::Exact;
+    impl_->lastWasExact = refine && quality == TraceQuality::Exact && impl_->refineLanes;
     if (impl_->lastWasExact) {
         impl_->recordExactPasses(cb, w, h);
     } else {

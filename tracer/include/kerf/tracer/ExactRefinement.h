@@ -46,10 +46,27 @@
 // The exact normal where the first step lands must lie within this of the
 // voxels' (degrees): else an edge lies between them.
 #define KERF_EDGE_CHECK_SMOOTH_ANGLE 10.0
-// Exact evaluations a ray the check could not confirm may spend on its
-// search (the gradient at the hit not counted): beyond, the voxels it meets
-// answer alone. A few rays that skim along an edge for many voxels would
-// otherwise take hundreds, and on a GPU the frame waits for the slowest.
-#define KERF_EDGE_REFINE_BUDGET 32u
+// TraceQuality::Exact's refinement of the rays the check sent back searches
+// LANES points of the ray at a time (one GPU lane each, so that a round
+// costs one evaluation's latency; ReferenceTracer.cpp, exactCrossingLanes):
+// at most WINDOW_ROUNDS rounds in one populated voxel's window, and no new
+// window once the ray has spent ROUNDS; beyond, the voxels it meets answer
+// alone. A few rays that skim along an edge for many voxels would otherwise
+// take hundreds, and on a GPU the frame waits for its slowest ray. LANES
+// must divide the GPU's subgroup (else ComputeTracer refines every ray).
+#define KERF_EDGE_REFINE_LANES 8
+// A stretch shorter than this (voxel edges) between two points outside the
+// surface counts as empty: a ray passing nearer than that to the surface
+// without meeting it between two points is left to the voxels.
+#define KERF_EDGE_REFINE_GAP 0.02
+// The first segment that reaches the surface (its far end within
+// KERF_EXACT_EPSILON of it, or inside) is narrowed until the crossing is
+// known to within this (voxel edges); the line through its ends' values
+// then places the hit.
+#define KERF_EDGE_REFINE_FINISH 0.01
+// The two budgets, measured in docs/benchmarks.md ("Exact edges in rounds of
+// eight lanes"): tighter ones lose the edges' normals on the sharp part.
+#define KERF_EDGE_REFINE_WINDOW_ROUNDS 20
+#define KERF_EDGE_REFINE_ROUNDS 12u
 
 #endif

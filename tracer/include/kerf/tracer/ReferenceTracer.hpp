@@ -43,8 +43,12 @@
 //     crossed where no voxel is populated: an edge sharper than the
 //     voxels). A crossing found is the hit, with the exact field's normal
 //     (its gradient by forward differentiation, in tile-relative
-//     millimetres) and deciding feature. Where the window holds no exact crossing, the trilinear one
-//     stands (the voxels never show a hole that the hybrid would open);
+//     millimetres) and deciding feature. TraceQuality::Exact's refinement
+//     of the rays the check sends back searches the same windows eight
+//     points at a time instead (one GPU lane each: exactCrossingLanes in
+//     ReferenceTracer.cpp), spans certified empty by the field's values,
+//     the first one that is not narrowed down. Where the window holds no
+//     exact crossing, the trilinear one stands (the voxels never show a hole that the hybrid would open);
 //     where neither exists, the ray moves on. ExactRefinement.h has the
 //     constants. Tiles without a tape are traced on their voxels.
 //  A kFullTile tile (entirely inside) is reported hit at its entry face,
@@ -78,6 +82,10 @@ struct RayHit {
     std::uint32_t feature = kNoFeature;
     std::uint32_t steps = 0;       // tiles and contree cells visited (a cost measure)
     std::uint32_t evaluations = 0; // exact tape evaluations (the hybrid refinement's cost)
+    std::uint32_t rounds = 0;      // Exact's refinement: rounds of KERF_EDGE_REFINE_LANES evaluations
+    /// The evaluations one after another, each of Exact's rounds counted
+    /// once (its lanes evaluate together): what a GPU's ray waits for.
+    std::uint32_t evaluationsInARow = 0;
     /// Of the populated voxels the ray crossed without meeting their
     /// trilinear surface, the least value of that surface's field along the
     /// ray, in units of the clearance VoxelHitCheck.hpp asks of that voxel
