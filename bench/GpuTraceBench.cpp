@@ -722,10 +722,11 @@ int main(int argc, char** argv)
                                     scene.name.c_str(), fs, snap.populatedVoxels(), double(snap.bytes()) / 1e6,
                                     double(tapeBytes) / 1e6, uploadMs, w, h, q.c_str(), m, mrays, sustained);
                         if (quality == TraceQuality::Exact)
-                            std::printf("   passes %.3f + %.3f + %.3f ms, %u pixels refined (%.1f%% of hits)",
+                            std::printf("   passes %.3f + %.3f + %.3f ms, %u pixels refined (%.1f%% of hits), %d lanes a ray",
                                         passes.voxelPassMilliseconds, passes.checkMilliseconds,
                                         passes.refineMilliseconds, passes.refinedPixels,
-                                        100.0 * double(passes.refinedPixels) / double(std::max<std::size_t>(hits, 1)));
+                                        100.0 * double(passes.refinedPixels) / double(std::max<std::size_t>(hits, 1)),
+                                        tracer.refineLanes());
                         std::printf("\n");
                         std::fflush(stdout);
                         results.push_back({{"scene", scene.name},
@@ -746,7 +747,8 @@ int main(int argc, char** argv)
                                            {"voxel_pass_ms", passes.voxelPassMilliseconds},
                                            {"check_ms", passes.checkMilliseconds},
                                            {"refine_ms", passes.refineMilliseconds},
-                                           {"pixels_refined", passes.refinedPixels}});
+                                           {"pixels_refined", passes.refinedPixels},
+                                           {"refine_lanes", tracer.refineLanes()}});
                     }
             }
         }
@@ -764,7 +766,7 @@ int main(int argc, char** argv)
                                      {"check_clearance_voxels", KERF_EDGE_CHECK_CLEARANCE},
                                      {"check_smooth_clearance_voxels", KERF_EDGE_CHECK_SMOOTH_CLEARANCE},
                                      {"check_clearance_per_radian", KERF_EDGE_CHECK_CLEARANCE_PER_RADIAN},
-                                     {"refine_lanes", KERF_EDGE_REFINE_LANES},
+                                     {"refine_lanes_at_most", KERF_EDGE_REFINE_MAX_LANES},
                                      {"refine_rounds", KERF_EDGE_REFINE_ROUNDS},
                                      {"refine_window_rounds", KERF_EDGE_REFINE_WINDOW_ROUNDS},
                                      {"check_smooth_angle_degrees", KERF_EDGE_CHECK_SMOOTH_ANGLE}};

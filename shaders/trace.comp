@@ -27,6 +27,9 @@ layout(constant_id = 0) const bool kHybrid = false;
 // pixels it cannot confirm; kTraceListed (with kHybrid) traces those.
 const int kTraceAll = 0, kTraceVoxels = 1, kCheckHits = 2, kTraceListed = 3;
 layout(constant_id = 1) const int kPass = kTraceAll;
+// kTraceListed: the lanes that trace one listed ray together (a power of
+// two up to KERF_EDGE_REFINE_MAX_LANES that divides the subgroup).
+layout(constant_id = 2) const int kRefineLanes = KERF_EDGE_REFINE_LANES;
 
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Words { uint w[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) writeonly buffer Floats { float f[]; };
@@ -62,7 +65,7 @@ struct Hit {
 
 // Rounds of the listed pass's refinement so far (KERF_EDGE_REFINE_ROUNDS).
 uint refineRounds = 0u;
-// The listed pass: this invocation's lane among the KERF_EDGE_REFINE_LANES
+// The listed pass: this invocation's lane among the kRefineLanes
 // that trace one listed ray together, and the subgroup invocation of its
 // first lane.
 uint refineLane = 0u, refineLaneBase = 0u;
@@ -293,7 +296,7 @@ float exactCrossing(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float
     return hi;
 }
 
-// Exact's refinement of a listed ray: KERF_EDGE_REFINE_LANES lanes search
+// Exact's refinement of a listed ray: kRefineLanes lanes search
 // the window together, one point each a round (ReferenceTracer.cpp,
 // exactCrossingLanes, which says why and how). Every lane of the ray runs
 // this with the same arguments and takes the same decisions; the values are
@@ -302,7 +305,7 @@ float exactCrossing(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float
 int refineSpacingOffset(bool first) { return first ? 0 : 1; }
 int refineSpacingDivisions(bool first, bool knownEnd)
 {
-    return first ? KERF_EDGE_REFINE_LANES - 1 : (knownEnd ? KERF_EDGE_REFINE_LANES + 1 : KERF_EDGE_REFINE_LANES);
+    return first ? kRefineLanes - 1 : (knownEnd ? kRefineLanes + 1 : kRefineLanes);
 }
 float refinePoint(float lo, float end, int j, int offset, int divisions)
 {
@@ -325,7 +328,7 @@ float laneValue(float v, int j) { return subgroupShuffle(v, refineLaneBase + uin
 float exactCrossingLanes(uint tape, vec3 e, vec3 dir, float tileSize, float s0, float s1, float sTileEnd,
                          float voxelEdge, inout float searched)
 {
-    const int lanes = KERF_EDGE_REFINE_LANES;
+    const int lanes = kRefineLanes;
     const float margin = float(KERF_EXACT_MARGIN) * voxelEdge;
     const float eps = float(KERF_EXACT_EPSILON) * voxelEdge;
     const float gap = float(KERF_EDGE_REFINE_GAP) * voxelEdge;
@@ -351,7 +354,9 @@ float exactCrossingLanes(uint tape, vec3 e, vec3 dir, float tileSize, float s0, 
         const float xBefore = j == 0 ? lo : refinePoint(lo, end, j - 1, offset, divisions);
         const bool certified = refineSegmentCertified(xBefore, j == 0 ? fLo : fBefore, x, f, eps, gap);
         const uvec4 votes = subgroupBallot(!certified);
-        const uint mine = (votes[refineLaneBase >> 5u] >> (refineLaneBase & 31u)) & ((1u << uint(lanes)) - 1u);
+        // This ray's lanes' votes (all 32 of a word: a shift by 32 is undefined).
+        const uint mine = lanes == 32 ? votes[refineLaneBase >> 5u]
+                                      : (votes[refineLaneBase >> 5u] >> (refineLaneBase & 31u)) & ((1u << uint(lanes)) - 1u);
         int k = mine == 0u ? lanes : findLSB(mine);
         const float fLast = laneValue(f, lanes - 1);
         // The known end, one more point after the lanes'.
@@ -800,7 +805,7 @@ void checkPixel(uvec2 px)
         const uint slot = atomicAdd(RefineArgs(P.refineArgs).count, 1u);
         RefineList(P.refineList).pixel[slot] = i;
         // One more workgroup of the refinement's indirect dispatch per 64 lanes listed.
-        if (slot % uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE / KERF_EDGE_REFINE_LANES) == 0u)
+        if (slot % uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE / kRefineLanes) == 0u)
             atomicAdd(RefineArgs(P.refineArgs).groups, 1u);
     }
 }
@@ -809,8 +814,8 @@ void main()
 {
     P = ParamsRef(pc.params).p;
     if (kPass == kTraceListed) {
-        // KERF_EDGE_REFINE_LANES consecutive invocations of a subgroup per listed pixel.
-        const uint lanes = uint(KERF_EDGE_REFINE_LANES);
+        // kRefineLanes consecutive invocations of a subgroup per listed pixel.
+        const uint lanes = uint(kRefineLanes);
         refineLane = gl_SubgroupInvocationID % lanes;
         refineLaneBase = gl_SubgroupInvocationID - refineLane;
         const uint slot = (gl_WorkGroupID.x * uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) +

@@ -531,8 +531,11 @@ TEST(TracerExact, RefinesOnlyTheRaysTheCheckCannotConfirmForTheSamePicture)
     for (const auto& [tape, featureSize] : {std::pair<const Tape*, double>{&sharp, 2.0}, {&chair, 2.0}, {&chair, 0.5}}) {
         SCOPED_TRACE(featureSize);
         const FlatVoxelBuffers buffers = voxels(*tape, featureSize);
-        for (const char* view : {"iso", "right"}) {
+        for (const char* view : {"iso", "right"})
+        // The refinement's lanes a ray: the CPU's and lavapipe's 8, NVIDIA's 32.
+        for (const int lanes : {KERF_EDGE_REFINE_LANES, KERF_EDGE_REFINE_MAX_LANES}) {
             SCOPED_TRACE(view);
+            SCOPED_TRACE(lanes);
             const Camera camera = Camera::standardView(tape->bounds(), view, 200, 150);
             const TraceImage e = traceExact(*tape, camera, 1e-4, 2);
             const Agreement everywhere =
@@ -542,7 +545,7 @@ TEST(TracerExact, RefinesOnlyTheRaysTheCheckCannotConfirmForTheSamePicture)
             for (int y = 0; y < camera.height(); ++y)
                 for (int x = 0; x < camera.width(); ++x) {
                     const Ray ray = camera.ray(x, y);
-                    const RayHit h = traceRay(buffers, ray, {}, TraceQuality::Exact);
+                    const RayHit h = traceRay(buffers, ray, {}, TraceQuality::Exact, lanes);
                     const std::size_t i = checked.index(x, y);
                     checked.depth[i] = h.depth;
                     checked.normal[i] = h.normal;
@@ -576,7 +579,7 @@ TEST(TracerExact, RefinesOnlyTheRaysTheCheckCannotConfirmForTheSamePicture)
                 EXPECT_LT(evaluationsExact, evaluationsEverywhere / 2);
             }
             // traceVoxels draws what traceRay answers, ray by ray.
-            EXPECT_EQ(traceVoxels(buffers, camera, 2, {}, TraceQuality::Exact).depth, checked.depth);
+            EXPECT_EQ(traceVoxels(buffers, camera, 2, {}, TraceQuality::Exact, {}, lanes).depth, checked.depth);
         }
     }
 }

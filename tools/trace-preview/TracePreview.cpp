@@ -59,6 +59,7 @@ struct Options {
     double zoom = 1.0;
     kerf::TraceQuality quality = kerf::TraceQuality::Voxels;
     double diffEpsilon = 1e-3; // the exact tracer's hit distance for --diff (mm)
+    int refineLanes = KERF_EDGE_REFINE_LANES; // Exact's lanes a ray (a GPU's: 32 on NVIDIA)
 };
 
 struct UsageError {
@@ -70,7 +71,8 @@ void usage(std::ostream& out)
     out << "usage: kerf_trace_preview FILE.kerf OUT.png [--view iso|front|back|left|right|top|bottom]\n"
            "                          [--size WxH] [--feature-size MM] [--exact] [--ortho]\n"
            "                          [--threads N] [--repeat N] [--diff DIFF.png] [--diff-epsilon MM]\n"
-           "                          [--target X,Y,Z] [--zoom F] [--quality voxels|exact|exact-everywhere]\n";
+           "                          [--target X,Y,Z] [--zoom F] [--quality voxels|exact|exact-everywhere]\n"
+           "                          [--refine-lanes 2..32]\n";
 }
 
 double parseNumber(const std::string& flag, const std::string& text)
@@ -122,6 +124,10 @@ Options parse(int argc, char** argv)
             const auto quality = kerf::parseTraceQuality(q);
             if (!quality) throw UsageError{"--quality must be voxels, exact or exact-everywhere, not " + q};
             o.quality = *quality;
+        } else if (a == "--refine-lanes") {
+            o.refineLanes = int(parseNumber(a, value()));
+            if (o.refineLanes < 2 || o.refineLanes > KERF_EDGE_REFINE_MAX_LANES)
+                throw UsageError{"--refine-lanes must be 2 to " + std::to_string(KERF_EDGE_REFINE_MAX_LANES)};
         } else if (a == "--diff") {
             o.diff = value();
         } else if (a == "--diff-epsilon") {
@@ -275,7 +281,7 @@ int run(const Options& o)
         double best = 1e300;
         for (int r = 0; r < o.repeat; ++r) {
             const auto t1 = Clock::now();
-            image = kerf::traceVoxels(buffers, camera, o.threads, {}, o.quality);
+            image = kerf::traceVoxels(buffers, camera, o.threads, {}, o.quality, {}, o.refineLanes);
             best = std::min(best, msSince(t1));
         }
         std::printf("voxel trace (quality %s) %dx%d: %.1f ms (best of %d)\n",
@@ -287,7 +293,7 @@ int run(const Options& o)
             std::vector<std::uint32_t> perRefinedRay, inARow;
             for (int y = 0; y < o.height; ++y)
                 for (int x = 0; x < o.width; ++x) {
-                    const kerf::RayHit h = kerf::traceRay(buffers, camera.ray(x, y), {}, o.quality);
+                    const kerf::RayHit h = kerf::traceRay(buffers, camera.ray(x, y), {}, o.quality, o.refineLanes);
                     evaluations += h.evaluations;
                     hits += h.hit();
                     refined += h.hit() && h.evaluations > 0;

@@ -187,10 +187,10 @@ float exactAt(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& di
 struct RefineSpacing {
     int offset, divisions;
 };
-RefineSpacing refineSpacing(bool first, bool knownEnd)
+RefineSpacing refineSpacing(bool first, bool knownEnd, int lanes)
 {
-    if (first) return {0, KERF_EDGE_REFINE_LANES - 1};
-    return {1, knownEnd ? KERF_EDGE_REFINE_LANES + 1 : KERF_EDGE_REFINE_LANES};
+    if (first) return {0, lanes - 1};
+    return {1, knownEnd ? lanes + 1 : lanes};
 }
 float refinePoint(float lo, float end, int j, RefineSpacing spacing)
 {
@@ -381,9 +381,9 @@ float exactCrossing(const std::uint32_t* tape, const glm::vec3& e, const glm::ve
 // whose start is inside walks back as exactCrossing does (kBack). The GPU
 // (trace.comp, exactCrossingLanes) makes the same decisions point by point.
 float exactCrossingLanes(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& dir, float tileSize,
-                         float s0, float s1, float sTileEnd, float voxelEdge, float& searched, RayHit& hit)
+                         float s0, float s1, float sTileEnd, float voxelEdge, int lanes, float& searched,
+                         RayHit& hit)
 {
-    constexpr int lanes = KERF_EDGE_REFINE_LANES;
     const float margin = float(KERF_EXACT_MARGIN) * voxelEdge;
     const float eps = float(KERF_EXACT_EPSILON) * voxelEdge;
     const float gap = float(KERF_EDGE_REFINE_GAP) * voxelEdge;
@@ -400,8 +400,8 @@ float exactCrossingLanes(const std::uint32_t* tape, const glm::vec3& e, const gl
     for (int round = 0; round < KERF_EDGE_REFINE_WINDOW_ROUNDS; ++round) {
         ++hit.rounds;
         if (round > 0 && !known) end = span < hi - lo ? lo + span : hi;
-        const RefineSpacing spacing = refineSpacing(round == 0, known);
-        float x[lanes + 1], f[lanes + 1];
+        const RefineSpacing spacing = refineSpacing(round == 0, known, lanes);
+        float x[KERF_EDGE_REFINE_MAX_LANES + 1], f[KERF_EDGE_REFINE_MAX_LANES + 1];
         for (int j = 0; j < lanes; ++j) {
             x[j] = refinePoint(lo, end, j, spacing);
             f[j] = exactAt(tape, e, dir, tileSize, x[j], hit.evaluations);
@@ -498,7 +498,7 @@ enum class Refinement {
 // `tape`: the tile's exact tape when the hybrid refinement is on, else null.
 bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uint32_t* tape, const glm::ivec3& tile,
                const glm::vec3& origin, const glm::vec3& dir, const glm::vec3& invDir, float tileSize, float tEnter,
-               Refinement refinement, RayHit& hit, CapState& cap, ExactPoint& exact)
+               Refinement refinement, int lanes, RayHit& hit, CapState& cap, ExactPoint& exact)
 {
     const int levels = int(entry.levels);
     const int n = 1 << (2 * levels); // finest cells per tile edge
@@ -610,7 +610,7 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
                 const float voxelEdge = 1.0f / voxelScale;
                 const float sHit =
                     refinement == Refinement::Budgeted
-                        ? exactCrossingLanes(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge, searched, hit)
+                        ? exactCrossingLanes(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge, lanes, searched, hit)
                         : exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
                                         w >= 0.0f ? s + w / voxelScale : -1.0f, searched, hit.evaluations);
                 if (sHit >= 0.0f) {
@@ -692,7 +692,7 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
 // `from`, `to`: the stretch of the ray to trace (Exact's refined rays: the
 // voxel trace's RayHit::nearFrom and nearTo), where no section plane is set.
 RayHit traceGrid(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction, const glm::vec4& plane,
-                 Refinement refinement, ExactPoint& exact, float from = 0.0f, float to = kInf)
+                 Refinement refinement, int lanes, ExactPoint& exact, float from = 0.0f, float to = kInf)
 {
     RayHit hit;
     const GridLayout& layout = b.layout;
@@ -769,7 +769,7 @@ RayHit traceGrid(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::
                       refinement != Refinement::None && b.entries[value].tape != voxel::kNoTape
                           ? b.tapes.data() + b.entries[value].tape
                           : nullptr,
-                      tile, origin, dir, invDir, tileSize, tEnter, refinement, hit, cap, exact)) {
+                      tile, origin, dir, invDir, tileSize, tEnter, refinement, lanes, hit, cap, exact)) {
             // A hit past the section plane is in the part cut away.
             if (hit.depth > tLeave) {
                 hit = RayHit{};
@@ -789,10 +789,11 @@ RayHit traceGrid(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::
 
 // traceGrid, then the exact normal and feature of a refined hit.
 RayHit traceRefined(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction,
-                    const glm::vec4& plane, Refinement refinement, float from = 0.0f, float to = kInf)
+                    const glm::vec4& plane, Refinement refinement, int lanes = KERF_EDGE_REFINE_LANES,
+                    float from = 0.0f, float to = kInf)
 {
     ExactPoint exact;
-    RayHit hit = traceGrid(b, origin, direction, plane, refinement, exact, from, to);
+    RayHit hit = traceGrid(b, origin, direction, plane, refinement, lanes, exact, from, to);
     hit.exactHit = exact.tape != nullptr;
     if (exact.tape) {
         // The exact field's gradient at the refined hit, by forward differentiation.
@@ -810,8 +811,9 @@ RayHit traceRefined(const FlatVoxelBuffers& b, const glm::vec3& origin, const gl
 } // namespace
 
 RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::vec3& direction, const glm::vec4& plane,
-                TraceQuality quality)
+                TraceQuality quality, int refineLanes)
 {
+    refineLanes = glm::clamp(refineLanes, 2, KERF_EDGE_REFINE_MAX_LANES);
     // Without tapes (none built) the refinement has nothing to refine with: the voxels, as on the GPU.
     if (quality == TraceQuality::Voxels || b.tapes.empty())
         return traceRefined(b, origin, direction, plane, Refinement::None);
@@ -830,7 +832,8 @@ RayHit traceRay(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::v
     }
     // Only the stretch where the voxels met the surface or came near it:
     // nothing before or after it would be searched.
-    RayHit hit = traceRefined(b, origin, direction, plane, Refinement::Budgeted, voxels.nearFrom, voxels.nearTo);
+    RayHit hit =
+        traceRefined(b, origin, direction, plane, Refinement::Budgeted, refineLanes, voxels.nearFrom, voxels.nearTo);
     // A round's evaluations run side by side (one lane each); then the gradient at the hit.
     std::uint32_t inARow = hit.rounds + (hit.exactHit ? 1u : 0u);
     if (hit.hit() && !hit.exactHit && hit.rounds >= KERF_EDGE_REFINE_ROUNDS) {
@@ -857,14 +860,15 @@ glm::vec4 localPlane(const GridLayout& layout, const Section& section)
     return glm::vec4(glm::vec3(section.normal), float(section.offset - glm::dot(section.normal, layout.origin)));
 }
 
-RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray, const Section& section, TraceQuality quality)
+RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray, const Section& section, TraceQuality quality,
+                int refineLanes)
 {
     return traceRay(buffers, glm::vec3(ray.origin - buffers.layout.origin), glm::vec3(ray.direction),
-                    localPlane(buffers.layout, section), quality);
+                    localPlane(buffers.layout, section), quality, refineLanes);
 }
 
 TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, int threads, const Section& section,
-                       TraceQuality quality, const Progress& work)
+                       TraceQuality quality, const Progress& work, int refineLanes)
 {
     TraceImage image(camera.width(), camera.height());
     tbb::task_arena arena = workerArena(threads);
@@ -874,7 +878,7 @@ TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, in
             for (int y = rows.begin(); y != rows.end(); ++y) {
                 if (work.cancelled()) return;
                 for (int x = 0; x < image.width; ++x) {
-                    const RayHit h = traceRay(buffers, camera.ray(x, y), section, quality);
+                    const RayHit h = traceRay(buffers, camera.ray(x, y), section, quality, refineLanes);
                     const std::size_t i = image.index(x, y);
                     image.depth[i] = h.depth;
                     image.normal[i] = h.normal;

@@ -44,12 +44,13 @@ struct ComputeTracer::Impl {
     GpuBuffer refineArgs;            // the refinement's indirect dispatch and count
     GpuBuffer refineArgsRead;        // its copy the host reads (lastTiming)
     bool lastWasExact = false;
-    // TraceQuality::Exact's listed pass traces each ray with
-    // KERF_EDGE_REFINE_LANES lanes of one subgroup (trace.comp,
-    // exactCrossingLanes). A device whose subgroups cannot hold them whole
-    // refines every ray instead (ExactEverywhere: the same picture within
-    // the refinement's accuracy, slower).
-    bool refineLanes = false;
+    // TraceQuality::Exact's listed pass traces each ray with this many lanes
+    // of one subgroup (trace.comp, exactCrossingLanes): as many as the
+    // subgroup holds, up to KERF_EDGE_REFINE_MAX_LANES. 0: a device whose
+    // subgroups hold fewer than KERF_EDGE_REFINE_LANES refines every ray
+    // instead (ExactEverywhere: the same picture within the refinement's
+    // accuracy, slower).
+    int refineLanes = 0;
     GpuBuffer params;
 
     explicit Impl(const Context& c) : ctx(c) {}
@@ -79,15 +80,17 @@ void ComputeTracer::Impl::ensureTargets(int w, int h)
 
 Pipeline ComputeTracer::Impl::makePipeline(bool hybrid, int pass) const
 {
-    // trace.comp's specialization constants 0, kHybrid, and 1, kPass.
+    // trace.comp's specialization constants 0, kHybrid, 1, kPass, and 2, kRefineLanes.
     struct {
         VkBool32 hybrid;
         std::int32_t pass;
-    } values{hybrid ? VK_TRUE : VK_FALSE, pass};
-    const VkSpecializationMapEntry entries[2] = {{0, offsetof(decltype(values), hybrid), sizeof(VkBool32)},
-                                                 {1, offsetof(decltype(values), pass), sizeof(std::int32_t)}};
+        std::int32_t lanes;
+    } values{hybrid ? VK_TRUE : VK_FALSE, pass, std::max(refineLanes, KERF_EDGE_REFINE_LANES)};
+    const VkSpecializationMapEntry entries[3] = {{0, offsetof(decltype(values), hybrid), sizeof(VkBool32)},
+                                                 {1, offsetof(decltype(values), pass), sizeof(std::int32_t)},
+                                                 {2, offsetof(decltype(values), lanes), sizeof(std::int32_t)}};
     VkSpecializationInfo special{};
-    special.mapEntryCount = 2;
+    special.mapEntryCount = 3;
     special.pMapEntries = entries;
     special.dataSize = sizeof values;
     special.pData = &values;
@@ -150,10 +153,11 @@ ComputeTracer::ComputeTracer(const Context& ctx) : impl_(std::make_unique<Impl>(
     properties.pNext = &subgroups;
     vkGetPhysicalDeviceProperties2(ctx.physicalDevice(), &properties);
     const VkSubgroupFeatureFlags needed = VK_SUBGROUP_FEATURE_BALLOT_BIT | VK_SUBGROUP_FEATURE_SHUFFLE_BIT;
-    impl_->refineLanes = (subgroups.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
-                         (subgroups.supportedOperations & needed) == needed &&
-                         subgroups.subgroupSize % KERF_EDGE_REFINE_LANES == 0 &&
-                         (KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) % subgroups.subgroupSize == 0;
+    const std::uint32_t size = subgroups.subgroupSize;
+    if ((subgroups.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) && (subgroups.supportedOperations & needed) == needed &&
+        size >= KERF_EDGE_REFINE_LANES && (size & (size - 1)) == 0 &&
+        (KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) % size == 0)
+        impl_->refineLanes = int(std::min<std::uint32_t>(size, KERF_EDGE_REFINE_MAX_LANES));
     VkDevice dev = ctx.device();
     impl_->module = makeShaderModule(dev, kTraceComp, sizeof(kTraceComp), "vkCreateShaderModule (trace.comp)");
 
@@ -283,7 +287,7 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
     vkCmdPushConstants(cb, impl_->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof address, &address);
     vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, impl_->timestamps, 0);
     const std::uint32_t g = KERF_TRACE_LOCAL_SIZE;
-    impl_->lastWasExact = refine && quality == TraceQuality::Exact && impl_->refineLanes;
+    impl_->lastWasExact = refine && quality == TraceQuality::Exact && impl_->refineLanes > 0;
     if (impl_->lastWasExact) {
         impl_->recordExactPasses(cb, w, h);
     } else {
@@ -299,6 +303,8 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
                          VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &after, 0, nullptr,
                          0, nullptr);
 }
+
+int ComputeTracer::refineLanes() const { return impl_->refineLanes; }
 
 TraceTiming ComputeTracer::lastTiming() const
 {

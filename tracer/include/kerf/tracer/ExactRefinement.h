@@ -52,9 +52,12 @@
 // at most WINDOW_ROUNDS rounds in one populated voxel's window, and no new
 // window once the ray has spent ROUNDS; beyond, the voxels it meets answer
 // alone. A few rays that skim along an edge for many voxels would otherwise
-// take hundreds, and on a GPU the frame waits for its slowest ray. LANES
-// must divide the GPU's subgroup (else ComputeTracer refines every ray).
+// take hundreds, and on a GPU the frame waits for its slowest ray. The GPU
+// takes as many lanes a ray as its subgroup holds, up to MAX_LANES (32 on
+// NVIDIA, 8 on lavapipe: ComputeTracer::refineLanes); the CPU reference
+// takes LANES unless told (each round costs it every lane's evaluation).
 #define KERF_EDGE_REFINE_LANES 8
+#define KERF_EDGE_REFINE_MAX_LANES 32
 // A stretch shorter than this (voxel edges) between two points outside the
 // surface counts as empty: a ray passing nearer than that to the surface
 // without meeting it between two points is left to the voxels.

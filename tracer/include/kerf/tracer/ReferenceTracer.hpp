@@ -62,6 +62,7 @@
 
 #include "kerf/document/Progress.hpp"
 #include "kerf/tracer/Camera.hpp"
+#include "kerf/tracer/ExactRefinement.h"
 #include "kerf/tracer/Image.hpp"
 #include "kerf/tracer/Section.hpp"
 #include "kerf/tracer/TraceQuality.hpp"
@@ -110,9 +111,11 @@ struct RayHit {
 /// offset), or zero for none. Pure function of its arguments; safe from any
 /// thread. `quality` ExactEverywhere turns the hybrid refinement on (step
 /// 7); Exact traces the voxels, and refines only where the exact field does
-/// not confirm their hit (VoxelHitCheck.hpp).
+/// not confirm their hit (VoxelHitCheck.hpp), with `refineLanes` points a
+/// round (ExactRefinement.h: the GPU's lanes a ray, ComputeTracer::refineLanes).
 RayHit traceRay(const FlatVoxelBuffers& buffers, const glm::vec3& origin, const glm::vec3& direction,
-                const glm::vec4& plane = glm::vec4(0.0f), TraceQuality quality = TraceQuality::Voxels);
+                const glm::vec4& plane = glm::vec4(0.0f), TraceQuality quality = TraceQuality::Voxels,
+                int refineLanes = KERF_EDGE_REFINE_LANES);
 
 /// A world-space section as traceRay's grid-local plane (zero when disabled).
 glm::vec4 localPlane(const GridLayout& layout, const Section& section);
@@ -120,7 +123,7 @@ glm::vec4 localPlane(const GridLayout& layout, const Section& section);
 /// As above for a world-space ray (the subtraction of the grid origin is
 /// done in double, as the GPU path does on the CPU before uploading).
 RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray, const Section& section = {},
-                TraceQuality quality = TraceQuality::Voxels);
+                TraceQuality quality = TraceQuality::Voxels, int refineLanes = KERF_EDGE_REFINE_LANES);
 
 /// Traces every pixel of `camera`'s image, rows in parallel with oneTBB on
 /// `threads` threads (0: every core). The buffers must not change meanwhile.
@@ -128,6 +131,6 @@ RayHit traceRay(const FlatVoxelBuffers& buffers, const Ray& ray, const Section& 
 /// between rows and the image is not complete.
 TraceImage traceVoxels(const FlatVoxelBuffers& buffers, const Camera& camera, int threads = 0,
                        const Section& section = {}, TraceQuality quality = TraceQuality::Voxels,
-                       const Progress& work = {});
+                       const Progress& work = {}, int refineLanes = KERF_EDGE_REFINE_LANES);
 
 } // namespace kerf

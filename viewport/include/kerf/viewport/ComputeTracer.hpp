@@ -79,6 +79,10 @@ public:
                 TraceQuality quality = TraceQuality::Voxels);
     const TraceTargets& targets() const;
     TraceTiming lastTiming() const;
+    /// The lanes that refine one of TraceQuality::Exact's listed rays
+    /// together (ExactRefinement.h), for the CPU reference to match; 0 where
+    /// this device's subgroups cannot hold them (Exact refines every ray).
+    int refineLanes() const;
 
     /// Traces and reads the image back (waits for the device).
     TraceImage trace(const Camera& camera, TraceTiming* timing = nullptr, const Section& section = {},
