@@ -68,7 +68,7 @@
 // then places the hit.
 #define KERF_EDGE_REFINE_FINISH 0.01
 // The two budgets, measured in docs/benchmarks.md ("Exact edges in rounds of
-// eight lanes"): tighter ones lose the edges' normals on the sharp part.
+// lanes"): tighter ones lose the edges' normals on the sharp part.
 #define KERF_EDGE_REFINE_WINDOW_ROUNDS 20
 #define KERF_EDGE_REFINE_ROUNDS 12u
 
