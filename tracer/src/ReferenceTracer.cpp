@@ -371,14 +371,15 @@ float exactCrossing(const std::uint32_t* tape, const glm::vec3& e, const glm::ve
 //    its length or more (the field is 1-Lipschitz: no crossing fits),
 //  - reached when its far end is within eps of the surface or inside,
 //  - open otherwise (a near miss the points are too far apart to rule out).
-// The first segment that is not certified is looked into: a point within
-// eps of the surface is the hit; a bracket is narrowed until its ends lie
-// within eps, the hit then its inner end; an open segment gets points
-// closer together. When every segment is certified the search moves past
-// them, the span grown back. After KERF_EDGE_REFINE_WINDOW_ROUNDS rounds
-// without a bracket the window is left (`searched` = lo: the next voxel's
-// window goes on from there); with one, the hit is its inner end. A window
-// whose start is inside walks back as exactCrossing does (kBack). The GPU
+// The first segment that is not certified is looked into with points
+// closer together. A reached one is narrowed until its crossing is pinned
+// to KERF_EDGE_REFINE_FINISH (it lies no nearer the outside end x0 than
+// f(x0)), and refineFinish places the hit in it. When every segment is
+// certified the search moves past them, the span grown back. After
+// KERF_EDGE_REFINE_WINDOW_ROUNDS rounds without reaching the surface the
+// window is left (`searched` = lo: the next voxel's window goes on from
+// there); having reached it, the hit is the reached end. A window whose
+// start is inside walks back as exactCrossing does (kBack). The GPU
 // (trace.comp, exactCrossingLanes) makes the same decisions point by point.
 float exactCrossingLanes(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& dir, float tileSize,
                          float s0, float s1, float sTileEnd, float voxelEdge, int lanes, float& searched,
