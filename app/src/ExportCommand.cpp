@@ -284,6 +284,8 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             j["fit_nudges"] = written.fit.nudges;
             j["fit_largest_move_mm"] = written.fit.largestMove;
             j["lattice_triangles"] = stats.latticeTriangles;
+            j["planar_fans"] = stats.planarFans;
+            j["planar_fan_triangles_removed"] = stats.planarFanRemoved;
             j["feature_vertices"] = stats.featureVertices;
             j["zero_corners"] = stats.zeroCorners;
             j["collapses"] = stats.collapses;

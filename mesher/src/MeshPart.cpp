@@ -2,6 +2,7 @@
 
 #include "FeatureFlips.hpp"
 #include "MergeTiles.hpp"
+#include "PlanarFans.hpp"
 #include "Seeds.hpp"
 #include "SimplifyToTolerance.hpp"
 #include "TileMesher.hpp"
@@ -249,6 +250,7 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
                      options.latticeShift, options.limits);
     if (layout.empty()) return finish({});
     stats.cellSize = layout.voxelSize;
+    stats.latticeOrigin = layout.origin;
     stats.note = layout.note;
     stats.tiles = layout.dims;
     stats.levels = layout.levels;
@@ -273,6 +275,15 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     std::vector<glm::dvec3> normals = std::move(lattice->normals);
     lattice.reset();
     auto t0 = Clock::now();
+    // Flat blocks of the lattice at once, not one collapse at a time.
+    if (options.planarFanCells > 0) {
+        const PlanarFanStats fans = fanPlanarBlocks(mesh, normals, stats.latticeOrigin, stats.cellSize,
+                                                    options.planarFanCells, options.planarFanSmallestCells,
+                                                    1e-3 * options.tolerance, arena);
+        stats.planarFans = fans.blocks;
+        stats.planarFanRemoved = fans.removed;
+        if (work.cancelled()) return std::nullopt;
+    }
     SimplifySettings simplify;
     simplify.rmsDistance = options.tolerance;
     simplify.minHeight = 4.0 * float32Spacing(tape.bounds());

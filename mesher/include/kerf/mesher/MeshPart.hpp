@@ -97,6 +97,14 @@ struct MeshOptions {
     /// plane; 0 keeps the centred lattice (tests of the zero corners).
     glm::dvec3 latticeShift{0.20710678118654752, 0.36602540378443865, 0.11803398874989485};
     CrossingGuard crossingGuard = CrossingGuard::Afterwards;
+    /// With a tolerance: blocks of this many cells a side whose lattice
+    /// triangles are one flat disk become a fan before the simplification,
+    /// and the eighths of those that are not, down to blocks of
+    /// planarFanSmallestCells (PlanarFans.hpp); 0: none. (The side chair at
+    /// 0.5 mm: 4.3 of its 9.5 M lattice triangles, the export 22 -> 17 s on
+    /// two cores; docs/benchmarks.md.)
+    int planarFanCells = 16;
+    int planarFanSmallestCells = 4;
     GridLimits limits;
     /// Testing only: keeps a voxelizer seed (global cell coordinates) when it
     /// returns true. Dropping seeds must not change the mesh of a connected
@@ -108,6 +116,7 @@ struct MeshOptions {
 struct MeshStats {
     double featureSize = 0.0; // mm, as requested
     double cellSize = 0.0;    // mm, as used (larger only when the grid had to coarsen)
+    glm::dvec3 latticeOrigin{0.0}; // a lattice point (world mm): the others are at latticeOrigin + i * cellSize
     std::string note;         // why cellSize differs, if it does
     glm::ivec3 tiles{0};
     int levels = 0;
@@ -134,6 +143,8 @@ struct MeshStats {
     glm::dvec3 hiddenDetailAt{0.0};       // where it is (world mm)
     bool hiddenDetailIsMaterial = true;   // material (else a gap)
     std::size_t latticeTriangles = 0;     // the marching-cubes mesh's triangles, before simplification
+    std::uint64_t planarFans = 0;         // flat blocks of the lattice replaced by a fan (PlanarFans.hpp)
+    std::uint64_t planarFanRemoved = 0;   // lattice triangles fewer by them
     std::uint64_t collapses = 0;          // edge collapses of the simplification
     std::uint64_t splits = 0;             // edges split to reach the tolerance
     std::uint64_t creaseSplits = 0;       // of which on sharp edges of the part
