@@ -78,8 +78,12 @@ PlanarFanStats expectSameSolid(Lattice& l, double cell, const glm::dvec3& origin
     EXPECT_TRUE(after.watertight()) << what;
     EXPECT_EQ(after.components, before.components) << what;
     EXPECT_EQ(after.genus(), before.genus()) << what;
-    EXPECT_NEAR(after.volume, before.volume, 1e-9 * before.volume) << what;
-    EXPECT_NEAR(after.area, before.area, 1e-9 * before.area) << what;
+    // The same up to rounding, and to the vertices dropped from straight
+    // seams between fans: each lies within the flatness of the run that
+    // replaces it, whose triangles stand on about two cells of it.
+    const double seams = kFlatness * 2.0 * cell * double(fans.seamVertices);
+    EXPECT_NEAR(after.volume, before.volume, 1e-9 * before.volume + kFlatness * seams) << what;
+    EXPECT_NEAR(after.area, before.area, 1e-9 * before.area + seams) << what;
     EXPECT_EQ(after.triangles + fans.removed, before.triangles) << what;
     EXPECT_EQ(l.normals.size(), l.mesh.vertices.size()) << what;
     EXPECT_EQ(findSelfIntersections(l.mesh).pairs, 0u) << what;

@@ -165,6 +165,99 @@ void fanBlock(const Mesh& mesh, const std::vector<glm::dvec3>& normals, const st
     }
 }
 
+// The distance of p from the segment ab.
+double fromSegment(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b)
+{
+    const glm::dvec3 ab = b - a;
+    const double t = std::clamp(glm::dot(p - a, ab) / glm::dot(ab, ab), 0.0, 1.0);
+    return glm::length(p - (a + t * ab));
+}
+
+// Where two fans meet, their loops share the marching cubes' vertices along
+// the seam, one per cell, on a straight line: a loop vertex whose every
+// triangle was in a fanned block, and which lies on the straight run of
+// every loop through it, is dropped from all of them (both sides of the
+// seam drop it, so they still meet edge for edge, and each fan's triangle
+// over the run covers what its triangles over the vertices did). A run
+// whose vertices do not all lie within `flatness` of the segment between
+// its kept ends keeps them all, as does a loop that would have fewer than
+// three. Returns the vertices dropped.
+std::uint64_t dropSeamVertices(const Mesh& mesh, std::vector<Fan>& fans,
+                               const std::vector<std::pair<std::uint64_t, std::uint32_t>>& order,
+                               const std::vector<std::uint32_t>& valence, double flatness)
+{
+    const std::size_t n = mesh.vertices.size();
+    std::vector<std::uint32_t> fanned(n, 0); // triangles in fanned blocks
+    for (const Fan& f : fans)
+        for (std::uint32_t i = f.first; i < f.first + f.count; ++i)
+            for (const std::uint32_t v : mesh.triangles[order[i].second])
+                ++fanned[v];
+    std::vector<std::uint8_t> drop(n, 0);
+    for (const Fan& f : fans)
+        for (const std::uint32_t v : f.loop)
+            drop[v] = fanned[v] == valence[v];
+    auto straight = [&](std::uint32_t a, std::uint32_t v, std::uint32_t b) {
+        // (The same figure whichever way a loop runs.)
+        if (a > b) std::swap(a, b);
+        const glm::dvec3 pa = mesh.vertices[a], pb = mesh.vertices[b], pv = mesh.vertices[v];
+        const double along = glm::dot(pv - pa, pb - pa);
+        return along > 0.0 && along < glm::dot(pb - pa, pb - pa) && fromSegment(pv, pa, pb) <= flatness;
+    };
+    for (const Fan& f : fans) {
+        const std::size_t b = f.loop.size();
+        for (std::size_t i = 0; i < b; ++i)
+            if (!straight(f.loop[(i + b - 1) % b], f.loop[i], f.loop[(i + 1) % b])) drop[f.loop[i]] = 0;
+    }
+    // Runs judged whole against their kept ends, until nothing changes.
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (const Fan& f : fans) {
+            const std::size_t b = f.loop.size();
+            std::size_t start = b;
+            for (std::size_t i = 0; i < b; ++i)
+                if (!drop[f.loop[i]]) start = i;
+            if (start == b) {
+                // Every vertex would go: keep them all.
+                for (const std::uint32_t v : f.loop)
+                    drop[v] = 0;
+                changed = true;
+                continue;
+            }
+            std::size_t kept = 0;
+            for (std::size_t k = 0; k < b;) {
+                const std::size_t i = (start + k) % b;
+                ++kept;
+                std::size_t j = k + 1;
+                while (j < b && drop[f.loop[(start + j) % b]])
+                    ++j;
+                const std::uint32_t a = f.loop[i], c = f.loop[(start + j) % b];
+                bool within = true;
+                for (std::size_t r = k + 1; r < j && within; ++r)
+                    within = fromSegment(mesh.vertices[f.loop[(start + r) % b]], mesh.vertices[std::min(a, c)],
+                                         mesh.vertices[std::max(a, c)]) <= flatness;
+                if (!within) {
+                    for (std::size_t r = k + 1; r < j; ++r)
+                        drop[f.loop[(start + r) % b]] = 0;
+                    changed = true;
+                }
+                k = j;
+            }
+            if (kept < 3) {
+                for (const std::uint32_t v : f.loop)
+                    drop[v] = 0;
+                changed = true;
+            }
+        }
+    }
+    std::uint64_t dropped = 0;
+    for (Fan& f : fans) {
+        std::erase_if(f.loop, [&](std::uint32_t v) { return drop[v] != 0; });
+    }
+    for (std::size_t v = 0; v < n; ++v)
+        dropped += drop[v];
+    return dropped;
+}
+
 } // namespace
 
 PlanarFanStats fanPlanarBlocks(Mesh& mesh, std::vector<glm::dvec3>& normals, const glm::dvec3& origin,
@@ -208,6 +301,7 @@ PlanarFanStats fanPlanarBlocks(Mesh& mesh, std::vector<glm::dvec3>& normals, con
             fans.push_back(std::move(f));
     if (fans.empty()) return stats;
     std::sort(fans.begin(), fans.end(), [](const Fan& a, const Fan& b) { return a.first < b.first; });
+    stats.seamVertices = dropSeamVertices(mesh, fans, order, valence, flatness);
 
     // The mesh rewritten in place: the other triangles in their order, then
     // the fans; the vertices no triangle uses any more dropped first, so

@@ -34,6 +34,7 @@ namespace kerf::mesher {
 struct PlanarFanStats {
     std::uint64_t blocks = 0;  // blocks replaced by a fan
     std::uint64_t removed = 0; // triangles fewer in all
+    std::uint64_t seamVertices = 0; // vertices on straight seams between fans, dropped
 };
 
 /// Replaces the triangles of each flat block of `blockCells`^3 lattice cells
