@@ -321,8 +321,19 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
         stats.collapses += simplifyToTolerance(mesh, normals, tape, simplify, arena, work.stage(0.92, 1.0), &checks);
         if (work.cancelled()) return std::nullopt;
         // The simplification may reshape a triangle left over the tolerance
-        // (never beyond the worst it replaces): report the mesh as it is.
-        const ToleranceCheck left = checkTolerance(mesh, tape, options.tolerance, arena);
+        // (never beyond the worst it replaces), and it judges its collapses
+        // by a cheaper rule than the refinement's final one (a sample's walk
+        // round a blend, SampleDistance.hpp): where the final judgement finds
+        // a triangle beyond the tolerance, the refinement splits again, and
+        // nothing simplifies after it. The mesh is reported as it is.
+        ToleranceCheck left = checkTolerance(mesh, tape, options.tolerance, arena);
+        if (left.trianglesOverTolerance > 0) {
+            RefineStats again;
+            if (!refineToTolerance(mesh, normals, tape, refineSettings, arena, again)) return std::nullopt;
+            stats.splits += again.splits;
+            stats.creaseSplits += again.creaseSplits;
+            left = {again.worstSample, again.worstAt, again.trianglesOverTolerance};
+        }
         stats.worstSample = left.worstSample;
         stats.trianglesOverTolerance = left.trianglesOverTolerance;
         stats.worstSampleAt = left.worstAt;

@@ -11,7 +11,9 @@
 // vertex for vertex), a fraction of the triangles. The fan is checked:
 // every triangle of it turns the plane's way with a height, so it covers
 // the disk once, without folds. Blocks that fail any check keep their
-// triangles.
+// triangles. Where fans meet, the marching cubes' vertices along the
+// straight seam (one per cell) are then dropped from both loops, which
+// still meet edge for edge.
 //
 // The surface is unchanged wherever a fan is made (the disk is a piece of
 // one plane of the part, and so is the fan); the simplification afterwards
