@@ -5,6 +5,7 @@
 
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
+#include "kerf/viewport/BrickAtlas.hpp"
 #include "kerf/viewport/BrickRenderer.hpp"
 #include "kerf/voxelizer/BrickLeaves.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
@@ -89,6 +90,71 @@ TEST_F(VulkanTracer, BricksDrawTheSurfaceOfTheBrickTheEyeIsIn)
         EXPECT_GE(double(c.depthClose), 0.995 * double(c.bothHit));
         EXPECT_GT(c.bothHit, 15000u) << "the face fills the picture";
     }
+    EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
+}
+
+// The upload in pieces (a viewport's frames, each within its upload
+// budget): until the last row is on the device the bricks drawn before are
+// drawn, exactly; after it, the new bricks, exactly as an upload in one
+// piece draws them. A budget smaller than one row copies nothing unless a
+// row is asked for.
+TEST_F(VulkanTracer, BricksUploadedInPiecesDrawTheOldBricksUntilTheLastPiece)
+{
+    auto bricksOf = [](const char* json) {
+        const Tape tape = compileTape(Document::parse(json, "part.kerf"));
+        return BrickLeaves::fromVoxels(FlatVoxelBuffers::flatten(voxelize(tape, GridLayout::choose(tape.bounds(), 0.5))));
+    };
+    const BrickLeaves before = bricksOf(R"({"format":"kerf","version":1,"root":{"id":"cube","type":"box",
+        "size":[30,30,30]}})");
+    const BrickLeaves after = bricksOf(R"({"format":"kerf","version":1,"root":{"id":"ball","type":"sphere",
+        "radius":16}})");
+    const Camera camera = Camera::standardView(Aabb{{-17, -17, -17}, {17, 17, 17}}, "iso", 160, 120,
+                                               Projection::Perspective);
+    vk::BrickRenderer whole(*context);
+    whole.setBricks(after);
+    const TraceImage expected = whole.render(camera);
+
+    vk::BrickRenderer pieces(*context);
+    pieces.setBricks(before);
+    const TraceImage old = pieces.render(camera);
+    const vk::BrickAtlas atlas = vk::BrickAtlas::pack(after, pieces.maxImageDimension3D());
+    const std::size_t rows = atlas.rows(), rowBytes = atlas.rowBytes();
+    ASSERT_GT(rows, 20u);
+    const std::size_t budget = (rows / 7) * rowBytes + rowBytes / 2; // rows/7 whole rows fit
+    pieces.stage(after.bricks, atlas);
+    EXPECT_TRUE(pieces.uploading());
+
+    vk::BrickUpload tiny;
+    context->submitAndWait([&](VkCommandBuffer cb) { tiny = pieces.recordUpload(cb, rowBytes - 1); });
+    EXPECT_EQ(tiny.bytes, 0u);
+    EXPECT_EQ(tiny.rowsLeft, rows);
+    context->submitAndWait([&](VkCommandBuffer cb) { tiny = pieces.recordUpload(cb, rowBytes - 1, true); });
+    EXPECT_EQ(tiny.bytes, rowBytes) << "one row when asked for, over the budget";
+
+    int frames = 0;
+    for (bool completed = false; !completed;) {
+        vk::BrickUpload up;
+        context->submitAndWait([&](VkCommandBuffer cb) { up = pieces.recordUpload(cb, budget); });
+        ++frames;
+        ASSERT_LE(frames, 10);
+        EXPECT_LE(up.bytes, budget);
+        EXPECT_GT(up.bytes, 0u);
+        completed = up.completed;
+        EXPECT_EQ(pieces.uploading(), !completed);
+        const TraceImage drawn = pieces.render(camera);
+        if (!completed) {
+            EXPECT_EQ(pieces.brickCount(), before.bricks.size());
+            EXPECT_EQ(drawn.depth, old.depth) << "frame " << frames << ": the old bricks, untouched";
+            EXPECT_EQ(up.rowsLeft, rows - 1 - std::size_t(frames) * (rows / 7));
+        } else {
+            EXPECT_EQ(up.rowsLeft, 0u);
+            EXPECT_EQ(pieces.brickCount(), after.bricks.size());
+            EXPECT_EQ(drawn.depth, expected.depth) << "the new bricks, as uploaded whole";
+            EXPECT_EQ(drawn.feature, expected.feature);
+        }
+    }
+    EXPECT_EQ(frames, int((rows - 1 + rows / 7 - 1) / (rows / 7)));
+    EXPECT_NE(old.depth, expected.depth) << "the two parts must look different for this test to say anything";
     EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
 }
 

@@ -67,7 +67,9 @@ Options:
                         trace time and picture error, in a second table
   --bricks              also draw with the brick renderer (kerf render
                         --renderer bricks; Vulkan only): its frame time,
-                        memory and picture error, in a table of its own
+                        memory and picture error, in a table of its own, and
+                        its upload: in one piece, and in the viewport's rows
+                        within the per-frame budget (submissions, longest)
   -D NAME=VALUE         set the document's parameter NAME (a number or an
                         expression, like 19 or 3/4in) for this run; repeatable
   --help                show this help
@@ -240,10 +242,12 @@ void printReport(std::ostream& out, const std::string& file, const TradeReport& 
 
     if (std::any_of(r.rows.begin(), r.rows.end(), [](const TradeRow& x) { return x.bricks; })) {
         out << "\nScreen, brick renderer: the same voxels as bricks of 8x8x8 voxels, one cube drawn per brick\n";
-        const std::array<std::pair<const char*, std::size_t>, 8> columns{{{"feature", 9},
+        const std::array<std::pair<const char*, std::size_t>, 10> columns{{{"feature", 9},
                                                                           {"bricks", 9},
                                                                           {"GPU MB", 9},
                                                                           {"build", 10},
+                                                                          {"upload", 10},
+                                                                          {"frames/longest", 17},
                                                                           {"frame", 10},
                                                                           {"vs tracer", 10},
                                                                           {"depth err mm mean/p99/max", 28},
@@ -255,11 +259,13 @@ void printReport(std::ostream& out, const std::string& file, const TradeReport& 
         for (const TradeRow& row : r.rows) {
             if (!row.bricks) continue;
             const BrickFigures& b = *row.bricks;
-            const std::array<std::string, 8> cells{
+            const std::array<std::string, 10> cells{
                 mm(row.featureSize) + " mm",
                 std::to_string(b.bricks),
                 significant(double(b.deviceBytes) / 1e6, 3),
                 milliseconds(b.buildMs),
+                milliseconds(b.uploadMs),
+                std::to_string(b.uploadFrames) + " / " + milliseconds(b.uploadFrameMaxMs),
                 milliseconds(b.drawn.traceMs),
                 row.traceMs > 0.0 ? significant(b.drawn.traceMs / row.traceMs, 2) + "x" : std::string("-"),
                 triple(b.drawn.picture.depthMm, 2),

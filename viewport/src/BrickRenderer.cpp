@@ -71,6 +71,17 @@ struct BrickRenderer::Impl {
     std::uint64_t uploads = 0;
     double sortMilliseconds = 0.0;
 
+    // Bricks being copied in (stage, recordUpload), drawn once all of them
+    // are on the device; and the host side of the copies.
+    struct Staged {
+        std::vector<Brick> bricks;
+        BrickAtlas atlas;
+        DeviceImage distance, normal, feature;
+        std::size_t rowsDone = 0;
+    };
+    std::optional<Staged> staged;
+    GpuBuffer staging;
+
     // Targets.
     int width = 0, height = 0;
     DeviceImage rayDepth, normalTarget, featureTarget, depthBuffer;
@@ -80,6 +91,7 @@ struct BrickRenderer::Impl {
     explicit Impl(const Context& c) : ctx(c) {}
     void ensureTargets(int w, int h);
     void sortInstances(const glm::dvec3& eye);
+    void adoptStaged();
 };
 
 BrickRenderer::BrickRenderer(const Context& ctx) : impl_(std::make_unique<Impl>(ctx))
@@ -158,99 +170,168 @@ BrickRenderer::~BrickRenderer() = default;
 
 void BrickRenderer::setBricks(const BrickLeaves& leaves)
 {
+    stage(leaves.bricks, BrickAtlas::pack(leaves, maxImageDimension3D()));
+    impl_->ctx.submitAndWait(
+        [&](VkCommandBuffer cb) { recordUpload(cb, std::numeric_limits<std::size_t>::max(), true); });
+    impl_->staging = {};
+}
+
+std::uint32_t BrickRenderer::maxImageDimension3D() const
+{
+    return impl_->ctx.properties().limits.maxImageDimension3D;
+}
+
+void BrickRenderer::stage(std::vector<Brick> bricks, BrickAtlas atlas)
+{
     Impl& m = *impl_;
-    const std::size_t n = leaves.bricks.size();
-    m.bricks = leaves.bricks;
-    m.bounds = Aabb{};
-    for (const Brick& b : leaves.bricks)
-        m.bounds = m.bounds.merged(Aabb{b.min, b.min + b.voxelMm * double(b.cells)});
-    m.sortedFor.reset();
-    ++m.uploads;
-    if (n == 0) {
-        // Nothing to draw: the atlases go too (record() draws nothing, so the
-        // descriptor set's stale views are never read).
-        m.instances = {};
-        m.distance = {};
-        m.normal = {};
-        m.feature = {};
-        m.atlasSlots = m.atlasTexels = glm::uvec3(0);
+    m.staged.reset(); // its copies have finished (recordUpload's contract)
+    Impl::Staged s;
+    s.bricks = std::move(bricks);
+    s.atlas = std::move(atlas);
+    if (!s.bricks.empty()) {
+        const VkExtent3D extent{s.atlas.texels.x, s.atlas.texels.y, s.atlas.texels.z};
+        const VkImageUsageFlags usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+        s.distance = makeDeviceImage(m.ctx, extent, kDistanceFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
+        s.normal = makeDeviceImage(m.ctx, extent, kNormalFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
+        s.feature = makeDeviceImage(m.ctx, extent, kFeatureFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
+    }
+    m.staged = std::move(s);
+}
+
+bool BrickRenderer::uploading() const { return impl_->staged.has_value(); }
+
+BrickUpload BrickRenderer::recordUpload(VkCommandBuffer cb, std::size_t budgetBytes, bool atLeastOneRow)
+{
+    Impl& m = *impl_;
+    BrickUpload up;
+    if (!m.staged) {
+        m.staging = {}; // the last copy out of it has finished
+        return up;
+    }
+    Impl::Staged& s = *m.staged;
+    const BrickAtlas& a = s.atlas;
+    const std::size_t total = a.rows();
+    if (total > 0) {
+        std::size_t rows = std::min(total - s.rowsDone, budgetBytes / a.rowBytes());
+        if (rows == 0 && atLeastOneRow) rows = 1;
+        if (rows == 0) {
+            up.rowsLeft = total - s.rowsDone;
+            return up;
+        }
+        const std::size_t first = s.rowsDone, last = first + rows;
+        const std::uint32_t width = a.texels.x, height = a.texels.y;
+        // The rows as boxes of the image: the rest of a slice, whole
+        // slices, the start of a slice.
+        struct Box {
+            std::size_t row, rows;
+            VkOffset3D offset;
+            VkExtent3D extent;
+        };
+        std::vector<Box> boxes;
+        for (std::size_t r = first; r < last;) {
+            const std::uint32_t y = std::uint32_t(r % height), z = std::uint32_t(r / height);
+            if (y == 0 && last - r >= height) {
+                const std::size_t slices = (last - r) / height;
+                boxes.push_back({r, slices * height, {0, 0, std::int32_t(z)}, {width, height, std::uint32_t(slices)}});
+                r += slices * height;
+            } else {
+                const std::size_t n = std::min<std::size_t>(height - y, last - r);
+                boxes.push_back({r, n, {0, std::int32_t(y), std::int32_t(z)}, {width, std::uint32_t(n), 1}});
+                r += n;
+            }
+        }
+        // Each box's texels of each atlas at a 16-byte boundary of the
+        // staging buffer (a copy's offset must be a multiple of its texel).
+        struct Source {
+            const void* data;
+            std::size_t texelBytes;
+            VkImage image;
+        };
+        const Source sources[3] = {{a.distance.data(), sizeof(std::int16_t), s.distance.image.get()},
+                                   {a.normal.data(), sizeof(std::uint32_t), s.normal.image.get()},
+                                   {a.feature.data(), sizeof(std::uint16_t), s.feature.image.get()}};
+        auto aligned = [](std::size_t bytes) { return (bytes + 15) & ~std::size_t(15); };
+        std::size_t need = 0;
+        for (const Source& src : sources)
+            for (const Box& b : boxes) need += aligned(b.rows * width * src.texelBytes);
+        if (m.staging.size() < need)
+            m.staging = GpuBuffer(m.ctx, need, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GpuBuffer::Kind::HostVisible,
+                                  "brick atlas staging");
+        auto* ring = static_cast<std::uint8_t*>(m.staging.mapped());
+        std::size_t at = 0;
+        for (const Source& src : sources) {
+            if (first == 0)
+                imageBarrier(cb, src.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+                             VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                             VK_PIPELINE_STAGE_TRANSFER_BIT);
+            std::vector<VkBufferImageCopy> regions;
+            for (const Box& b : boxes) {
+                const std::size_t bytes = b.rows * width * src.texelBytes;
+                std::memcpy(ring + at, static_cast<const std::uint8_t*>(src.data) + b.row * width * src.texelBytes,
+                            bytes);
+                VkBufferImageCopy region{};
+                region.bufferOffset = at;
+                region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                region.imageOffset = b.offset;
+                region.imageExtent = b.extent;
+                regions.push_back(region);
+                at += aligned(bytes);
+            }
+            vkCmdCopyBufferToImage(cb, m.staging.buffer(), src.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                                   std::uint32_t(regions.size()), regions.data());
+            if (last == total)
+                imageBarrier(cb, src.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                             VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
+                             VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
+        }
+        s.rowsDone = last;
+        up.bytes = rows * a.rowBytes();
+        up.rowsLeft = total - last;
+        if (last < total) return up;
+    }
+    m.adoptStaged();
+    up.completed = true;
+    return up;
+}
+
+void BrickRenderer::Impl::adoptStaged()
+{
+    Staged& s = *staged;
+    bricks = std::move(s.bricks);
+    bounds = Aabb{};
+    for (const Brick& b : bricks)
+        bounds = bounds.merged(Aabb{b.min, b.min + b.voxelMm * double(b.cells)});
+    sortedFor.reset();
+    ++uploads;
+    // The atlases drawn before go: the frames that read them have finished.
+    distance = std::move(s.distance);
+    normal = std::move(s.normal);
+    feature = std::move(s.feature);
+    atlasSlots = s.atlas.slotCount;
+    atlasTexels = s.atlas.texels;
+    staged.reset();
+    if (bricks.empty()) {
+        // Nothing to draw: record() draws nothing, so the descriptor set's
+        // stale views are never read.
+        instances = {};
         return;
     }
-    // Slots of kBrickSamples texels along each axis, as near a cube as the
-    // device's largest 3D image allows.
-    const std::uint32_t maxSlots = m.ctx.properties().limits.maxImageDimension3D / std::uint32_t(kBrickSamples);
-    const std::uint32_t side = std::min(maxSlots, std::uint32_t(std::ceil(std::cbrt(double(n)))));
-    const std::uint32_t layers = std::uint32_t((n + std::size_t(side) * side - 1) / (std::size_t(side) * side));
-    if (layers > maxSlots)
-        throw VulkanError(std::to_string(n) + " bricks do not fit one atlas of this device's largest 3D image (" +
-                          std::to_string(m.ctx.properties().limits.maxImageDimension3D) + " texels a side)",
-                          VK_ERROR_OUT_OF_DEVICE_MEMORY);
-    m.atlasSlots = {side, side, layers};
-    m.atlasTexels = m.atlasSlots * std::uint32_t(kBrickSamples);
-    const VkExtent3D extent{m.atlasTexels.x, m.atlasTexels.y, m.atlasTexels.z};
-    const VkImageUsageFlags usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    m.distance = makeDeviceImage(m.ctx, extent, kDistanceFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
-    m.normal = makeDeviceImage(m.ctx, extent, kNormalFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
-    m.feature = makeDeviceImage(m.ctx, extent, kFeatureFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
-
-    // The samples in the atlases' texel order, in one staging buffer.
-    const std::size_t texels = std::size_t(extent.width) * extent.height * extent.depth;
-    // Each array at a 16-byte boundary: a copy's offset must be a multiple
-    // of its texel's size (and the host writes whole words).
-    auto aligned = [](std::size_t bytes16) { return (bytes16 + 15) & ~std::size_t(15); };
-    const std::size_t distanceAt = 0, normalAt = aligned(texels * 2), featureAt = normalAt + aligned(texels * 4);
-    const std::size_t stagingBytes = featureAt + aligned(texels * 2);
-    GpuBuffer staging(m.ctx, stagingBytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GpuBuffer::Kind::HostVisible,
-                      "brick atlas staging");
-    auto* bytes = static_cast<std::uint8_t*>(staging.mapped());
-    std::memset(bytes, 0, stagingBytes);
-    auto* dist = reinterpret_cast<std::int16_t*>(bytes + distanceAt);
-    auto* nrm = reinterpret_cast<std::uint32_t*>(bytes + normalAt);
-    auto* feat = reinterpret_cast<std::uint16_t*>(bytes + featureAt);
-    for (std::size_t b = 0; b < n; ++b) {
-        const glm::uvec3 slot(std::uint32_t(b % side), std::uint32_t((b / side) % side), std::uint32_t(b / (std::size_t(side) * side)));
-        const glm::uvec3 base = slot * std::uint32_t(kBrickSamples);
-        for (int z = 0; z < kBrickSamples; ++z)
-            for (int y = 0; y < kBrickSamples; ++y) {
-                const std::size_t to =
-                    base.x + std::size_t(extent.width) * ((base.y + std::size_t(y)) + std::size_t(extent.height) * (base.z + std::size_t(z)));
-                const std::size_t from = BrickLeaves::sampleIndex(b, 0, y, z);
-                std::memcpy(dist + to, leaves.distance.data() + from, kBrickSamples * sizeof(std::int16_t));
-                std::memcpy(nrm + to, leaves.normal.data() + from, kBrickSamples * sizeof(std::uint32_t));
-                std::memcpy(feat + to, leaves.feature.data() + from, kBrickSamples * sizeof(std::uint16_t));
-            }
-    }
-    m.ctx.submitAndWait([&](VkCommandBuffer cb) {
-        const std::pair<VkImage, std::size_t> copies[3] = {
-            {m.distance.image, distanceAt}, {m.normal.image, normalAt}, {m.feature.image, featureAt}};
-        for (const auto& [image, offset] : copies) {
-            imageBarrier(cb, image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
-                       VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
-            VkBufferImageCopy region{};
-            region.bufferOffset = offset;
-            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            region.imageExtent = extent;
-            vkCmdCopyBufferToImage(cb, staging.buffer(), image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-            imageBarrier(cb, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                       VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                       VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
-        }
-    });
-    VkDescriptorImageInfo infos[3] = {{m.linear, m.distance.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-                                      {m.linear, m.normal.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-                                      {m.nearest, m.feature.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}};
+    VkDescriptorImageInfo infos[3] = {{linear, distance.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+                                      {linear, normal.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+                                      {nearest, feature.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}};
     VkWriteDescriptorSet writes[3]{};
     for (std::uint32_t i = 0; i < 3; ++i) {
         writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        writes[i].dstSet = m.set;
+        writes[i].dstSet = set;
         writes[i].dstBinding = i;
         writes[i].descriptorCount = 1;
         writes[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
         writes[i].pImageInfo = &infos[i];
     }
-    vkUpdateDescriptorSets(m.ctx.device(), 3, writes, 0, nullptr);
-    m.instances = GpuBuffer(m.ctx, n * sizeof(gpu::BrickInstance), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                            GpuBuffer::Kind::HostVisible, "brick instances");
+    vkUpdateDescriptorSets(ctx.device(), 3, writes, 0, nullptr);
+    instances = GpuBuffer(ctx, bricks.size() * sizeof(gpu::BrickInstance), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                          GpuBuffer::Kind::HostVisible, "brick instances");
 }
 
 std::size_t BrickRenderer::brickCount() const { return impl_->bricks.size(); }
@@ -262,7 +343,9 @@ std::uint64_t BrickRenderer::version() const { return impl_->uploads; }
 std::size_t BrickRenderer::residentBytes() const
 {
     const Impl& m = *impl_;
-    return m.distance.bytes + m.normal.bytes + m.feature.bytes + m.bricks.size() * sizeof(gpu::BrickInstance);
+    std::size_t bytes = m.distance.bytes + m.normal.bytes + m.feature.bytes + m.bricks.size() * sizeof(gpu::BrickInstance);
+    if (m.staged) bytes += m.staged->distance.bytes + m.staged->normal.bytes + m.staged->feature.bytes;
+    return bytes;
 }
 
 void BrickRenderer::Impl::sortInstances(const glm::dvec3& eye)

@@ -43,14 +43,17 @@ struct ViewportRenderer::Impl {
     std::unique_ptr<GpuVoxelWorker> worker;
     std::shared_ptr<const GpuVoxelRequest> gpuRequest;
     std::unique_ptr<GpuVoxelResult> gpuShown;
-    // The brick renderer: the snapshot whose bricks it holds, and the bricks
-    // of another being made.
+    // The brick renderer: the snapshot whose bricks it draws, the one whose
+    // bricks it is copying in (under the frame's upload budget), and the
+    // bricks of another being made and packed on a thread of their own.
     BrickRenderer bricks;
-    std::shared_ptr<const VoxelSnapshot> bricksOf, makingBricksOf;
-    std::future<BrickLeaves> makingBricks;
+    std::shared_ptr<const VoxelSnapshot> bricksOf, uploadingBricksOf, makingBricksOf;
+    std::future<std::pair<std::vector<Brick>, BrickAtlas>> makingBricks;
+    StreamingOptions streamingOptions;
 
     Impl(const Context& c, VkSurfaceKHR surface, StreamingOptions streaming, std::function<void()> w)
-        : ctx(c), swapchain(c, surface), tracer(c), scene(c), streamer(c, streaming), wake(std::move(w)), bricks(c)
+        : ctx(c), swapchain(c, surface), tracer(c), scene(c), streamer(c, streaming), wake(std::move(w)), bricks(c),
+          streamingOptions(streaming)
     {
         VkDevice dev = c.device();
         VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -189,31 +192,49 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
                                scene.quality == TraceQuality::Voxels;
     if (!scene.bricks) {
         // Off: the atlases go (the last frame that read them has finished),
-        // and so do bricks made for nothing.
-        if (m.bricksOf) {
+        // and so do bricks made or copied for nothing.
+        if (m.bricksOf || m.bricks.uploading()) {
             m.bricks.setBricks(BrickLeaves{});
             m.bricksOf.reset();
+            m.uploadingBricksOf.reset();
         }
         if (m.makingBricks.valid() && m.makingBricks.wait_for(std::chrono::seconds(0)) == std::future_status::ready)
             m.makingBricks.get();
     }
-    if (bricksCanDraw && m.bricksOf != shown) {
+    if (bricksCanDraw && m.bricksOf != shown && m.uploadingBricksOf != shown) {
         if (m.makingBricks.valid() &&
             m.makingBricks.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
-            BrickLeaves made = m.makingBricks.get();
+            auto [made, atlas] = m.makingBricks.get();
             if (m.makingBricksOf == shown) {
-                m.bricks.setBricks(made);
-                m.bricksOf = shown;
+                m.bricks.stage(std::move(made), std::move(atlas));
+                m.uploadingBricksOf = shown;
             }
         }
-        if (m.bricksOf != shown && !m.makingBricks.valid()) {
+        if (m.uploadingBricksOf != shown && !m.makingBricks.valid()) {
             m.makingBricksOf = shown;
             // No wake from the task: the owner may be tearing the renderer
             // down (and hold what wake takes) while this future's destructor
             // waits for it. Frames go on instead while it works (upToDate).
-            m.makingBricks = std::async(std::launch::async, [snapshot = shown] {
-                return BrickLeaves::fromVoxels(FlatVoxelBuffers::flatten(*snapshot));
+            m.makingBricks = std::async(std::launch::async, [snapshot = shown, side = m.bricks.maxImageDimension3D()] {
+                BrickLeaves leaves = BrickLeaves::fromVoxels(FlatVoxelBuffers::flatten(*snapshot));
+                BrickAtlas atlas = BrickAtlas::pack(leaves, side);
+                return std::pair{std::move(leaves.bricks), std::move(atlas)};
             });
+        }
+    }
+    // The atlases go up in rows within what the voxels' streaming left of
+    // the frame's budget (a row at least when it left all of it); the bricks
+    // drawn before, or the tracer, draw until the last row is there.
+    if (scene.bricks) {
+        const std::size_t budget = m.streamingOptions.budgetBytesPerFrame;
+        const BrickUpload up = m.bricks.recordUpload(m.cb, budget - std::min(budget, st.upload.bytes),
+                                                     st.upload.bytes == 0);
+        st.upload.bytes += up.bytes;
+        st.brickBytes = up.bytes;
+        st.brickRowsPending = up.rowsLeft;
+        if (up.completed) {
+            m.bricksOf = m.uploadingBricksOf;
+            m.uploadingBricksOf.reset();
         }
     }
     st.drewBricks = bricksCanDraw && m.bricksOf == shown;
@@ -294,7 +315,7 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
         st.heapBytes = gpu->report.poolBytes;
         st.gpuBuildMs = gpu->requestMilliseconds;
     } else {
-        // Bricks still being made for the snapshot on screen: not there yet.
+        // Bricks still being made or copied for the snapshot on screen: not there yet.
         st.upToDate = m.streamer.upToDate() && !(bricksCanDraw && !st.drewBricks);
         st.shownVersion = shown ? shown->version : 0;
         st.shownRevision = shown ? shown->documentRevision : 0;

@@ -93,6 +93,9 @@ struct BrickFigures {
     std::size_t bricks = 0;
     std::size_t deviceBytes = 0; // its atlases and instances
     double buildMs = 0.0;        // the bricks made from the voxels (host)
+    double uploadMs = 0.0;       // packed and copied to the device in one piece (kerf render's way)
+    int uploadFrames = 0;        // ... in rows within the viewport's per-frame budget: submissions
+    double uploadFrameMaxMs = 0.0; // ... and the longest of them (host copy, submission, wait)
 };
 
 struct GpuVoxelizeFigures {

@@ -11,6 +11,10 @@
 // that found the surface, and drops the bricks behind it before their
 // shader runs.
 //
+// In a viewport the atlases go up in pieces (stage, recordUpload): rows of
+// texels within the frame's upload budget, the bricks drawn before drawn
+// until the last row is there, as the voxel streamer does for tiles.
+//
 // Not yet: section planes and the exact-edges refinement (the compute
 // tracer's; the viewport hands such frames to the tracer). Measured 18 to 32
 // times slower than the compute tracer on an H200 (docs/benchmarks.md), so
@@ -19,6 +23,7 @@
 // Threading: one thread. One frame in flight. The context must outlive it.
 
 #include "kerf/tracer/Camera.hpp"
+#include "kerf/viewport/BrickAtlas.hpp"
 #include "kerf/tracer/Image.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
 #include "kerf/viewport/VulkanContext.hpp"
@@ -27,6 +32,13 @@
 #include <memory>
 
 namespace kerf::vk {
+
+/// What one recordUpload() copied.
+struct BrickUpload {
+    std::size_t bytes = 0;     // staged and copied by this command buffer (whole rows, within the budget)
+    std::size_t rowsLeft = 0;  // atlas rows still to copy after it
+    bool completed = false;    // the staged bricks became the ones drawn
+};
 
 class BrickRenderer {
 public:
@@ -37,12 +49,30 @@ public:
     /// VulkanError when they do not fit one atlas of the device's largest 3D
     /// image.
     void setBricks(const BrickLeaves& bricks);
+
+    /// The upload in pieces, for a viewport's frames: `bricks` laid out as
+    /// `atlas` (BrickAtlas::pack with maxImageDimension3D(), on any thread)
+    /// replace the bricks drawn once recordUpload() has copied all of it;
+    /// until then the bricks drawn before stay. Their atlases are made now
+    /// (VulkanError when the device has no room). A new stage() drops one
+    /// still being copied.
+    void stage(std::vector<Brick> bricks, BrickAtlas atlas);
+    bool uploading() const;
+    /// Records the copy of the staged atlases' next rows, at most
+    /// `budgetBytes` of them (one row over it when `atLeastOneRow`, so that
+    /// a budget smaller than a row still ends). When these were the last,
+    /// the staged bricks are the ones drawn from here on, this command
+    /// buffer's draws included. With nothing staged it releases the staging
+    /// memory. The previous submission of such commands must have finished.
+    BrickUpload recordUpload(VkCommandBuffer cb, std::size_t budgetBytes, bool atLeastOneRow = false);
+    /// The largest 3D image of the device, in texels a side (for BrickAtlas::pack).
+    std::uint32_t maxImageDimension3D() const;
     std::size_t brickCount() const;
     /// The bricks' bounds (world mm); empty without bricks.
     Aabb bounds() const;
     /// Changes with every setBricks().
     std::uint64_t version() const;
-    /// Bytes on the device: the atlases and the instance records.
+    /// Bytes on the device: the atlases (staged ones too) and the instance records.
     std::size_t residentBytes() const;
 
     /// Records the drawing of `camera`'s image into the targets, which are

@@ -80,7 +80,9 @@ struct FrameStats {
     bool drewBricks = false;      // the brick renderer drew the part (ViewportScene::bricks)
     double traceGpuMs = -1.0;     // the trace dispatch, from GPU timestamps (when traced)
     double frameMs = 0.0;         // wall time of the frame on the render thread
-    FrameUpload upload;           // this frame's streaming
+    FrameUpload upload;           // this frame's streaming (its bytes include the bricks')
+    std::size_t brickBytes = 0;   // of which the brick atlases' rows
+    std::size_t brickRowsPending = 0; // atlas rows of the staged bricks still to copy
     bool upToDate = true;         // the newest snapshot is wholly resident
     std::uint64_t shownVersion = 0;   // the snapshot version on screen
     std::uint64_t shownRevision = 0;  // the document revision it describes
