@@ -234,10 +234,14 @@ TradeReport runTradeBench(const Document& doc, const TradeBenchOptions& options)
                 bricks.stage(leaves.bricks, vk::BrickAtlas::pack(leaves, bricks.maxImageDimension3D()));
                 for (bool done = false; !done;) {
                     const auto f0 = Clock::now();
-                    context->submitAndWait(
-                        [&](VkCommandBuffer cb) { done = bricks.recordUpload(cb, budget, true).completed; });
+                    context->submitAndWait([&](VkCommandBuffer cb) {
+                        const auto r0 = Clock::now();
+                        done = bricks.recordUpload(cb, budget, true).completed;
+                        b.uploadRecordMs += msSince(r0);
+                    });
                     ++b.uploadFrames;
                     b.uploadFrameMaxMs = std::max(b.uploadFrameMaxMs, msSince(f0));
+                    b.uploadFramesMs += msSince(f0);
                 }
                 bricks.setBricks(BrickLeaves{});
                 t0 = Clock::now();
@@ -343,6 +347,8 @@ nlohmann::ordered_json tradeReportJson(const TradeReport& r)
                            {"upload_ms", row.bricks->uploadMs},
                            {"upload_frames", row.bricks->uploadFrames},
                            {"upload_frame_max_ms", row.bricks->uploadFrameMaxMs},
+                           {"upload_frames_ms", row.bricks->uploadFramesMs},
+                           {"upload_record_ms", row.bricks->uploadRecordMs},
                            {"picture", picture(row.bricks->drawn.picture)}};
         if (row.exported) {
             const ExportFigures& e = *row.exported;

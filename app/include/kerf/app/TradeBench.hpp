@@ -96,6 +96,8 @@ struct BrickFigures {
     double uploadMs = 0.0;       // packed and copied to the device in one piece (kerf render's way)
     int uploadFrames = 0;        // ... in rows within the viewport's per-frame budget: submissions
     double uploadFrameMaxMs = 0.0; // ... and the longest of them (host copy, submission, wait)
+    double uploadFramesMs = 0.0;   // ... all of them
+    double uploadRecordMs = 0.0;   // ... of which recording (the copies into the staging memory)
 };
 
 struct GpuVoxelizeFigures {

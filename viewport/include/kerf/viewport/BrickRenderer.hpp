@@ -62,8 +62,9 @@ public:
     /// `budgetBytes` of them (one row over it when `atLeastOneRow`, so that
     /// a budget smaller than a row still ends). When these were the last,
     /// the staged bricks are the ones drawn from here on, this command
-    /// buffer's draws included. With nothing staged it releases the staging
-    /// memory. The previous submission of such commands must have finished.
+    /// buffer's draws included. The staging memory it copies through stays
+    /// for the next upload (setBricks() releases it). The previous
+    /// submission of such commands must have finished.
     BrickUpload recordUpload(VkCommandBuffer cb, std::size_t budgetBytes, bool atLeastOneRow = false);
     /// The largest 3D image of the device, in texels a side (for BrickAtlas::pack).
     std::uint32_t maxImageDimension3D() const;
