@@ -5,7 +5,8 @@
 // meshes, the grid and the gizmo, and copies the picture to the window's
 // swapchain. Until a snapshot is wholly resident the previous one stays on
 // screen (VoxelStreamer), so a frame never waits for voxelization or for a
-// large upload: at most one budget's worth of copying per frame.
+// large upload: at most one budget's worth of copying per frame (the voxels'
+// tiles first, then the brick renderer's atlases in what they leave).
 //
 // The voxels come from the CPU voxelizer's snapshots (streamed as above) or,
 // when the scene carries a GPU request, from the GPU voxelizer working in
