@@ -318,7 +318,7 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     t0 = Clock::now();
     simplify.microLength = 0.0;
     if (refine.splits > 0) {
-        stats.collapses += simplifyToTolerance(mesh, normals, tape, simplify, arena, work.stage(0.92, 1.0), &checks);
+        stats.collapses += simplifyToTolerance(mesh, normals, tape, simplify, arena, work.stage(0.92, 0.98), &checks);
         if (work.cancelled()) return std::nullopt;
         // The simplification may reshape a triangle left over the tolerance
         // (never beyond the worst it replaces), and it judges its collapses
@@ -329,7 +329,8 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
         ToleranceCheck left = checkTolerance(mesh, tape, options.tolerance, arena);
         if (left.trianglesOverTolerance > 0) {
             RefineStats again;
-            if (!refineToTolerance(mesh, normals, tape, refineSettings, arena, again)) return std::nullopt;
+            if (!refineToTolerance(mesh, normals, tape, refineSettings, arena, again, work.stage(0.98, 1.0)))
+                return std::nullopt;
             stats.splits += again.splits;
             stats.creaseSplits += again.creaseSplits;
             left = {again.worstSample, again.worstAt, again.trianglesOverTolerance};
