@@ -1834,6 +1834,7 @@ void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependen
     QCOMPARE(w->session()->document().root.find("panel")->as<BoxParams>().size.y, 298.0);
     QCOMPARE(props->expressionFor("size.y"), QString("depth - 2mm"));
     QCOMPARE(props->errorFor("size.y"), QString());
+    QCOMPARE(field(*w, "size.y")->value(), 298.0);
     // Focused, a driven field shows its expression to edit.
     QuantityEdit* sizeY = field(*w, "size.y");
     QFocusEvent focusIn(QEvent::FocusIn, Qt::TabFocusReason); // (the test window need not be the active one)
@@ -1889,6 +1890,27 @@ void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependen
     sizeX2->selectAll();
     QTest::keyClicks(sizeX2, "=18");
     QVERIFY(!fieldCompleter->popup()->isVisible());
+    QTest::keyClick(sizeX2, Qt::Key_Escape);
+
+    // A parameter's name typed without the '=' is the same expression (a
+    // newcomer typed "top_t/2" and was told it was no number); a word that
+    // names nothing is still no number, and says so.
+    // (The window active, as a person's is: the field entered keeps the focus.)
+    w->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(w.get()));
+    typeInto(field(*w, "size.x"), "board + 3");
+    QVERIFY(field(*w, "size.x")->hasFocus());
+    QCOMPARE(props->expressionFor("size.x"), QString("board + 3"));
+    QCOMPARE(panelThickness(), 21.0);
+    // The field entered holds the new value (shown when the focus leaves it).
+    QCOMPARE(field(*w, "size.x")->value(), 21.0);
+    QCOMPARE(props->errorFor("size.x"), QString());
+    typeInto(field(*w, "size.x"), "boards");
+    QVERIFY2(props->errorFor("size.x").contains("cannot read 'boards'"), qPrintable(props->errorFor("size.x")));
+    QCOMPARE(props->expressionFor("size.x"), QString("board + 3"));
+    typeInto(field(*w, "size.x"), "19mm");
+    QCOMPARE(props->expressionFor("size.x"), QString());
+    QCOMPARE(panelThickness(), 19.0);
 }
 
 // View > Lengths In > Inches and Fractions: every length field, readout and

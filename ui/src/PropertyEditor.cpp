@@ -505,7 +505,10 @@ void PropertyEditor::refresh()
         }
     }
     for (Field& f : fields_) {
-        if (!f.edit->hasFocus()) f.edit->showValue(f.get(*n));
+        // The field just entered too (it keeps the focus after Enter): an
+        // expression entered there showed the value from before it when
+        // the focus left (=top_t/2 over 0 mm stayed "0 mm").
+        if (!f.edit->beingEdited()) f.edit->showValue(f.get(*n));
         // A field an expression drives shows its value, tinted, the expression in its tooltip.
         const auto driven = n->expressions.find(expressionPath(f.key).toStdString());
         const bool isDriven = driven != n->expressions.end();

@@ -5,6 +5,7 @@
 #include "UndoKeysToWindow.hpp"
 
 #include <QLineEdit>
+#include <QRegularExpression>
 #include <QSignalBlocker>
 #include <QKeyEvent>
 #include <QWheelEvent>
@@ -44,9 +45,18 @@ QuantityEdit::QuantityEdit(Unit unit, QWidget* parent) : QDoubleSpinBox(parent),
 QString QuantityEdit::typedExpression() const
 {
     QString t = lineEdit()->text().trimmed();
-    if (!t.startsWith('=')) return {};
     if (!unitText().isEmpty() && t.endsWith(" " + unitText())) t.chop(unitText().size() + 1);
-    return t.mid(1).trimmed();
+    if (t.startsWith('=')) return t.mid(1).trimmed();
+    // A parameter's name typed without the '=' ("thickness / 2", as other
+    // CAD programs take it): the same expression, where the text reads as
+    // no number. (A newcomer typed it so and was told "'top_t' is not a
+    // number or a unit".) Units never count: "18mm" reads as a number first.
+    if (!names_ || evaluate(lineEdit()->text()).value) return {};
+    const QStringList names = names_();
+    static const QRegularExpression word(QStringLiteral("[A-Za-z_][A-Za-z0-9_]*"));
+    for (auto it = word.globalMatch(t); it.hasNext();)
+        if (names.contains(it.next().captured())) return t;
+    return {};
 }
 
 void QuantityEdit::setExpression(const QString& expression)
@@ -58,6 +68,7 @@ void QuantityEdit::setExpression(const QString& expression)
 
 void QuantityEdit::completeNames(std::function<QStringList()> names)
 {
+    names_ = names;
     new NameCompleter(lineEdit(), std::move(names), /*onlyAfterEquals=*/true);
 }
 
@@ -151,6 +162,8 @@ QString QuantityEdit::unitText() const
     }
     return {};
 }
+
+bool QuantityEdit::beingEdited() const { return hasFocus() && lineEdit()->isModified(); }
 
 void QuantityEdit::showValue(double v)
 {

@@ -26,10 +26,14 @@ public:
 
     /// Shows `v` without emitting valueChanged (a refresh from the document).
     void showValue(double v);
+    /// Text typed and not yet entered is in the field (a refresh leaves it be).
+    bool beingEdited() const;
     /// The expression that drives the value ("" when none): shown as
     /// "=expression" while the field has the focus, to be edited there.
     void setExpression(const QString& expression);
-    /// Offers `names` (asked each time) as an expression is typed after '='.
+    /// Offers `names` (asked each time) as an expression is typed after '=';
+    /// text that reads as no number but uses one of them is an expression
+    /// too, without the '=' ("thickness / 2").
     void completeNames(std::function<QStringList()> names);
 
     QValidator::State validate(QString& text, int& pos) const override;
@@ -46,8 +50,9 @@ protected:
 signals:
     /// The text typed could not be read as a number (the reason).
     void unreadable(const QString& reason);
-    /// "=..." was typed and entered (Enter, or leaving the field): the
-    /// expression, without the '=' and the field's unit.
+    /// "=..." (or text using a name of completeNames) was typed and entered
+    /// (Enter, or leaving the field): the expression, without the '=' and
+    /// the field's unit.
     void expressionEntered(const QString& expression);
 
 private:
@@ -58,9 +63,10 @@ private:
     ExpressionResult evaluate(const QString& text) const;
     QString unitText() const;
     QString unitSuffix() const; // " mm", " °" or none
-    /// The typed text as an expression ("=..."), or a null string.
+    /// The typed text as an expression ("=...", or using a name), or a null string.
     QString typedExpression() const;
     QString expression_;
+    std::function<QStringList()> names_; // the names an expression may use (completeNames)
     void reportUnreadableText();
     Unit unit_;
 };
