@@ -31,7 +31,7 @@ BrickAtlas BrickAtlas::pack(const BrickLeaves& leaves, std::uint32_t maxImageDim
     a.feature.assign(texels, 0);
     const std::size_t width = a.texels.x, height = a.texels.y;
     for (std::size_t b = 0; b < n; ++b) {
-        const glm::uvec3 base = a.slotOf(b) * std::uint32_t(kBrickSamples);
+        const glm::uvec3 base = slotOf(b, side) * std::uint32_t(kBrickSamples);
         for (int z = 0; z < kBrickSamples; ++z)
             for (int y = 0; y < kBrickSamples; ++y) {
                 const std::size_t to = base.x + width * ((base.y + std::size_t(y)) + height * (base.z + std::size_t(z)));

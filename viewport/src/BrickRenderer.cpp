@@ -387,7 +387,7 @@ void BrickRenderer::Impl::sortInstances(const glm::dvec3& eye)
         const std::uint32_t b = order[i].second;
         const Brick& brick = bricks[b];
         const glm::dvec3 rel = brick.min - eye;
-        const glm::uvec3 slot = glm::uvec3(b % side, (b / side) % side, b / (side * side)) * std::uint32_t(kBrickSamples);
+        const glm::uvec3 slot = BrickAtlas::slotOf(b, side) * std::uint32_t(kBrickSamples);
         out[i].minEdge = {float(rel.x), float(rel.y), float(rel.z), float(brick.voxelMm)};
         out[i].slot = {slot.x, slot.y, slot.z, std::uint32_t(brick.cells)};
     }

@@ -37,12 +37,12 @@ struct BrickAtlas {
 
     std::size_t rows() const { return std::size_t(texels.y) * texels.z; }
     std::size_t rowBytes() const { return std::size_t(texels.x) * kTexelBytes; }
-    std::size_t bytes() const { return rows() * rowBytes(); }
-    /// The slot of brick `b`, in slots.
-    glm::uvec3 slotOf(std::size_t b) const
+    /// The slot of brick `b` in an atlas of `side` slots along x and y, in
+    /// slots (the renderer's instances address the same slots).
+    static glm::uvec3 slotOf(std::size_t b, std::uint32_t side)
     {
-        const std::size_t side = slotCount.x;
-        return {std::uint32_t(b % side), std::uint32_t((b / side) % side), std::uint32_t(b / (side * side))};
+        const std::size_t s = side;
+        return {std::uint32_t(b % s), std::uint32_t((b / s) % s), std::uint32_t(b / (s * s))};
     }
 };
 
