@@ -7,7 +7,9 @@
 # two times of each build. Every run is a real `kerf export`. With
 # MESH_DISTANCE=path/to/kerf_mesh_distance, each build's first file is
 # also measured against the exact surface (the upper bound of the distance,
-# SurfaceDistance.hpp): the worst sample is each build's own judgement.
+# SurfaceDistance.hpp), and its triangles facing into the part (normal more
+# than 90 degrees from the gradient at the centroid: folds) are counted:
+# the worst sample is each build's own judgement.
 #
 #   bash bench/export-before-after.sh BEFORE_KERF AFTER_KERF [PART:FEATURE:TOLERANCE ...]
 set -euo pipefail
@@ -24,15 +26,15 @@ run() { # kerf part feature tolerance file -> "triangles over worst seconds"
   "$1" export "$2" -o "$5" --feature-size "$3" --tolerance "$4" --json 2>/dev/null |
     python3 -c 'import json,sys; j=json.load(sys.stdin); print(j["triangles"], j["triangles_over_tolerance"], "%.4f" % j["worst_sample_mm"], "%.2f" % j["seconds"])'
 }
-distance() { # part file -> the largest distance at a sample (upper bound), mm
+distance() { # part file -> "largest distance at a sample (upper bound, mm) triangles facing into the part"
   if [ -n "${MESH_DISTANCE:-}" ]; then
-    "$MESH_DISTANCE" "$1" "$2" | python3 -c 'import json,sys; print("%.4f" % json.load(sys.stdin)["distance_max_mm"])'
+    "$MESH_DISTANCE" "$1" "$2" | python3 -c 'import json,sys; j=json.load(sys.stdin); print("%.4f" % j["distance_max_mm"], j["triangles_facing_across"])'
   else
-    echo "-"
+    echo "- -"
   fi
 }
-echo "| part | cells mm | tolerance mm | triangles before → after | over tolerance before → after | worst sample mm before → after | distance max mm before → after | time s before → after |"
-echo "|---|---|---|---|---|---|---|---|"
+echo "| part | cells mm | tolerance mm | triangles before → after | over tolerance before → after | worst sample mm before → after | distance max mm before → after | facing into the part before → after | time s before → after |"
+echo "|---|---|---|---|---|---|---|---|---|"
 for c in "${cases[@]}"; do
   IFS=: read -r part feature tolerance <<<"$c"
   read -r bt bo bw bs1 <<<"$(run "$before" "$part" "$feature" "$tolerance" "$out/before.stl")"
@@ -40,6 +42,7 @@ for c in "${cases[@]}"; do
   read -r _ _ _ bs2 <<<"$(run "$before" "$part" "$feature" "$tolerance" "$out/part.stl")"
   read -r _ _ _ as2 <<<"$(run "$after" "$part" "$feature" "$tolerance" "$out/part.stl")"
   bs=$(python3 -c "print(min($bs1, $bs2))") as=$(python3 -c "print(min($as1, $as2))")
-  bd=$(distance "$part" "$out/before.stl") ad=$(distance "$part" "$out/after.stl")
-  echo "| $(basename "$part" .kerf) | $feature | $tolerance | $bt → $at | $bo → $ao | $bw → $aw | $bd → $ad | $bs → $as |"
+  read -r bd bf <<<"$(distance "$part" "$out/before.stl")"
+  read -r ad af <<<"$(distance "$part" "$out/after.stl")"
+  echo "| $(basename "$part" .kerf) | $feature | $tolerance | $bt → $at | $bo → $ao | $bw → $aw | $bd → $ad | $bf → $af | $bs → $as |"
 done

@@ -272,6 +272,8 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
                     j["worst_sample_at_mm"] = {stats.worstSampleAt.x, stats.worstSampleAt.y, stats.worstSampleAt.z};
             }
             j["triangles_over_tolerance"] = stats.trianglesOverTolerance;
+            j["triangles_folded"] = stats.foldedTriangles;
+            j["unfolds"] = stats.unfolds;
             if (stats.hiddenDetailCells > 0)
                 j["hidden_detail"] = {{"kind", stats.hiddenDetailIsMaterial ? "material" : "gap"},
                                       {"thickness_mm", stats.hiddenDetailThickness},

@@ -314,6 +314,8 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     stats.worstSample = refine.worstSample;
     stats.trianglesOverTolerance = refine.trianglesOverTolerance;
     stats.worstSampleAt = refine.worstAt;
+    stats.unfolds = refine.unfolds;
+    stats.foldedTriangles = refine.foldedTriangles;
     work.report(0.92);
     t0 = Clock::now();
     simplify.microLength = 0.0;
@@ -325,19 +327,22 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
         // by a cheaper rule than the refinement's final one (a sample's walk
         // round a blend, SampleDistance.hpp): where the final judgement finds
         // a triangle beyond the tolerance, the refinement splits again, and
-        // nothing simplifies after it. The mesh is reported as it is.
+        // nothing simplifies after it. So does a fold the simplification
+        // made. The mesh is reported as it is.
         ToleranceCheck left = checkTolerance(mesh, tape, options.tolerance, arena);
-        if (left.trianglesOverTolerance > 0) {
+        if (left.trianglesOverTolerance > 0 || left.foldedTriangles > 0) {
             RefineStats again;
             if (!refineToTolerance(mesh, normals, tape, refineSettings, arena, again, work.stage(0.98, 1.0)))
                 return std::nullopt;
             stats.splits += again.splits;
             stats.creaseSplits += again.creaseSplits;
-            left = {again.worstSample, again.worstAt, again.trianglesOverTolerance};
+            stats.unfolds += again.unfolds;
+            left = {again.worstSample, again.worstAt, again.trianglesOverTolerance, again.foldedTriangles};
         }
         stats.worstSample = left.worstSample;
         stats.trianglesOverTolerance = left.trianglesOverTolerance;
         stats.worstSampleAt = left.worstAt;
+        stats.foldedTriangles = left.foldedTriangles;
     }
     stats.simplifySeconds += secondsSince(t0);
     stats.crossingChecks = checks.checked;

@@ -33,7 +33,26 @@ constexpr double kCreaseCosine = 0.8660254037844387; // 30 degrees
 struct Verdict {
     double worst = 0.0;         // largest distance at a sample (SampleDistance.hpp), mm
     std::array<int, 3> edges{}; // the edges to try splitting, best first (-1: none more)
+    double facing = 1.0;        // cosine between the normal and the field's gradient at the centroid
 };
+
+// A triangle whose normal points against the field's gradient at its
+// centroid faces into the part: a fold (a flap turned over, a fin whose two
+// triangles face apart). The mesh stays closed and free of crossings, so no
+// reader's check sees it, but its normals are wrong and a fin's chord cuts
+// across the part (the bookshelf side's 1 mm round corner at 1 mm cells:
+// 0.24 mm).
+bool folded(double facing) { return facing < 0.0; }
+
+// The cosine between the normal of (a, b, c) and the gradient g (1 where
+// either is zero: no judgement).
+double facingCosine(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& g)
+{
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    const double ln = glm::length(n), lg = glm::length(g);
+    if (!(ln > 0.0) || !(lg > 0.0)) return 1.0;
+    return glm::dot(n, g) / (ln * lg);
+}
 
 std::uint64_t halfedgeKey(std::uint32_t from, std::uint32_t to) { return std::uint64_t(from) << 32 | to; }
 
@@ -71,6 +90,23 @@ public:
         const glm::dvec3 reach(distances_.reach(tolerance));
         intervals_.simplify(tape, Aabb{lo - reach, hi + reach}, region_);
         distances_.measure(region_, x_.data(), y_.data(), z_.data(), n, tolerance, f_.data());
+        // The gradient at each centroid, for the facing (in the samples' box).
+        cx_.resize(count);
+        cy_.resize(count);
+        cz_.resize(count);
+        cd_.resize(count);
+        gx_.resize(count);
+        gy_.resize(count);
+        gz_.resize(count);
+        for (std::size_t i = 0; i < count; ++i) {
+            const Tri& t = mesh.triangles[triangles[i]];
+            const glm::dvec3 c = (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3.0 - origin;
+            cx_[i] = c.x;
+            cy_[i] = c.y;
+            cz_[i] = c.z;
+        }
+        gradients_.evaluate(region_, cx_.data(), cy_.data(), cz_.data(), count, cd_.data(), gx_.data(), gy_.data(),
+                            gz_.data());
         for (std::size_t i = 0; i < count; ++i) {
             // The edges in the order of their worst sample (the one the
             // triangle strays most along); the inside samples count for the
@@ -101,6 +137,8 @@ public:
             // Splitting an edge that keeps to the tolerance does not help.
             for (int k = 0; k < 3; ++k)
                 if (!(edgeWorst[v.edges[std::size_t(k)]] > tolerance)) v.edges[std::size_t(k)] = -1;
+            v.facing = facingCosine(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]],
+                                    glm::dvec3(gx_[i], gy_[i], gz_[i]));
             verdicts[i] = v;
         }
     }
@@ -108,9 +146,11 @@ public:
 private:
     SampleDistance distances_{true}; // the final judgement
     IntervalEvaluator intervals_;
+    GradientEvaluator<double> gradients_;
     Tape region_;
     std::vector<glm::dvec3> points_;
     std::vector<double> x_, y_, z_, f_;
+    std::vector<double> cx_, cy_, cz_, cd_, gx_, gy_, gz_;
 };
 
 // Samples the given triangles in the arena, a chunk of them per task.
@@ -131,10 +171,12 @@ std::vector<Verdict> judgeAll(const Mesh& mesh, const Tape& tape, double toleran
 
 // The worst of the triangles' sampled errors, where it is, and how many
 // exceed the tolerance.
-ToleranceCheck worstOf(const Mesh& mesh, const std::vector<double>& worst, double tolerance)
+ToleranceCheck worstOf(const Mesh& mesh, const std::vector<double>& worst, const std::vector<double>& facing,
+                       double tolerance)
 {
     ToleranceCheck check;
     for (std::size_t t = 0; t < worst.size(); ++t) {
+        if (folded(facing[t])) ++check.foldedTriangles;
         if (worst[t] > check.worstSample) {
             check.worstSample = worst[t];
             const Tri& tri = mesh.triangles[t];
@@ -263,9 +305,79 @@ public:
         return false;
     }
 
+    /// Unfolds triangle t1, which faces into the part: flips the edge of it
+    /// whose flip leaves the pair facing the surface's way best, where that
+    /// is better than the pair faces now, the new triangles keep a height and
+    /// the tolerance (or stray no further than the pair did) and cross
+    /// nothing. The gradient judges, not the pair's summed normal as in
+    /// flip(): a fin's two normals cancel.
+    bool unfold(std::uint32_t t1, std::vector<std::uint8_t>& splitThisRound, std::vector<std::uint32_t>& changed)
+    {
+        if (splitThisRound[t1]) return false;
+        const Tri tri = mesh_.triangles[t1];
+        struct Candidate {
+            double facing;
+            std::uint32_t t2, u, v, w, x;
+        };
+        std::optional<Candidate> best;
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t u = tri[std::size_t(e)], v = tri[std::size_t(e + 1) % 3], w = tri[std::size_t(e + 2) % 3];
+            const auto other = halfedges_.find(halfedgeKey(v, u));
+            if (other == halfedges_.end()) continue;
+            const std::uint32_t t2 = other->second;
+            if (splitThisRound[t2]) continue;
+            std::uint32_t x = 0;
+            for (const std::uint32_t k : mesh_.triangles[t2])
+                if (k != u && k != v) x = k;
+            if (w == x || halfedges_.count(halfedgeKey(w, x)) || halfedges_.count(halfedgeKey(x, w))) continue;
+            const glm::dvec3 pu = mesh_.vertices[u], pv = mesh_.vertices[v], pw = mesh_.vertices[w],
+                             px = mesh_.vertices[x];
+            const double before = std::min(facing(pu, pv, pw), facing(pv, pu, px));
+            const double after = std::min(facing(pw, pu, px), facing(px, pv, pw));
+            if (!(after > before) || (best && !(after > best->facing))) continue;
+            const glm::dvec3 n1 = glm::cross(pu - pw, px - pw), n2 = glm::cross(pv - px, pw - px);
+            const double longest1 = std::max({glm::length(pu - pw), glm::length(px - pu), glm::length(pw - px)});
+            const double longest2 = std::max({glm::length(pv - px), glm::length(pw - pv), glm::length(px - pw)});
+            if (!(glm::length(n1) > minHeight_ * longest1 && glm::length(n2) > minHeight_ * longest2)) continue;
+            const glm::dvec3 mid = 0.5 * (pu + pv);
+            const Tape& tape = regions_.near(mid, std::max({glm::length(pu - mid), glm::length(pw - mid),
+                                                            glm::length(px - mid)}) +
+                                                      distances_.reach(tolerance_));
+            const double old = std::max(sampledError(tape, pu, pv, pw), sampledError(tape, pv, pu, px));
+            const double now = std::max(sampledError(tape, pw, pu, px), sampledError(tape, px, pv, pw));
+            if (!(now <= std::max(tolerance_, old))) continue;
+            if (wouldCross(std::array<Tri, 2>{Tri{w, u, x}, Tri{x, v, w}}, nullptr, t1, t2)) continue;
+            best = Candidate{after, t2, u, v, w, x};
+        }
+        if (!best) return false;
+        const auto [after, t2, u, v, w, x] = *best;
+        remove(t1);
+        remove(t2);
+        mesh_.triangles[t1] = {w, u, x};
+        mesh_.triangles[t2] = {x, v, w};
+        for (const std::uint32_t t : {t1, t2}) {
+            add(t);
+            splitThisRound[t] = 1;
+            changed.push_back(t);
+        }
+        ++unfolds;
+        return true;
+    }
+
     std::uint64_t flips = 0;
+    std::uint64_t unfolds = 0;
 
 private:
+    // How triangle (a, b, c) faces the surface (facingCosine at its centroid).
+    double facing(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c)
+    {
+        const glm::dvec3 centroid = (a + b + c) / 3.0;
+        const Tape& tape = regions_.near(centroid, 0.0);
+        const glm::dvec3 q = centroid - tape.origin();
+        const Dual<double> g = gradients_.evaluate(tape, q.x, q.y, q.z);
+        return facingCosine(a, b, c, glm::dvec3(g.d[0], g.d[1], g.d[2]));
+    }
+
     double sampledError(const Tape& tape, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c)
     {
         samples_.clear();
@@ -431,7 +543,7 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
     std::vector<std::uint32_t> dirty(mesh.triangles.size());
     for (std::uint32_t t = 0; t < dirty.size(); ++t)
         dirty[t] = t;
-    std::vector<double> worst(mesh.triangles.size(), 0.0);
+    std::vector<double> worst(mesh.triangles.size(), 0.0), facing(mesh.triangles.size(), 1.0);
     tbb::enumerable_thread_specific<Sampler> samplers;
     Splitter splitter(mesh, normals, tape, tolerance, settings.minHeight, settings.clearance, settings.regionSize);
     std::vector<std::uint8_t> splitThisRound;
@@ -444,10 +556,13 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
         const std::vector<Verdict> verdicts = judgeAll(mesh, tape, tolerance, dirty, samplers, arena);
         stats.samples += dirty.size() * kTriangleSamples;
         worst.resize(mesh.triangles.size(), 0.0);
+        facing.resize(mesh.triangles.size(), 1.0);
         std::vector<std::pair<double, std::uint32_t>> failing; // (-worst, index into dirty)
         for (std::size_t i = 0; i < dirty.size(); ++i) {
             worst[dirty[i]] = verdicts[i].worst;
-            if (verdicts[i].worst > tolerance) failing.emplace_back(-verdicts[i].worst, std::uint32_t(i));
+            facing[dirty[i]] = verdicts[i].facing;
+            if (verdicts[i].worst > tolerance || folded(verdicts[i].facing))
+                failing.emplace_back(-verdicts[i].worst, std::uint32_t(i));
         }
         if (failing.empty() || stats.rounds >= settings.maxRounds || mesh.triangles.size() >= settings.maxTriangles)
             break;
@@ -456,6 +571,18 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
         splitThisRound.assign(mesh.triangles.size(), 0);
         std::vector<std::uint32_t> changed, busy;
         for (const auto& [negative, i] : failing) {
+            // A fold first: a split of a folded triangle makes folded ones.
+            if (folded(verdicts[i].facing)) {
+                if (splitThisRound[dirty[i]]) {
+                    busy.push_back(dirty[i]);
+                    continue;
+                }
+                if (splitter.unfold(dirty[i], splitThisRound, changed)) continue;
+                if (!(verdicts[i].worst > tolerance)) {
+                    stuck.push_back(dirty[i]);
+                    continue;
+                }
+            }
             const auto outcome = splitter.split(dirty[i], verdicts[i].edges, splitThisRound, changed, stats);
             if (outcome == Splitter::Outcome::Busy) busy.push_back(dirty[i]);
             if (outcome == Splitter::Outcome::Impossible &&
@@ -483,7 +610,9 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
         changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
         dirty.swap(changed);
     }
-    const ToleranceCheck left = worstOf(mesh, worst, tolerance);
+    const ToleranceCheck left = worstOf(mesh, worst, facing, tolerance);
+    stats.unfolds = splitter.unfolds;
+    stats.foldedTriangles = left.foldedTriangles;
     stats.worstSample = left.worstSample;
     stats.worstAt = left.worstAt;
     stats.trianglesOverTolerance = left.trianglesOverTolerance;
@@ -497,10 +626,12 @@ ToleranceCheck checkTolerance(const Mesh& mesh, const Tape& tape, double toleran
         all[t] = t;
     tbb::enumerable_thread_specific<Sampler> samplers;
     const std::vector<Verdict> verdicts = judgeAll(mesh, tape, tolerance, all, samplers, arena);
-    std::vector<double> worst(all.size());
-    for (std::size_t t = 0; t < all.size(); ++t)
+    std::vector<double> worst(all.size()), facing(all.size());
+    for (std::size_t t = 0; t < all.size(); ++t) {
         worst[t] = verdicts[t].worst;
-    return worstOf(mesh, worst, tolerance);
+        facing[t] = verdicts[t].facing;
+    }
+    return worstOf(mesh, worst, facing, tolerance);
 }
 
 } // namespace kerf::mesher

@@ -46,6 +46,8 @@ struct RefineStats {
     double worstSample = 0.0;
     glm::dvec3 worstAt{0.0}; // the centroid of the triangle with the worst sample (world mm)
     std::uint64_t trianglesOverTolerance = 0; // left over the tolerance at the round limit
+    std::uint64_t unfolds = 0;                // flips that turned a folded triangle the surface's way
+    std::uint64_t foldedTriangles = 0;        // left facing into the part (no flip helped)
 };
 
 struct RefineSettings {
@@ -78,6 +80,7 @@ struct ToleranceCheck {
     double worstSample = 0.0;
     glm::dvec3 worstAt{0.0};
     std::uint64_t trianglesOverTolerance = 0;
+    std::uint64_t foldedTriangles = 0; // triangles facing into the part at their centroid
 };
 ToleranceCheck checkTolerance(const Mesh& mesh, const Tape& tape, double tolerance, tbb::task_arena& arena);
 

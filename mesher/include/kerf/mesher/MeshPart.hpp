@@ -151,6 +151,10 @@ struct MeshStats {
     double worstSample = 0.0;             // mm: the final mesh's largest sample distance (|f| / |grad f|)
     std::uint64_t trianglesOverTolerance = 0; // triangles the refinement could not bring within the tolerance
     glm::dvec3 worstSampleAt{0.0};        // world mm: the centroid of the triangle with the worst sample
+    std::uint64_t unfolds = 0;            // flips that turned a folded triangle the surface's way
+    /// Triangles left facing into the part at their centroid (a fold no
+    /// flip undid; the mesh is closed and uncrossed all the same).
+    std::uint64_t foldedTriangles = 0;
     /// CrossingGuard::Afterwards: cubes (and last passes) simplified
     /// unguarded and checked, and of those redone guarded.
     std::uint64_t crossingChecks = 0;
