@@ -262,43 +262,19 @@ public:
               std::vector<std::uint32_t>& changed)
     {
         if (splitThisRound[t1]) return false;
-        const Tri tri = mesh_.triangles[t1];
         for (const int e : edges) {
             if (e < 0) break;
-            const std::uint32_t u = tri[std::size_t(e)], v = tri[std::size_t(e + 1) % 3], w = tri[std::size_t(e + 2) % 3];
-            const auto other = halfedges_.find(halfedgeKey(v, u));
-            if (other == halfedges_.end()) continue;
-            const std::uint32_t t2 = other->second;
-            if (splitThisRound[t2]) continue;
-            std::uint32_t x = 0;
-            for (const std::uint32_t k : mesh_.triangles[t2])
-                if (k != u && k != v) x = k;
-            if (w == x || halfedges_.count(halfedgeKey(w, x)) || halfedges_.count(halfedgeKey(x, w))) continue;
-            const glm::dvec3 pu = mesh_.vertices[u], pv = mesh_.vertices[v], pw = mesh_.vertices[w],
-                             px = mesh_.vertices[x];
+            const std::optional<Flip> f = flippable(t1, e, splitThisRound);
+            if (!f) continue;
+            const glm::dvec3 pu = mesh_.vertices[f->u], pv = mesh_.vertices[f->v], pw = mesh_.vertices[f->w],
+                             px = mesh_.vertices[f->x];
             const glm::dvec3 before = glm::cross(pv - pu, pw - pu) + glm::cross(pu - pv, px - pv);
             const glm::dvec3 n1 = glm::cross(pu - pw, px - pw), n2 = glm::cross(pv - px, pw - px);
             if (!(glm::dot(n1, before) > 0.0 && glm::dot(n2, before) > 0.0)) continue;
-            const double longest1 = std::max({glm::length(pu - pw), glm::length(px - pu), glm::length(pw - px)});
-            const double longest2 = std::max({glm::length(pv - px), glm::length(pw - pv), glm::length(px - pw)});
-            if (!(glm::length(n1) > minHeight_ * longest1 && glm::length(n2) > minHeight_ * longest2)) continue;
-            const glm::dvec3 mid = 0.5 * (pu + pv);
-            const Tape& tape = regions_.near(mid, std::max({glm::length(pu - mid), glm::length(pw - mid),
-                                                            glm::length(px - mid)}) +
-                                                      distances_.reach(tolerance_));
-            const double old = std::max(sampledError(tape, pu, pv, pw), sampledError(tape, pv, pu, px));
-            const double now = std::max(sampledError(tape, pw, pu, px), sampledError(tape, px, pv, pw));
+            const auto [old, now] = flipErrors(*f);
             if (!(now < old)) continue;
-            if (wouldCross(std::array<Tri, 2>{Tri{w, u, x}, Tri{x, v, w}}, nullptr, t1, t2)) continue;
-            remove(t1);
-            remove(t2);
-            mesh_.triangles[t1] = {w, u, x};
-            mesh_.triangles[t2] = {x, v, w};
-            for (const std::uint32_t t : {t1, t2}) {
-                add(t);
-                splitThisRound[t] = 1;
-                changed.push_back(t);
-            }
+            if (crosses(*f)) continue;
+            apply(*f, splitThisRound, changed);
             ++flips;
             return true;
         }
@@ -307,59 +283,31 @@ public:
 
     /// Unfolds triangle t1, which faces into the part: flips the edge of it
     /// whose flip leaves the pair facing the surface's way best, where that
-    /// is better than the pair faces now, the new triangles keep a height and
-    /// the tolerance (or stray no further than the pair did) and cross
-    /// nothing. The gradient judges, not the pair's summed normal as in
-    /// flip(): a fin's two normals cancel.
+    /// is better than the pair faces now, the new triangles stray no further
+    /// than the pair did (or keep the tolerance) and cross nothing. The
+    /// gradient judges, not the pair's summed normal as in flip(): a fin's
+    /// two normals cancel.
     bool unfold(std::uint32_t t1, std::vector<std::uint8_t>& splitThisRound, std::vector<std::uint32_t>& changed)
     {
         if (splitThisRound[t1]) return false;
-        const Tri tri = mesh_.triangles[t1];
-        struct Candidate {
-            double facing;
-            std::uint32_t t2, u, v, w, x;
-        };
-        std::optional<Candidate> best;
+        std::optional<Flip> best;
+        double bestFacing = 0.0;
         for (int e = 0; e < 3; ++e) {
-            const std::uint32_t u = tri[std::size_t(e)], v = tri[std::size_t(e + 1) % 3], w = tri[std::size_t(e + 2) % 3];
-            const auto other = halfedges_.find(halfedgeKey(v, u));
-            if (other == halfedges_.end()) continue;
-            const std::uint32_t t2 = other->second;
-            if (splitThisRound[t2]) continue;
-            std::uint32_t x = 0;
-            for (const std::uint32_t k : mesh_.triangles[t2])
-                if (k != u && k != v) x = k;
-            if (w == x || halfedges_.count(halfedgeKey(w, x)) || halfedges_.count(halfedgeKey(x, w))) continue;
-            const glm::dvec3 pu = mesh_.vertices[u], pv = mesh_.vertices[v], pw = mesh_.vertices[w],
-                             px = mesh_.vertices[x];
+            const std::optional<Flip> f = flippable(t1, e, splitThisRound);
+            if (!f) continue;
+            const glm::dvec3 pu = mesh_.vertices[f->u], pv = mesh_.vertices[f->v], pw = mesh_.vertices[f->w],
+                             px = mesh_.vertices[f->x];
             const double before = std::min(facing(pu, pv, pw), facing(pv, pu, px));
             const double after = std::min(facing(pw, pu, px), facing(px, pv, pw));
-            if (!(after > before) || (best && !(after > best->facing))) continue;
-            const glm::dvec3 n1 = glm::cross(pu - pw, px - pw), n2 = glm::cross(pv - px, pw - px);
-            const double longest1 = std::max({glm::length(pu - pw), glm::length(px - pu), glm::length(pw - px)});
-            const double longest2 = std::max({glm::length(pv - px), glm::length(pw - pv), glm::length(px - pw)});
-            if (!(glm::length(n1) > minHeight_ * longest1 && glm::length(n2) > minHeight_ * longest2)) continue;
-            const glm::dvec3 mid = 0.5 * (pu + pv);
-            const Tape& tape = regions_.near(mid, std::max({glm::length(pu - mid), glm::length(pw - mid),
-                                                            glm::length(px - mid)}) +
-                                                      distances_.reach(tolerance_));
-            const double old = std::max(sampledError(tape, pu, pv, pw), sampledError(tape, pv, pu, px));
-            const double now = std::max(sampledError(tape, pw, pu, px), sampledError(tape, px, pv, pw));
+            if (!(after > before) || (best && !(after > bestFacing))) continue;
+            const auto [old, now] = flipErrors(*f);
             if (!(now <= std::max(tolerance_, old))) continue;
-            if (wouldCross(std::array<Tri, 2>{Tri{w, u, x}, Tri{x, v, w}}, nullptr, t1, t2)) continue;
-            best = Candidate{after, t2, u, v, w, x};
+            if (crosses(*f)) continue;
+            best = f;
+            bestFacing = after;
         }
         if (!best) return false;
-        const auto [after, t2, u, v, w, x] = *best;
-        remove(t1);
-        remove(t2);
-        mesh_.triangles[t1] = {w, u, x};
-        mesh_.triangles[t2] = {x, v, w};
-        for (const std::uint32_t t : {t1, t2}) {
-            add(t);
-            splitThisRound[t] = 1;
-            changed.push_back(t);
-        }
+        apply(*best, splitThisRound, changed);
         ++unfolds;
         return true;
     }
@@ -376,6 +324,63 @@ private:
         const glm::dvec3 q = centroid - tape.origin();
         const Dual<double> g = gradients_.evaluate(tape, q.x, q.y, q.z);
         return facingCosine(a, b, c, glm::dvec3(g.d[0], g.d[1], g.d[2]));
+    }
+
+    // The flip of edge (u, v) between t1 = (u, v, w) and t2 = (v, u, x):
+    // they become (w, u, x) and (x, v, w).
+    struct Flip {
+        std::uint32_t t1, t2, u, v, w, x;
+    };
+    // The flip of edge e of t1, where it makes two proper triangles: the
+    // edge is closed, its other triangle not changed this round, (w, x) not
+    // an edge already, and both new triangles keep a height.
+    std::optional<Flip> flippable(std::uint32_t t1, int e, const std::vector<std::uint8_t>& splitThisRound) const
+    {
+        const Tri& tri = mesh_.triangles[t1];
+        const std::uint32_t u = tri[std::size_t(e)], v = tri[std::size_t(e + 1) % 3], w = tri[std::size_t(e + 2) % 3];
+        const auto other = halfedges_.find(halfedgeKey(v, u));
+        if (other == halfedges_.end()) return std::nullopt;
+        const std::uint32_t t2 = other->second;
+        if (splitThisRound[t2]) return std::nullopt;
+        std::uint32_t x = 0;
+        for (const std::uint32_t k : mesh_.triangles[t2])
+            if (k != u && k != v) x = k;
+        if (w == x || halfedges_.count(halfedgeKey(w, x)) || halfedges_.count(halfedgeKey(x, w))) return std::nullopt;
+        const glm::dvec3 pu = mesh_.vertices[u], pv = mesh_.vertices[v], pw = mesh_.vertices[w],
+                         px = mesh_.vertices[x];
+        const glm::dvec3 n1 = glm::cross(pu - pw, px - pw), n2 = glm::cross(pv - px, pw - px);
+        const double longest1 = std::max({glm::length(pu - pw), glm::length(px - pu), glm::length(pw - px)});
+        const double longest2 = std::max({glm::length(pv - px), glm::length(pw - pv), glm::length(px - pw)});
+        if (!(glm::length(n1) > minHeight_ * longest1 && glm::length(n2) > minHeight_ * longest2)) return std::nullopt;
+        return Flip{t1, t2, u, v, w, x};
+    }
+    // The worse sampled error of the pair before the flip and after it.
+    std::pair<double, double> flipErrors(const Flip& f)
+    {
+        const glm::dvec3 pu = mesh_.vertices[f.u], pv = mesh_.vertices[f.v], pw = mesh_.vertices[f.w],
+                         px = mesh_.vertices[f.x];
+        const glm::dvec3 mid = 0.5 * (pu + pv);
+        const Tape& tape = regions_.near(mid, std::max({glm::length(pu - mid), glm::length(pw - mid),
+                                                        glm::length(px - mid)}) +
+                                                  distances_.reach(tolerance_));
+        return {std::max(sampledError(tape, pu, pv, pw), sampledError(tape, pv, pu, px)),
+                std::max(sampledError(tape, pw, pu, px), sampledError(tape, px, pv, pw))};
+    }
+    bool crosses(const Flip& f) const
+    {
+        return wouldCross(std::array<Tri, 2>{Tri{f.w, f.u, f.x}, Tri{f.x, f.v, f.w}}, nullptr, f.t1, f.t2);
+    }
+    void apply(const Flip& f, std::vector<std::uint8_t>& splitThisRound, std::vector<std::uint32_t>& changed)
+    {
+        remove(f.t1);
+        remove(f.t2);
+        mesh_.triangles[f.t1] = {f.w, f.u, f.x};
+        mesh_.triangles[f.t2] = {f.x, f.v, f.w};
+        for (const std::uint32_t t : {f.t1, f.t2}) {
+            add(t);
+            splitThisRound[t] = 1;
+            changed.push_back(t);
+        }
     }
 
     double sampledError(const Tape& tape, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c)
