@@ -44,6 +44,11 @@ struct Verdict {
 // 0.24 mm).
 bool folded(double facing) { return facing < 0.0; }
 
+// A triangle leaning more than 75 degrees from the surface's normal: where
+// splits are stuck next to one (its neighbours' new triangles must turn
+// its way), flipping it upright lets them go on (RefineSettings::unfoldLeaning).
+bool leans(double facing) { return facing < 0.25881904510252074; }
+
 // The cosine between the normal of (a, b, c) and the gradient g (1 where
 // either is zero: no judgement).
 double facingCosine(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& g)
@@ -551,6 +556,7 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
     std::vector<double> worst(mesh.triangles.size(), 0.0), facing(mesh.triangles.size(), 1.0);
     tbb::enumerable_thread_specific<Sampler> samplers;
     Splitter splitter(mesh, normals, tape, tolerance, settings.minHeight, settings.clearance, settings.regionSize);
+    auto turnsUpright = [&](double facing) { return settings.unfoldLeaning ? leans(facing) : folded(facing); };
     std::vector<std::uint8_t> splitThisRound;
     std::vector<std::uint32_t> stuck;
     std::vector<std::uint8_t> touched; // vertices of this round's changed triangles
@@ -566,7 +572,7 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
         for (std::size_t i = 0; i < dirty.size(); ++i) {
             worst[dirty[i]] = verdicts[i].worst;
             facing[dirty[i]] = verdicts[i].facing;
-            if (verdicts[i].worst > tolerance || folded(verdicts[i].facing))
+            if (verdicts[i].worst > tolerance || turnsUpright(verdicts[i].facing))
                 failing.emplace_back(-verdicts[i].worst, std::uint32_t(i));
         }
         if (failing.empty() || stats.rounds >= settings.maxRounds || mesh.triangles.size() >= settings.maxTriangles)
@@ -577,7 +583,7 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
         std::vector<std::uint32_t> changed, busy;
         for (const auto& [negative, i] : failing) {
             // A fold first: a split of a folded triangle makes folded ones.
-            if (folded(verdicts[i].facing)) {
+            if (turnsUpright(verdicts[i].facing)) {
                 if (splitThisRound[dirty[i]]) {
                     busy.push_back(dirty[i]);
                     continue;

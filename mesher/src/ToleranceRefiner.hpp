@@ -61,6 +61,12 @@ struct RefineSettings {
     /// A safety limit: refinement stops once the mesh has this many
     /// triangles (what is left over the tolerance is then reported).
     std::size_t maxTriangles = std::size_t(1) << 26;
+    /// Flip upright, before any split, not only the triangles that face into
+    /// the part but also those leaning more than 75 degrees from the
+    /// surface's normal (MeshPart.cpp: a last attempt where triangles stay
+    /// over the tolerance; as the rule throughout, it left a few more over
+    /// on the turned leg's default export).
+    bool unfoldLeaning = false;
 };
 
 /// Refines `mesh` (world coordinates, outward triangles), the surface of
