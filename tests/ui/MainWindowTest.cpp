@@ -307,6 +307,7 @@ private slots:
     void exportDialogWritesAClosedMesh();
     void exportDialogNamesWhatTheToleranceMissed();
     void exportDialogSaysWhereDetailHidesBetweenTheCells();
+    void exportDialogTakesThePartAsItIsWhenExportIsPressed();
     void everyShortcutIsBoundOnceAndRedoAnswersBothKeys();
     void theWheelEditsOnlyTheFieldBeingEdited();
     void ctrlZRightAfterTypingAValueUndoesIt();
@@ -675,9 +676,66 @@ void MainWindowTest::exportDialogSaysWhereDetailHidesBetweenTheCells()
     QVERIFY(done.wait(120000));
     const QString message = dialog->outcome().message;
     QVERIFY2(dialog->outcome().written, qPrintable(message));
-    QVERIFY2(message.contains("Material 1 mm thin at ("), qPrintable(message));
+    QVERIFY2(message.contains("Warning: material 1 mm thin at ("), qPrintable(message));
     QVERIFY2(message.contains("it is missing from the mesh or in pieces; a feature size of 0.5 mm resolves it."),
              qPrintable(message));
+}
+
+// What a newcomer met (2026-11-28): the dialog does not block the main
+// window, and it exported the part as it was when it opened (a feature
+// hidden afterwards was still in the file); Export… again stacked a second
+// dialog on the first; "abc" typed in a number field was put back to the
+// old value and the export ran with it, saying nothing.
+void MainWindowTest::exportDialogTakesThePartAsItIsWhenExportIsPressed()
+{
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    action(w.get(), "action.add.box")->trigger();
+    action(w.get(), "action.export")->trigger();
+    auto* dialog = w->findChild<ExportDialog*>("exportDialog");
+    QVERIFY(dialog);
+    action(w.get(), "action.export")->trigger();
+    QCOMPARE(w->findChildren<ExportDialog*>().size(), qsizetype(1));
+
+    // Edited with the dialog open: the file has the box as it is now.
+    typeInto(field(*w, "size.x"), "36");
+    const glm::dvec3 size = w->session()->document().root.find("box")->as<BoxParams>().size;
+    QCOMPARE(size.x, 36.0);
+    const QString out = files_.path() + "/box.stl";
+    dialog->findChild<QLineEdit*>("export.path")->setText(out);
+    dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(2.0);
+    QSignalSpy done(dialog, &ExportDialog::finished);
+    auto* start = dialog->findChild<QPushButton*>("export.start");
+    QTest::mouseClick(start, Qt::LeftButton);
+    QVERIFY(done.wait(120000));
+    QVERIFY2(dialog->outcome().written, qPrintable(dialog->outcome().message));
+    const MeshReport box = checkMesh(test::readMeshFile(out.toStdString()));
+    QVERIFY(box.watertight());
+    QVERIFY2(std::abs(box.volume - size.x * size.y * size.z) < 1e-3 * size.x * size.y * size.z,
+             qPrintable(QString::number(box.volume)));
+    // The message names the file with its folder.
+    QVERIFY2(dialog->outcome().message.startsWith(out + ":"), qPrintable(dialog->outcome().message));
+
+    // "abc" in the tolerance, then the Export button clicked (the field
+    // left): refused, naming the text; the field shows its value again, and
+    // the next click exports that.
+    dialog->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(dialog));
+    auto* tolerance = dialog->findChild<QuantityEdit*>("export.tolerance");
+    tolerance->setFocus();
+    tolerance->selectAll();
+    QTest::keyClicks(tolerance, "abc");
+    start->setFocus(); // as the click on the button takes the focus
+    QTest::mouseClick(start, Qt::LeftButton);
+    QCOMPARE(done.size(), 2);
+    QVERIFY(!dialog->outcome().written);
+    const QString refused = dialog->outcome().message;
+    QVERIFY2(refused.startsWith("Tolerance: ") && refused.contains("'abc'") && refused.contains("Nothing was exported"),
+             qPrintable(refused));
+    QCOMPARE(tolerance->value(), kDefaultExportTolerance);
+    QTest::mouseClick(start, Qt::LeftButton);
+    QVERIFY(done.wait(120000));
+    QVERIFY2(dialog->outcome().written, qPrintable(dialog->outcome().message));
 }
 
 void MainWindowTest::everyShortcutIsBoundOnceAndRedoAnswersBothKeys()

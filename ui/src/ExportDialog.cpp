@@ -10,6 +10,7 @@
 
 #include <QCheckBox>
 #include <QComboBox>
+#include <QDir>
 #include <QDialogButtonBox>
 #include <QFileDialog>
 #include <QFormLayout>
@@ -57,7 +58,7 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
     const MeshReport& r = exported.report.asRead;
     const QLocale locale;
     QString s = QObject::tr("%1: %2 triangles, %3 (%4) in %5 s.")
-                    .arg(QString::fromStdString(file.filename().string()))
+                    .arg(QString::fromStdString(file.string()))
                     .arg(locale.toString(qulonglong(r.triangles)))
                     .arg(QString::fromUtf8(describe(format)))
                     .arg(megabytes(exported.report.bytes))
@@ -66,6 +67,9 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
                             "(%1, genus %2).")
                     .arg(r.components == 1 ? QObject::tr("1 component") : QObject::tr("%1 components").arg(r.components))
                     .arg(r.genus().value_or(-1));
+    if (!(tolerance > 0.0))
+        s += "\n" + QObject::tr("Not simplified: every cell's triangles at %1 mm cells, not held to a tolerance.")
+                        .arg(exported.stats.cellSize);
     if (tolerance > 0.0 && exported.simplificationDefects.empty() && exported.stats.trianglesOverTolerance == 0)
         s += "\n" + QObject::tr("Every triangle within %1 mm of the exact surface (worst sample %2 mm).")
                         .arg(tolerance)
@@ -77,14 +81,13 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
                         .arg(QString::fromStdString(exported.simplificationDefects))
                         .arg(exported.stats.cellSize);
     if (exported.stats.hiddenDetailCells > 0) {
-        std::string sentence = describeHiddenDetail(exported.stats);
-        sentence[0] = char(std::toupper(static_cast<unsigned char>(sentence[0])));
-        s += "\n" + QString::fromStdString(sentence) + ".";
+        s += "\n" + QObject::tr("Warning: %1.").arg(QString::fromStdString(describeHiddenDetail(exported.stats)));
     }
     if (exported.stats.trianglesOverTolerance > 0) {
-        std::string sentence = describeTrianglesOverTolerance(exported.stats, tolerance);
-        sentence[0] = char(std::toupper(static_cast<unsigned char>(sentence[0])));
-        s += "\n" + QString::fromStdString(sentence) + ".";
+        s += "\n" + QObject::tr("Warning: %1. The file is a closed solid all the same (the default tolerance, %2 mm, "
+                                "is finer than a router or printer reproduces).")
+                        .arg(QString::fromStdString(describeTrianglesOverTolerance(exported.stats, tolerance)))
+                        .arg(kDefaultExportTolerance);
     }
     if (!exported.stats.note.empty()) s += "\n" + QString::fromStdString(exported.stats.note);
     return s;
@@ -92,8 +95,10 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
 
 } // namespace
 
-ExportDialog::ExportDialog(const Document& doc, const std::filesystem::path& suggested, QWidget* parent)
-    : QDialog(parent), doc_(doc)
+ExportDialog::ExportDialog(std::function<Document()> document, std::string partName,
+                           const std::filesystem::path& suggested, QWidget* parent)
+    : QDialog(parent), document_(std::move(document)), partName_(std::move(partName)), doc_(document_()),
+      folder_(suggested.parent_path())
 {
     setWindowTitle(tr("Export"));
     setMinimumWidth(560); // room for a path and the result's sentences
@@ -174,6 +179,14 @@ ExportDialog::ExportDialog(const Document& doc, const std::filesystem::path& sug
                                (!f.endsWith(".stl", Qt::CaseInsensitive) && filter == threeMf);
         path_->setText(withExtension(f, asThreeMf ? MeshFileFormat::ThreeMf : MeshFileFormat::BinaryStl));
     });
+    // Text a number field cannot read ("abc") is put back to the value
+    // before it when the field is left, as the Export button is clicked:
+    // say so, and refuse that click, rather than export the old value in
+    // silence.
+    connect(featureSize_, &QuantityEdit::unreadable, this,
+            [this](const QString& why) { noteUnreadable(featureSize_, tr("Feature size"), why); });
+    connect(tolerance_, &QuantityEdit::unreadable, this,
+            [this](const QString& why) { noteUnreadable(tolerance_, tr("Tolerance"), why); });
     connect(format_, &QComboBox::currentIndexChanged, this, &ExportDialog::formatChosen);
     connect(path_, &QLineEdit::textChanged, this, &ExportDialog::pathEdited);
     pathEdited(path_->text());
@@ -205,11 +218,24 @@ void ExportDialog::pathEdited(const QString& text)
     else if (t.endsWith(".stl", Qt::CaseInsensitive) && format_->currentIndex() == 2) format_->setCurrentIndex(0);
 }
 
+void ExportDialog::noteUnreadable(QuantityEdit* field, const QString& label, const QString& reason)
+{
+    unreadable_ = tr("%1: %2; the field shows %3 again. Nothing was exported.")
+                      .arg(label, reason, field->textFromValue(field->value()) + " mm");
+    result_->setText(unreadable_);
+}
+
 void ExportDialog::start()
 {
     if (running()) return;
     if (worker_.joinable()) worker_.join();
-    const std::filesystem::path file = path_->text().trimmed().toStdString();
+    QString typed = path_->text().trimmed();
+    // "~/parts/leg.stl", as a shell takes it.
+    if (typed == "~" || typed.startsWith("~/")) typed = QDir::homePath() + typed.mid(1);
+    std::filesystem::path file = typed.toStdString();
+    // A bare name goes beside the suggested file (the document's folder, or
+    // home), not into whatever folder the program was started from.
+    if (!file.empty() && file.is_relative()) file = folder_ / file;
     auto refuse = [this](const QString& why) {
         outcome_ = ExportOutcome{};
         outcome_.message = why;
@@ -217,6 +243,11 @@ void ExportDialog::start()
         progress_->setValue(0); // not the last export's, which this one is not
         emit finished(outcome_);
     };
+    if (!unreadable_.isEmpty()) {
+        const QString why = unreadable_;
+        unreadable_.clear(); // the next click exports the value the field shows
+        return refuse(why);
+    }
     if (file.empty()) return refuse(tr("Choose a file to export to."));
     const double featureSize = featureSize_->value();
     if (!(featureSize > 0.0)) return refuse(tr("The feature size must be a positive number of millimetres."));
@@ -225,6 +256,8 @@ void ExportDialog::start()
         return refuse(tr("The tolerance must be a positive number of millimetres."));
     std::optional<MeshFileFormat> format = meshFileFormatFor(file, format_->currentIndex() == 1);
     if (!format) return refuse(tr("Name the file .stl (STL) or .3mf (3MF)."));
+    // The part as it is now, not as it was when the dialog opened.
+    doc_ = document_();
     cancel_ = false;
     done_ = false;
     fraction_ = 0.0;
@@ -234,7 +267,7 @@ void ExportDialog::start()
     result_->setText(tr("Meshing…"));
     progress_->setValue(0);
     timer_->start();
-    const std::string partName = file.stem().string();
+    const std::string partName = partName_.empty() ? file.stem().string() : partName_;
     worker_ = std::thread([this, file, featureSize, tolerance, format = *format, partName] {
         ExportOutcome o;
         try {
@@ -316,12 +349,15 @@ void ExportDialog::poll()
     // read "Cancel" under a written file as "the file will be taken back").
     cancelButton_->setText(tr("Close"));
     emit finished(outcome_);
+    if (closeWhenDone_) QDialog::reject();
 }
 
 void ExportDialog::reject()
 {
-    // Closing the dialog while meshing cancels the export first.
+    // Closing the dialog while meshing cancels the export, and the dialog
+    // closes once it has stopped (within a fraction of a second).
     if (running()) {
+        closeWhenDone_ = true;
         cancel();
         return;
     }

@@ -6,6 +6,10 @@
 // core's exportPart(), as `kerf export` does, on a worker thread with a
 // progress bar and a Cancel button; the file is written whole or not at
 // all. The result line describes the file as a reader gets it back.
+//
+// The part exported is the document as it is when Export is pressed (the
+// dialog does not block the main window: a newcomer hid a feature with the
+// dialog open and got the part as it was when the dialog opened).
 
 #include "kerf/document/Document.hpp"
 
@@ -13,7 +17,9 @@
 
 #include <atomic>
 #include <filesystem>
+#include <functional>
 #include <memory>
+#include <string>
 #include <thread>
 
 class QCheckBox;
@@ -40,7 +46,10 @@ struct ExportOutcome {
 class ExportDialog : public QDialog {
     Q_OBJECT
 public:
-    ExportDialog(const Document& doc, const std::filesystem::path& suggested, QWidget* parent = nullptr);
+    /// `document`: the part as it is now (asked when Export is pressed);
+    /// `partName`: the name a 3MF file gives the object.
+    ExportDialog(std::function<Document()> document, std::string partName, const std::filesystem::path& suggested,
+                 QWidget* parent = nullptr);
     ~ExportDialog() override;
 
     /// Starts the export with the dialog's settings (the Export button).
@@ -61,8 +70,15 @@ private:
     /// Keeps the format box and the file's extension in step.
     void formatChosen(int index);
     void pathEdited(const QString& text);
+    /// Text typed in a number field that it could not read, and why ("" when none).
+    void noteUnreadable(QuantityEdit* field, const QString& label, const QString& reason);
 
-    Document doc_;
+    std::function<Document()> document_;
+    std::string partName_;
+    Document doc_; // what the running export meshes (taken when Export is pressed)
+    std::filesystem::path folder_; // where a file name typed without a folder goes
+    QString unreadable_; // the last number field's text that could not be read: refused at Export, once
+    bool closeWhenDone_ = false; // closed while meshing: cancel, then close
     QLineEdit* path_;
     QuantityEdit* featureSize_;
     QCheckBox* simplify_;

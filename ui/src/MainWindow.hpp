@@ -22,6 +22,7 @@
 
 #include <QMainWindow>
 #include <QMessageBox>
+#include <QPointer>
 
 #include <filesystem>
 #include <functional>
@@ -49,6 +50,7 @@ class SelectionGhosts;
 class PropertyEditor;
 class RecentFilesMenu;
 class StatusReadout;
+class ExportDialog;
 
 struct MainWindowOptions {
     std::filesystem::path recoveryFolder = RecoveryStore::defaultFolder();
@@ -216,6 +218,7 @@ private:
 
     // Status bar.
     StatusReadout* status_ = nullptr;
+    QPointer<ExportDialog> exportDialog_; // the one open, if any (showExportDialog)
     QString lastMessage_;
 };
 

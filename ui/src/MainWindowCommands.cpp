@@ -354,9 +354,20 @@ void MainWindow::showExportDialog()
     fs::path suggested = session_->path() ? session_->path()->parent_path() / session_->path()->stem()
                                           : fs::path(QDir::homePath().toStdString()) / "part";
     suggested += ".stl";
-    auto* d = new ExportDialog(session_->document(), suggested, this);
+    // One export dialog: Export… again brings it forward (a newcomer had
+    // three stacked on one another).
+    if (exportDialog_) {
+        exportDialog_->show();
+        exportDialog_->raise();
+        exportDialog_->activateWindow();
+        return;
+    }
+    // The 3MF object's name: the document's file name, as kerf export gives it.
+    const std::string partName = session_->path() ? session_->path()->stem().string() : std::string("part");
+    auto* d = new ExportDialog([this] { return session_->document(); }, partName, suggested, this);
     d->setObjectName("exportDialog");
     d->setAttribute(Qt::WA_DeleteOnClose);
+    exportDialog_ = d;
     d->show();
 }
 
