@@ -241,6 +241,7 @@ void ExportDialog::start()
         outcome_.message = why;
         result_->setText(why);
         progress_->setValue(0); // not the last export's, which this one is not
+        adjustSize();           // no room left over from a longer report
         emit finished(outcome_);
     };
     if (!unreadable_.isEmpty()) {
