@@ -556,7 +556,7 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
     std::vector<double> worst(mesh.triangles.size(), 0.0), facing(mesh.triangles.size(), 1.0);
     tbb::enumerable_thread_specific<Sampler> samplers;
     Splitter splitter(mesh, normals, tape, tolerance, settings.minHeight, settings.clearance, settings.regionSize);
-    auto turnsUpright = [&](double facing) { return settings.unfoldLeaning ? leans(facing) : folded(facing); };
+    auto turnsUpright = [&](double cosine) { return settings.unfoldLeaning ? leans(cosine) : folded(cosine); };
     std::vector<std::uint8_t> splitThisRound;
     std::vector<std::uint32_t> stuck;
     std::vector<std::uint8_t> touched; // vertices of this round's changed triangles
