@@ -19,6 +19,12 @@
 // tangent planes. A placement that would fold a triangle over leaves the
 // vertex at the midpoint (the next round splits again, closer).
 //
+// Folds: a triangle whose normal points against the field's gradient at
+// its centroid faces into the part (a flap turned over, or a fin of two
+// thin triangles facing apart). No split mends it (a split's triangles turn
+// their parent's way), so its edge is flipped first, where the flip turns
+// the pair the surface's way and keeps the tolerance.
+//
 // Threads: the sampling runs in the arena, per chunk of triangles; the
 // splits are sequential (there are few). Deterministic.
 
