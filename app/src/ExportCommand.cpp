@@ -203,10 +203,8 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         if (exported.cancelled) return interruptedMessage();
         const MeshStats& stats = exported.stats;
         if (exported.empty) {
-            err << "kerf export: " << printable(file) << ": the part is empty at a feature size of "
-                << mm(stats.cellSize) << " mm (thinner than a cell everywhere";
-            if (stats.hiddenDetailCells > 0) err << ": " << describeHiddenDetail(stats);
-            err << "); nothing to export\n";
+            err << "kerf export: " << printable(file) << ": " << describeEmptyPart(stats, bounds)
+                << "; nothing to export\n";
             return 1;
         }
         const MeshFileReport& written = exported.report;

@@ -421,6 +421,19 @@ std::string describeHiddenDetail(const MeshStats& stats)
            "; a feature size of " + shortNumber(finerFeatureSize(stats)) + " mm resolves it";
 }
 
+std::string describeEmptyPart(const MeshStats& stats, const Aabb& bounds)
+{
+    std::string s = "the part is empty at a feature size of " + shortNumber(stats.cellSize) +
+                    " mm (thinner than a cell everywhere";
+    if (stats.hiddenDetailCells > 0) return s + ": " + describeHiddenDetail(stats) + ")";
+    const glm::dvec3 size = bounds.size();
+    const double smallest = std::min({size.x, size.y, size.z});
+    if (bounds.isEmpty() || !(smallest > 0.0) || !std::isfinite(smallest)) return s + ")";
+    const double tryThis = roundDownToStep(0.25 * smallest);
+    if (!(tryThis < stats.cellSize)) return s + ")";
+    return s + "; a feature size of " + shortNumber(tryThis) + " mm, a quarter of its smallest extent, meshes it)";
+}
+
 std::string describeTrianglesOverTolerance(const MeshStats& stats, double tolerance)
 {
     if (stats.trianglesOverTolerance == 0) return {};

@@ -736,6 +736,17 @@ void MainWindowTest::exportDialogTakesThePartAsItIsWhenExportIsPressed()
     QTest::mouseClick(start, Qt::LeftButton);
     QVERIFY(done.wait(120000));
     QVERIFY2(dialog->outcome().written, qPrintable(dialog->outcome().message));
+
+    // Cells far larger than the box: nothing to write, and the feature size
+    // that resolves it is named (it was only "the part is empty").
+    dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(1000.0);
+    QTest::mouseClick(start, Qt::LeftButton);
+    QVERIFY(done.wait(120000));
+    const QString empty = dialog->outcome().message;
+    QVERIFY(!dialog->outcome().written);
+    QVERIFY2(empty.contains("The part is empty at a feature size of 1000 mm") &&
+                 empty.contains("a feature size of 5 mm, a quarter of its smallest extent, meshes it"),
+             qPrintable(empty));
 }
 
 void MainWindowTest::everyShortcutIsBoundOnceAndRedoAnswersBothKeys()

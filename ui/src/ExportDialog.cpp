@@ -308,9 +308,12 @@ void ExportDialog::start()
                 o.cancelled = true;
                 o.message = tr("Cancelled; nothing was written.");
             } else if (exported.empty) {
-                o.message = tr("The part is empty at a feature size of %1 mm (thinner than a cell everywhere); "
-                               "nothing was written.")
-                                .arg(exported.stats.cellSize);
+                // With the thinnest detail found and the feature size that
+                // resolves it, as kerf export says (a newcomer at 1000 mm
+                // was told only that the part was empty).
+                std::string sentence = describeEmptyPart(exported.stats, tape.bounds());
+                sentence[0] = char(std::toupper(static_cast<unsigned char>(sentence[0])));
+                o.message = tr("%1; nothing was written.").arg(QString::fromStdString(sentence));
             } else if (!exported.report.solid()) {
                 o.message = tr("Not exported: a reader of the file would not get a closed solid (%1).")
                                 .arg(QString::fromStdString(describeDefects(exported.report)));

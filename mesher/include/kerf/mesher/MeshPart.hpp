@@ -185,6 +185,15 @@ double finerFeatureSize(const MeshStats& stats);
 /// dialog alike.
 std::string describeHiddenDetail(const MeshStats& stats);
 
+/// A mesh that came out empty at stats.cellSize, in one sentence for people:
+/// "the part is empty at a feature size of X mm (thinner than a cell
+/// everywhere: <the hidden detail and the feature size that resolves it>)";
+/// where no hidden detail was found (detail under about a sixteenth of the
+/// cell is not searched), a quarter of the smallest extent of `bounds` (the
+/// part's), rounded down to 1, 2 or 5 times a power of ten, to try. For
+/// `kerf export` and the export dialog alike.
+std::string describeEmptyPart(const MeshStats& stats, const Aabb& bounds);
+
 /// The triangles left beyond the tolerance (stats.trianglesOverTolerance)
 /// in one sentence for people: how many, how far, where the worst is, why
 /// and what to try. With hidden detail: the detail finer than the cells.
