@@ -42,6 +42,26 @@ fs::path temporaryName(const fs::path& file)
     return file.parent_path() / ("." + file.filename().string() + ".tmp-" + suffix);
 }
 
+std::string folderOf(const fs::path& file) { return file.has_parent_path() ? file.parent_path().string() : "."; }
+
+// Why a folder takes no new file, in the words of the person who chose it
+// (a newcomer who typed /proc/x.stl was told "cannot create a temporary
+// file beside it", which is how the file is written, not what is wrong).
+OutputFileError folderRefuses(const fs::path& file, int err)
+{
+    const std::string folder = "the folder '" + printable(folderOf(file)) + "'";
+    std::string why;
+    switch (err) {
+    case EACCES:
+    case EPERM: why = "you may not create files in " + folder; break;
+    case EROFS: why = folder + " is on a read-only disk"; break;
+    case ENOSPC:
+    case EDQUOT: why = "the disk of " + folder + " is full"; break;
+    default: why = folder + " takes no new files (" + std::strerror(err) + ")"; break;
+    }
+    return refusal(file, why + "; choose another folder; nothing was written");
+}
+
 // Creates a new temporary file beside `file` with mode 0666 less the umask
 // (O_EXCL: never an existing file, never through a link). Returns its fd.
 int createTemporary(const fs::path& file, fs::path& name)
@@ -50,12 +70,10 @@ int createTemporary(const fs::path& file, fs::path& name)
         name = temporaryName(file);
         const int fd = ::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0666);
         if (fd >= 0) return fd;
-        if (errno != EEXIST) throw ioError(file, "cannot create a temporary file beside it", errno);
+        if (errno != EEXIST) throw folderRefuses(file, errno);
     }
     throw ioError(file, "cannot create a temporary file beside it", EEXIST);
 }
-
-std::string folderOf(const fs::path& file) { return file.has_parent_path() ? file.parent_path().string() : "."; }
 
 // A std::ostream's buffer over a file descriptor, so that the bytes go to
 // exactly the file created above.

@@ -46,6 +46,8 @@
 #include <QSignalSpy>
 #include <QStandardPaths>
 #include <QSlider>
+#include <QTimer>
+#include <QPointer>
 #include <QStatusBar>
 #include <QTableWidget>
 #include <QTemporaryDir>
@@ -113,6 +115,35 @@ void typeInto(QuantityEdit* edit, const QString& text)
     QTest::keyClicks(edit, text);
     QTest::keyClick(edit, Qt::Key_Return);
 }
+
+// Clicks the button named `button` in the next modal message box that
+// shows while it lives (exec() runs its own event loop, where the timer
+// fires), and keeps the box's text.
+class MessageBoxAnswerer {
+public:
+    explicit MessageBoxAnswerer(QString button) : button_(std::move(button))
+    {
+        timer_.setInterval(20);
+        QObject::connect(&timer_, &QTimer::timeout, [this] {
+            auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget());
+            if (!box) return;
+            QPushButton* b = box->findChild<QPushButton*>(button_);
+            if (!b) return;
+            timer_.stop();
+            text_ = box->text() + " " + box->informativeText();
+            answered_ = true;
+            b->click();
+        });
+        timer_.start();
+    }
+    bool answered() const { return answered_; }
+    const QString& text() const { return text_; }
+
+private:
+    QTimer timer_;
+    QString button_, text_;
+    bool answered_ = false;
+};
 
 // Clicks a row of the feature tree (ctrl-click adds to the selection).
 void clickRow(MainWindow& w, const std::string& id, Qt::KeyboardModifiers mods = {})
@@ -308,6 +339,7 @@ private slots:
     void exportDialogNamesWhatTheToleranceMissed();
     void exportDialogSaysWhereDetailHidesBetweenTheCells();
     void exportDialogTakesThePartAsItIsWhenExportIsPressed();
+    void exportDialogAsksBeforeReplacingAFileAndOpensWithTheLastChoices();
     void everyShortcutIsBoundOnceAndRedoAnswersBothKeys();
     void theWheelEditsOnlyTheFieldBeingEdited();
     void ctrlZRightAfterTypingAValueUndoesIt();
@@ -747,6 +779,97 @@ void MainWindowTest::exportDialogTakesThePartAsItIsWhenExportIsPressed()
     QVERIFY2(empty.contains("The part is empty at a feature size of 1000 mm") &&
                  empty.contains("a feature size of 5 mm, a quarter of its smallest extent, meshes it"),
              qPrintable(empty));
+}
+
+// A newcomer's session: a typed path replaced an existing file without a
+// word, the fields could be changed while the export ran (which value had
+// the file?), and the dialog opened at ~/part.stl and 0.05 mm every time.
+void MainWindowTest::exportDialogAsksBeforeReplacingAFileAndOpensWithTheLastChoices()
+{
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    action(w.get(), "action.add.box")->trigger();
+    action(w.get(), "action.export")->trigger();
+    QPointer<ExportDialog> dialog = w->findChild<ExportDialog*>("exportDialog");
+    QVERIFY(dialog);
+    const QString out = files_.path() + "/precious.stl";
+    {
+        QFile f(out);
+        QVERIFY(f.open(QIODevice::WriteOnly));
+        f.write("the customer's file");
+    }
+    auto contents = [&] {
+        QFile f(out);
+        return f.open(QIODevice::ReadOnly) ? f.readAll() : QByteArray();
+    };
+    dialog->findChild<QLineEdit*>("export.path")->setText(out);
+    dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(2.0);
+    dialog->findChild<QCheckBox*>("export.simplify")->setChecked(false);
+    QSignalSpy done(dialog.data(), &ExportDialog::finished);
+    auto* start = dialog->findChild<QPushButton*>("export.start");
+
+    // Asked, and kept: nothing written, and the result says so.
+    {
+        MessageBoxAnswerer keep("export.replace.no");
+        QTest::mouseClick(start, Qt::LeftButton);
+        QVERIFY(keep.answered());
+        QVERIFY2(keep.text().contains(out + " already exists") && keep.text().contains("will be lost"),
+                 qPrintable(keep.text()));
+    }
+    QCOMPARE(done.size(), 1);
+    QVERIFY(!dialog->outcome().written);
+    QVERIFY2(dialog->outcome().message.contains("kept as it was"), qPrintable(dialog->outcome().message));
+    QCOMPARE(contents(), QByteArray("the customer's file"));
+
+    // Asked, and replaced; while it runs, the fields wait.
+    {
+        MessageBoxAnswerer replace("export.replace.yes");
+        QTest::mouseClick(start, Qt::LeftButton);
+        QVERIFY(replace.answered());
+    }
+    for (const char* name : {"export.path", "export.featureSize", "export.simplify", "export.format"})
+        QVERIFY2(!dialog->findChild<QWidget*>(name)->isEnabled(), name);
+    QVERIFY(done.wait(120000));
+    QVERIFY2(dialog->outcome().written, qPrintable(dialog->outcome().message));
+    QVERIFY(dialog->findChild<QLineEdit*>("export.path")->isEnabled());
+    QVERIFY(!dialog->findChild<QuantityEdit*>("export.tolerance")->isEnabled()); // still unticked
+    QVERIFY(checkMesh(test::readMeshFile(out.toStdString())).watertight());
+    // In words a woodworker reads: a closed piece without holes through it.
+    QVERIFY2(dialog->outcome().message.contains("As read back: closed (watertight), no crossing triangles; 1 piece, "
+                                                "no hole through it."),
+             qPrintable(dialog->outcome().message));
+
+    // The file this dialog wrote is written again without asking (a person
+    // exporting, changing, exporting again); a box would be answered Keep.
+    {
+        MessageBoxAnswerer unexpected("export.replace.no");
+        QTest::mouseClick(start, Qt::LeftButton);
+        QVERIFY(done.wait(120000));
+        QVERIFY(!unexpected.answered());
+    }
+    QVERIFY2(dialog->outcome().written, qPrintable(dialog->outcome().message));
+
+    // Closed and opened again: the file, the feature size and the
+    // simplification as they were when the file was written.
+    dialog->close();
+    QTRY_VERIFY(!dialog);
+    action(w.get(), "action.export")->trigger();
+    dialog = w->findChild<ExportDialog*>("exportDialog");
+    QVERIFY(dialog);
+    QCOMPARE(dialog->findChild<QLineEdit*>("export.path")->text(), out);
+    QCOMPARE(dialog->findChild<QuantityEdit*>("export.featureSize")->value(), 2.0);
+    QVERIFY(!dialog->findChild<QCheckBox*>("export.simplify")->isChecked());
+    QVERIFY(!dialog->findChild<QuantityEdit*>("export.tolerance")->isEnabled());
+    // A new dialog asks again before replacing that file.
+    {
+        MessageBoxAnswerer keep("export.replace.no");
+        QSignalSpy again(dialog.data(), &ExportDialog::finished);
+        QTest::mouseClick(dialog->findChild<QPushButton*>("export.start"), Qt::LeftButton);
+        QVERIFY(keep.answered());
+        QCOMPARE(again.size(), 1);
+        QVERIFY(!dialog->outcome().written);
+    }
+    dialog->close();
 }
 
 void MainWindowTest::everyShortcutIsBoundOnceAndRedoAnswersBothKeys()

@@ -18,12 +18,16 @@
 #include <QLabel>
 #include <QLineEdit>
 #include <QLocale>
+#include <QMessageBox>
 #include <QProgressBar>
 #include <QPushButton>
 #include <QTimer>
 #include <QVBoxLayout>
 
+#include <algorithm>
 #include <cctype>
+#include <initializer_list>
+#include <iterator>
 #include <chrono>
 #include <new>
 
@@ -63,10 +67,17 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
                     .arg(QString::fromUtf8(describe(format)))
                     .arg(megabytes(exported.report.bytes))
                     .arg(seconds, 0, 'f', 2);
-    s += "\n" + QObject::tr("As read back: closed, consistently oriented 2-manifold, no crossing triangles "
-                            "(%1, genus %2).")
-                    .arg(r.components == 1 ? QObject::tr("1 component") : QObject::tr("%1 components").arg(r.components))
-                    .arg(r.genus().value_or(-1));
+    // In a woodworker's words: a closed, oriented 2-manifold is a closed
+    // (watertight) solid; its components are pieces; its genus is the
+    // number of holes through it (the side chair's nine openings).
+    const int holes = r.genus().value_or(-1);
+    const QString pieces = r.components == 1 ? QObject::tr("1 piece") : QObject::tr("%1 pieces").arg(r.components);
+    const QString through = holes == 0   ? QObject::tr("no hole through it")
+                            : holes == 1 ? QObject::tr("1 hole through it")
+                            : holes > 1  ? QObject::tr("%1 holes through it").arg(holes)
+                                         : QString();
+    s += "\n" + QObject::tr("As read back: closed (watertight), no crossing triangles; %1%2.")
+                    .arg(pieces, through.isEmpty() ? QString() : ", " + through);
     if (!(tolerance > 0.0))
         s += "\n" + QObject::tr("Not simplified: every cell's triangles at %1 mm cells, not held to a tolerance.")
                         .arg(exported.stats.cellSize);
@@ -95,11 +106,12 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
 
 } // namespace
 
-ExportDialog::ExportDialog(std::function<Document()> document, std::string partName,
-                           const std::filesystem::path& suggested, QWidget* parent)
+ExportDialog::ExportDialog(std::function<Document()> document, std::string partName, const ExportChoices& choices,
+                           QWidget* parent)
     : QDialog(parent), document_(std::move(document)), partName_(std::move(partName)), doc_(document_()),
-      folder_(suggested.parent_path())
+      folder_(choices.file.parent_path())
 {
+    const std::filesystem::path& suggested = choices.file;
     setWindowTitle(tr("Export"));
     setMinimumWidth(560); // room for a path and the result's sentences
     auto* layout = new QVBoxLayout(this);
@@ -110,7 +122,8 @@ ExportDialog::ExportDialog(std::function<Document()> document, std::string partN
     path_ = new QLineEdit(QString::fromStdString(suggested.string()), pathRow);
     path_->setObjectName("export.path");
     path_->setToolTip(tr("The file to write: .stl (STL) or .3mf (3MF)"));
-    auto* browse = new QPushButton(tr("Browse…"), pathRow);
+    browse_ = new QPushButton(tr("Browse…"), pathRow);
+    auto* browse = browse_;
     ph->addWidget(path_, 1);
     ph->addWidget(browse);
     form->addRow(tr("File"), pathRow);
@@ -125,8 +138,9 @@ ExportDialog::ExportDialog(std::function<Document()> document, std::string partN
     featureSize_ = new QuantityEdit(QuantityEdit::Unit::Millimetres, this);
     featureSize_->setObjectName("export.featureSize");
     const Tape tape = compileTape(doc_);
-    featureSize_->setValue(doc_.settings.featureSize.value_or(
-        tape.bounds().isEmpty() || !tape.bounds().isBounded() ? 1.0 : defaultFeatureSize(tape.bounds())));
+    documentFeatureSize_ = doc_.settings.featureSize.value_or(
+        tape.bounds().isEmpty() || !tape.bounds().isBounded() ? 1.0 : defaultFeatureSize(tape.bounds()));
+    featureSize_->setValue(choices.featureSize.value_or(documentFeatureSize_));
     featureSize_->setToolTip(tr("The smallest feature resolved: the edge of the marching-cubes cells. Sharp edges "
                                 "and corners are kept at any size"));
     form->addRow(tr("Feature size"), featureSize_);
@@ -137,10 +151,11 @@ ExportDialog::ExportDialog(std::function<Document()> document, std::string partN
     simplify_->setObjectName("export.simplify");
     simplify_->setToolTip(tr("Flat faces become a few large triangles and curved faces get as many as the "
                              "tolerance needs. Unticked: every cell's triangles (quicker, a much larger file)"));
-    simplify_->setChecked(true);
+    simplify_->setChecked(choices.simplify);
     tolerance_ = new QuantityEdit(QuantityEdit::Unit::Millimetres, toleranceRow);
     tolerance_->setObjectName("export.tolerance");
-    tolerance_->setValue(kDefaultExportTolerance);
+    tolerance_->setValue(choices.tolerance);
+    tolerance_->setEnabled(choices.simplify);
     tolerance_->setToolTip(tr("The largest distance allowed between the mesh and the exact surface"));
     th->addWidget(simplify_);
     th->addWidget(tolerance_, 1);
@@ -177,7 +192,11 @@ ExportDialog::ExportDialog(std::function<Document()> document, std::string partN
         if (f.isEmpty()) return;
         const bool asThreeMf = f.endsWith(".3mf", Qt::CaseInsensitive) ||
                                (!f.endsWith(".stl", Qt::CaseInsensitive) && filter == threeMf);
-        path_->setText(withExtension(f, asThreeMf ? MeshFileFormat::ThreeMf : MeshFileFormat::BinaryStl));
+        const QString chosen = withExtension(f, asThreeMf ? MeshFileFormat::ThreeMf : MeshFileFormat::BinaryStl);
+        // The file dialog asked already whether to replace a file it names
+        // whole (not one whose extension was added here).
+        if (chosen == f) confirmed_ = chosen.toStdString();
+        path_->setText(chosen);
     });
     // Text a number field cannot read ("abc") is put back to the value
     // before it when the field is left, as the Export button is clicked:
@@ -189,6 +208,7 @@ ExportDialog::ExportDialog(std::function<Document()> document, std::string partN
             [this](const QString& why) { noteUnreadable(tolerance_, tr("Tolerance"), why); });
     connect(format_, &QComboBox::currentIndexChanged, this, &ExportDialog::formatChosen);
     connect(path_, &QLineEdit::textChanged, this, &ExportDialog::pathEdited);
+    format_->setCurrentIndex(std::clamp(choices.format, 0, int(std::size(kFormats)) - 1));
     pathEdited(path_->text());
     timer_ = new QTimer(this);
     timer_->setInterval(50);
@@ -225,6 +245,44 @@ void ExportDialog::noteUnreadable(QuantityEdit* field, const QString& label, con
     result_->setText(unreadable_);
 }
 
+ExportChoices ExportDialog::choices() const
+{
+    ExportChoices c;
+    c.file = path_->text().trimmed().toStdString();
+    c.format = format_->currentIndex();
+    if (featureSize_->value() != documentFeatureSize_) c.featureSize = featureSize_->value();
+    c.simplify = simplify_->isChecked();
+    c.tolerance = tolerance_->value();
+    return c;
+}
+
+void ExportDialog::setFieldsEnabled(bool enabled)
+{
+    for (QWidget* w : std::initializer_list<QWidget*>{path_, browse_, format_, featureSize_, simplify_})
+        w->setEnabled(enabled);
+    tolerance_->setEnabled(enabled && simplify_->isChecked());
+}
+
+bool ExportDialog::mayReplace(const std::filesystem::path& file)
+{
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec)) return true; // new (or refused later, naming why)
+    if (file == wroteLast_ || file == confirmed_) return true;
+    QMessageBox ask(QMessageBox::Warning, tr("Replace file?"),
+                    tr("%1 already exists.").arg(QString::fromStdString(file.string())), QMessageBox::NoButton, this);
+    ask.setObjectName("export.replace");
+    ask.setInformativeText(tr("Replace it with the part exported now? The file as it is will be lost."));
+    QPushButton* replace = ask.addButton(tr("Replace"), QMessageBox::AcceptRole);
+    replace->setObjectName("export.replace.yes");
+    QPushButton* keep = ask.addButton(tr("Keep It"), QMessageBox::RejectRole);
+    keep->setObjectName("export.replace.no");
+    ask.setDefaultButton(keep); // Enter keeps the file: nothing is lost by a key pressed once too often
+    ask.exec();
+    if (ask.clickedButton() != replace) return false;
+    confirmed_ = file;
+    return true;
+}
+
 void ExportDialog::start()
 {
     if (running()) return;
@@ -257,6 +315,10 @@ void ExportDialog::start()
         return refuse(tr("The tolerance must be a positive number of millimetres."));
     std::optional<MeshFileFormat> format = meshFileFormatFor(file, format_->currentIndex() == 1);
     if (!format) return refuse(tr("Name the file .stl (STL) or .3mf (3MF)."));
+    if (!mayReplace(file))
+        return refuse(tr("Not exported: %1 is kept as it was. Choose another name, or export again and answer "
+                         "Replace.")
+                          .arg(QString::fromStdString(file.string())));
     // The part as it is now, not as it was when the dialog opened.
     doc_ = document_();
     cancel_ = false;
@@ -264,11 +326,13 @@ void ExportDialog::start()
     fraction_ = 0.0;
     finished_ = false;
     exportButton_->setEnabled(false);
+    setFieldsEnabled(false);
     cancelButton_->setText(tr("Cancel")); // stops the export
     result_->setText(tr("Meshing…"));
     progress_->setValue(0);
     timer_->start();
     const std::string partName = partName_.empty() ? file.stem().string() : partName_;
+    writtenTo_ = file;
     worker_ = std::thread([this, file, featureSize, tolerance, format = *format, partName] {
         ExportOutcome o;
         try {
@@ -344,7 +408,11 @@ void ExportDialog::poll()
     worker_.join();
     finished_ = true;
     outcome_ = workerOutcome_;
-    if (outcome_.written) progress_->setValue(1000);
+    if (outcome_.written) {
+        progress_->setValue(1000);
+        wroteLast_ = writtenTo_;
+    }
+    setFieldsEnabled(true);
     result_->setText(outcome_.message);
     // The report is several lines: grow to show them whole.
     adjustSize();

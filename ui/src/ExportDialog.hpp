@@ -12,6 +12,7 @@
 // dialog open and got the part as it was when the dialog opened).
 
 #include "kerf/document/Document.hpp"
+#include "kerf/mesher/MeshPart.hpp"
 
 #include <QDialog>
 
@@ -19,6 +20,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -34,6 +36,17 @@ namespace kerf::ui {
 
 class QuantityEdit;
 
+/// What a person chose in the dialog: MainWindow keeps the choices of the
+/// last file written and opens the dialog with them again for the same
+/// document (a newcomer found it back at ~/part.stl and 0.05 mm every time).
+struct ExportChoices {
+    std::filesystem::path file;
+    int format = 0;                    // the format box's entry: binary STL, ASCII STL, 3MF
+    std::optional<double> featureSize; // typed in; else the document's
+    bool simplify = true;
+    double tolerance = kDefaultExportTolerance;
+};
+
 struct ExportOutcome {
     bool written = false;
     bool cancelled = false;
@@ -47,8 +60,9 @@ class ExportDialog : public QDialog {
     Q_OBJECT
 public:
     /// `document`: the part as it is now (asked when Export is pressed);
-    /// `partName`: the name a 3MF file gives the object.
-    ExportDialog(std::function<Document()> document, std::string partName, const std::filesystem::path& suggested,
+    /// `partName`: the name a 3MF file gives the object; `choices`: the
+    /// fields as they open (the file suggested, or the last one written).
+    ExportDialog(std::function<Document()> document, std::string partName, const ExportChoices& choices,
                  QWidget* parent = nullptr);
     ~ExportDialog() override;
 
@@ -58,6 +72,8 @@ public:
     void cancel();
     bool running() const { return worker_.joinable() && !finished_; }
     const ExportOutcome& outcome() const { return outcome_; }
+    /// The fields as they are now.
+    ExportChoices choices() const;
 
 signals:
     void finished(const kerf::ui::ExportOutcome& outcome);
@@ -72,11 +88,21 @@ private:
     void pathEdited(const QString& text);
     /// Text typed in a number field that it could not read, and why ("" when none).
     void noteUnreadable(QuantityEdit* field, const QString& label, const QString& reason);
+    /// Whether `file` may be written: it does not exist, it is the file this
+    /// dialog wrote or the file dialog confirmed, or the person says Replace.
+    bool mayReplace(const std::filesystem::path& file);
+    /// The fields and Browse… take input (not while an export runs: a
+    /// newcomer changed the tolerance mid-export and could not tell which
+    /// one the file had).
+    void setFieldsEnabled(bool enabled);
 
     std::function<Document()> document_;
     std::string partName_;
     Document doc_; // what the running export meshes (taken when Export is pressed)
     std::filesystem::path folder_; // where a file name typed without a folder goes
+    double documentFeatureSize_ = 0.0; // what the feature size field opens with when none was typed
+    std::filesystem::path wroteLast_, confirmed_; // replaced without asking again
+    std::filesystem::path writtenTo_;             // the running export's file
     QString unreadable_; // the last number field's text that could not be read: refused at Export, once
     bool closeWhenDone_ = false; // closed while meshing: cancel, then close
     QLineEdit* path_;
@@ -84,6 +110,7 @@ private:
     QCheckBox* simplify_;
     QuantityEdit* tolerance_;
     QComboBox* format_;
+    QPushButton* browse_;
     QProgressBar* progress_;
     QLabel* result_;
     QPushButton* exportButton_;

@@ -17,6 +17,7 @@
 // autosaved and offered back after a crash.
 
 #include "DocumentSession.hpp"
+#include "ExportDialog.hpp"
 #include "Recovery.hpp"
 #include "VoxelizerBridge.hpp"
 
@@ -219,6 +220,10 @@ private:
     // Status bar.
     StatusReadout* status_ = nullptr;
     QPointer<ExportDialog> exportDialog_; // the one open, if any (showExportDialog)
+    // The export dialog's choices when it last wrote a file, and the
+    // document they were for (none: an unsaved one): it opens with them
+    // again for that document.
+    std::optional<std::pair<std::optional<std::filesystem::path>, ExportChoices>> lastExport_;
     QString lastMessage_;
 };
 

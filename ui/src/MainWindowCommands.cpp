@@ -364,9 +364,18 @@ void MainWindow::showExportDialog()
     }
     // The 3MF object's name: the document's file name, as kerf export gives it.
     const std::string partName = session_->path() ? session_->path()->stem().string() : std::string("part");
-    auto* d = new ExportDialog([this] { return session_->document(); }, partName, suggested, this);
+    // The choices of the last file written from this document, else the
+    // suggestion beside it.
+    ExportChoices choices;
+    choices.file = suggested;
+    const std::optional<fs::path> document = session_->path();
+    if (lastExport_ && lastExport_->first == document) choices = lastExport_->second;
+    auto* d = new ExportDialog([this] { return session_->document(); }, partName, choices, this);
     d->setObjectName("exportDialog");
     d->setAttribute(Qt::WA_DeleteOnClose);
+    connect(d, &ExportDialog::finished, this, [this, d, document](const ExportOutcome& outcome) {
+        if (outcome.written) lastExport_ = {document, d->choices()};
+    });
     exportDialog_ = d;
     d->show();
 }
