@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -15,6 +16,36 @@
 #include <tbb/task_arena.h>
 
 namespace kerf {
+
+namespace {
+
+// Adds the calling thread's CPU time between construction and destruction
+// to a total (when there is one).
+class ThreadCpuClock {
+public:
+    explicit ThreadCpuClock(std::atomic<std::int64_t>* total) : total_(total)
+    {
+        if (total_) start_ = now();
+    }
+    ~ThreadCpuClock()
+    {
+        if (total_) *total_ += now() - start_;
+    }
+    ThreadCpuClock(const ThreadCpuClock&) = delete;
+    ThreadCpuClock& operator=(const ThreadCpuClock&) = delete;
+
+private:
+    static std::int64_t now()
+    {
+        timespec t{};
+        ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+        return std::int64_t(t.tv_sec) * 1000000000 + t.tv_nsec;
+    }
+    std::atomic<std::int64_t>* total_;
+    std::int64_t start_ = 0;
+};
+
+} // namespace
 
 VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const VoxelizeOptions& options,
                        const Progress& work)
@@ -32,6 +63,7 @@ VoxelSnapshot voxelize(const Tape& tape, const GridLayout& layout, const Voxeliz
     std::atomic<bool> stopped{false};
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<long>(0, layout.tileCount(), 1), [&](const tbb::blocked_range<long>& r) {
+            const ThreadCpuClock cpu(options.cpuNanos);
             auto& s = scratch.local();
             s.helper = [&scratch]() -> TileBuildScratch& { return scratch.local(); };
             for (long i = r.begin(); i != r.end(); ++i) {
@@ -68,15 +100,23 @@ VoxelEstimate estimateVoxels(const Tape& tape, const GridLayout& layout, double 
     // probeSeconds at most, whatever the part.
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(probeSeconds);
     const Progress pastDeadline = Progress::cancelledWhen([deadline] { return std::chrono::steady_clock::now() > deadline; });
+    // The time a level takes is its CPU time spread over the cores, not the
+    // wall clock: on a machine busy with other work the wall clock grew
+    // fourfold (the table top at 0.1 mm: 13 min estimated idle, 1.5 h beside
+    // six busy processes), and a request near the budget was refused or not
+    // by the load of the moment.
+    const double cores = double(std::max(1, workerArena(0).max_concurrency()));
     for (int levels = 1; levels <= layout.levels; ++levels) {
         const auto start = std::chrono::steady_clock::now();
-        VoxelSnapshot s = voxelize(tape, layout, {.levels = levels, .threads = 0},
+        std::atomic<std::int64_t> cpuNanos{0};
+        VoxelSnapshot s = voxelize(tape, layout, {.levels = levels, .threads = 0, .cpuNanos = &cpuNanos},
                                    e.measuredLevels > 0 ? pastDeadline : Progress{});
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double seconds = 1e-9 * double(cpuNanos.load()) / cores;
         if (!s.complete) {
             // Overran: the time a whole level would take is at least this.
             e.seconds = std::max(e.seconds, seconds * std::pow(16.0, layout.levels - levels));
-            e.probeSeconds += seconds;
+            e.probeSeconds += wall;
             break;
         }
         const double voxels = double(s.populatedVoxels());
@@ -93,13 +133,13 @@ VoxelEstimate estimateVoxels(const Tape& tape, const GridLayout& layout, double 
         // full depth: the per-tile interval work of a coarse probe counts in,
         // so this errs on the slow side.
         e.seconds = e.exact ? seconds : seconds * scale;
-        e.probeSeconds += seconds;
+        e.probeSeconds += wall;
         if (e.exact) e.snapshot = std::move(s);
         // The next level has about 16 times the voxels, and takes up to 16
         // times as long: probe it only when both stay within bounds, so the
         // estimate itself always answers in seconds (a part of 100,000
         // small spheres is slow per voxel at coarse levels).
-        if (voxels * 16.0 > probeVoxels || e.probeSeconds + 4.0 * seconds > probeSeconds) break;
+        if (voxels * 16.0 > probeVoxels || e.probeSeconds + 4.0 * wall > probeSeconds) break;
     }
     return e;
 }

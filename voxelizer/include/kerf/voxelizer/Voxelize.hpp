@@ -6,6 +6,8 @@
 #include "kerf/document/Progress.hpp"
 #include "kerf/voxelizer/VoxelSnapshot.hpp"
 
+#include <atomic>
+#include <cstdint>
 #include <functional>
 #include <optional>
 
@@ -14,6 +16,10 @@ namespace kerf {
 struct VoxelizeOptions {
     int levels = -1;  // contree depth; -1: the layout's
     int threads = 0;  // 0: every core
+    /// When set, the CPU time the workers spent building tiles is added
+    /// here (ns, each thread's own clock): what the work costs whatever
+    /// else the machine runs.
+    std::atomic<std::int64_t>* cpuNanos = nullptr;
 };
 
 /// Builds every tile of `layout` from `tape` (world coordinates), reporting
@@ -28,8 +34,8 @@ struct VoxelEstimate {
     double bytes = 0.0;
     int measuredLevels = 0;       // the depth actually voxelized to estimate
     bool exact = false;           // measuredLevels == layout.levels
-    double seconds = 0.0;         // to build it all with every core (measured when exact)
-    double probeSeconds = 0.0;    // what the estimate itself took
+    double seconds = 0.0;         // to build it all with every core of an idle machine (measured when exact)
+    double probeSeconds = 0.0;    // what the estimate itself took (wall clock)
     std::optional<VoxelSnapshot> snapshot; // the full voxelization, when exact
 };
 
