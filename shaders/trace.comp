@@ -560,14 +560,14 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
                 return true;
             }
             if (kPass == kTraceVoxels) {
-                hit.clearance = min(hit.clearance, pending);
-                pending = kInf;
-                pendingAdjacent = false;
+                // (ReferenceTracer.cpp: a run of voxels closing in on the hit's sheet is let off.)
                 if (clearance < 1.0 && allowed < float(KERF_EDGE_CHECK_CLEARANCE) && least >= evalCubic(along, wEnd)) {
-                    pending = clearance;
+                    pending = pendingAdjacent ? min(pending, clearance) : clearance;
                     pendingAdjacent = true;
                 } else {
-                    hit.clearance = min(hit.clearance, clearance);
+                    hit.clearance = min(hit.clearance, min(pending, clearance));
+                    pending = kInf;
+                    pendingAdjacent = false;
                 }
             }
         } else if (kPass == kTraceVoxels) {

@@ -660,15 +660,16 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
                 hit.depth = tEnter + (s + w / voxelScale) * tileSize;
                 return true;
             }
-            // Its clearance counts, unless the next cell is the hit (above).
-            hit.passedClearance = glm::min(hit.passedClearance, pending);
-            pending = kInf;
-            pendingAdjacent = false;
+            // Its clearance counts, unless the voxels from here on to the
+            // hit all close in on a smooth sheet (above): a ray meeting a
+            // face at a low angle passes near it for several voxels.
             if (clearance < 1.0f && allowed < float(KERF_EDGE_CHECK_CLEARANCE) && least >= evalCubic(along, wEnd)) {
-                pending = clearance;
+                pending = pendingAdjacent ? glm::min(pending, clearance) : clearance;
                 pendingAdjacent = true;
             } else {
-                hit.passedClearance = glm::min(hit.passedClearance, clearance);
+                hit.passedClearance = glm::min(hit.passedClearance, glm::min(pending, clearance));
+                pending = kInf;
+                pendingAdjacent = false;
             }
         } else {
             hit.passedClearance = glm::min(hit.passedClearance, pending); // an empty cell in between
