@@ -68,7 +68,8 @@ void main()
     float ta = tEnter;
     float fa = field(o + ta * d);
     float hit = -1.0;
-    if (fa <= 0.0) hit = ta;
+    // Inside is below zero, as the voxelizer counts a corner (ReferenceTracer.cpp, firstCrossing).
+    if (fa < 0.0) hit = ta;
     for (int i = 0; i < 3 * int(cells) + 3 && hit < 0.0; ++i) {
         const vec3 bound = vec3(cell) + vec3(greaterThan(d, vec3(0.0)));
         const vec3 tb = (bound - o) * inv;
@@ -77,17 +78,17 @@ void main()
         const float fm = field(o + tm * d);
         const float fc = field(o + tc * d);
         float lo = -1.0, hi = -1.0;
-        if (fm <= 0.0) {
+        if (fm < 0.0) {
             lo = ta;
             hi = tm;
-        } else if (fc <= 0.0) {
+        } else if (fc < 0.0) {
             lo = tm;
             hi = tc;
         }
         if (hi >= 0.0) {
             for (int k = 0; k < kBisectionSteps; ++k) {
                 const float mid = 0.5 * (lo + hi);
-                if (field(o + mid * d) <= 0.0)
+                if (field(o + mid * d) < 0.0)
                     hi = mid;
                 else
                     lo = mid;

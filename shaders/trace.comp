@@ -146,19 +146,22 @@ float firstCrossing(vec4 c, float wEnd, out float least)
     if (r2 > 0.0 && r2 < wEnd && r2 != r1) breaks[count++] = r2;
     breaks[count++] = wEnd;
 
+    // Inside is below zero, as the voxelizer counts a corner, and a value
+    // within the cubic's rounding of zero is zero (ReferenceTracer.cpp says why).
+    const float zero = 1e-5 * (abs(c.x) + abs(c.y) + abs(c.z) + abs(c.w));
     float a = breaks[0];
     float fa = evalCubic(c, a);
     least = fa;
-    if (fa <= 0.0) return a;
+    if (fa < -zero) return a;
     for (int i = 1; i < count; ++i) {
         const float b = breaks[i];
         const float fb = evalCubic(c, b);
         least = min(least, fb);
-        if (fb <= 0.0) {
+        if (fb < -zero) {
             float lo = a, hi = b;
             for (int k = 0; k < kBisectionSteps; ++k) {
                 const float mid = 0.5 * (lo + hi);
-                if (evalCubic(c, mid) <= 0.0) hi = mid;
+                if (evalCubic(c, mid) < -zero) hi = mid;
                 else lo = mid;
             }
             return hi;

@@ -93,6 +93,11 @@ float evalCubic(const Cubic& c, float w) { return c.a0 + w * (c.a1 + w * (c.a2 +
 
 // First w in [0, wEnd] with f(w) <= 0, or -1 when the segment stays
 // outside; then `least` is the field's minimum over the segment.
+// What counts as zero in a voxel's cubic along a ray, relative to the sum
+// of its coefficients' sizes (float rounding of the trilinear sum is a few
+// times 1e-7 of it). shaders/trace.comp has the same.
+constexpr float kCubicZero = 1e-5f;
+
 float firstCrossing(const Cubic& c, float wEnd, float& least)
 {
     // The extrema of the cubic (roots of its derivative) split the segment
@@ -121,20 +126,26 @@ float firstCrossing(const Cubic& c, float wEnd, float& least)
     if (r2 > 0.0f && r2 < wEnd && r2 != r1) breaks[count++] = r2;
     breaks[count++] = wEnd;
 
+    // Inside is below zero, as the voxelizer counts a corner (0 counts as
+    // outside), and a value within the cubic's rounding of zero is zero: a
+    // voxel whose face lies on a face of the part that a tool cuts flush (a
+    // blind hole's mouth) has 0 at every corner of that face, and taking
+    // the cubic's -1e-8 there as a hit drew a film across the mouth.
+    const float zero = kCubicZero * (std::abs(c.a0) + std::abs(c.a1) + std::abs(c.a2) + std::abs(c.a3));
     float a = breaks[0];
     float fa = evalCubic(c, a);
     least = fa;
-    if (fa <= 0.0f) return a;
+    if (fa < -zero) return a;
     for (int i = 1; i < count; ++i) {
         const float b = breaks[i];
         const float fb = evalCubic(c, b);
         least = glm::min(least, fb);
-        if (fb <= 0.0f) {
-            // Monotone on [a, b] with f(a) > 0 >= f(b): bisect.
+        if (fb < -zero) {
+            // Monotone on [a, b] with f(a) >= -zero > f(b): bisect.
             float lo = a, hi = b;
             for (int k = 0; k < kBisectionSteps; ++k) {
                 const float mid = 0.5f * (lo + hi);
-                if (evalCubic(c, mid) <= 0.0f)
+                if (evalCubic(c, mid) < -zero)
                     hi = mid;
                 else
                     lo = mid;
