@@ -32,6 +32,13 @@ namespace kerf {
 
 namespace {
 
+// "a box", "an array", "an offset": a type's name with its article.
+std::string withArticle(const std::string& typeName)
+{
+    const bool vowel = !typeName.empty() && std::string_view("aeiou").find(typeName[0]) != std::string_view::npos;
+    return (vowel ? "an " : "a ") + typeName;
+}
+
 std::string describeKind(const Json& v)
 {
     switch (v.type()) {
@@ -375,15 +382,15 @@ private:
 
         const Json* children = member(j, "children");
         if (isPrimitive(n.type)) {
-            if (children) fail(n.id, "children", "a " + typeName + " is a primitive and has no children");
+            if (children) fail(n.id, "children", withArticle(typeName) + " is a primitive and has no children");
         } else {
             if (!children) fail(n.id, "children", "missing (required)");
             if (!children->is_array()) fail(n.id, "children", "must be an array of nodes");
             const bool single = !isBoolean(n.type);
-            if (children->empty()) fail(n.id, "children", "a " + typeName + " needs at least 1 child");
+            if (children->empty()) fail(n.id, "children", withArticle(typeName) + " needs at least 1 child");
             if (single && children->size() != 1)
                 fail(n.id, "children",
-                     "a " + typeName + " takes exactly 1 child, not " + std::to_string(children->size()));
+                     withArticle(typeName) + " takes exactly 1 child, not " + std::to_string(children->size()));
             for (std::size_t i = 0; i < children->size(); ++i)
                 n.children.push_back(readNode((*children)[i], n.id + ".children[" + std::to_string(i) + "]"));
         }

@@ -2,6 +2,7 @@
 
 #include "EditCommand.hpp"
 #include "kerf/document/DocumentEdits.hpp"
+#include "NodeText.hpp"
 #include "kerf/document/DocumentError.hpp"
 
 #include <QFileInfo>
@@ -40,13 +41,9 @@ bool DocumentSession::apply(const QString& text, const std::function<void(Docume
             else after.validate(path_ ? path_->string() : "");
         }
     } catch (const DocumentError& e) {
-        if (error) {
-            // The message without the file name: the field is right there.
-            QString m = QString::fromStdString(e.nodeId().empty() ? "" : "node '" + e.nodeId() + "'");
-            if (!e.field().empty()) m += QString::fromStdString((m.isEmpty() ? "field '" : ", field '") + e.field() + "'");
-            if (!m.isEmpty()) m += ": ";
-            *error = m + QString::fromStdString(e.reason());
-        }
+        // Without the file name (the field is right there), and in the
+        // panels' words: the feature's name and the field's row label.
+        if (error) *error = describeRefusal(after.root, e.nodeId(), e.field(), e.reason());
         return false;
     } catch (const std::exception& e) {
         if (error) *error = QString::fromUtf8(e.what());

@@ -1,5 +1,7 @@
 #include "NodeText.hpp"
 
+#include "kerf/document/NodeTypes.hpp"
+
 #include <QCoreApplication>
 
 namespace kerf::ui {
@@ -16,6 +18,56 @@ QString displayName(const Node& n) { return QString::fromStdString(n.name.value_
 QString featureName(const Node& n)
 {
     return n.name ? QString::fromStdString(*n.name) : QCoreApplication::translate("kerf", "the %1").arg(nodeTypeLabel(n.type).toLower());
+}
+
+QString fieldLabel(const Node& n, const std::string& field)
+{
+    // "key" or "key[i]".
+    std::string key = field;
+    int index = -1;
+    if (const auto open = key.find('['); open != std::string::npos && key.back() == ']') {
+        try {
+            index = std::stoi(key.substr(open + 1, key.size() - open - 2));
+        } catch (const std::exception&) {
+            return QString::fromStdString(field);
+        }
+        key.resize(open);
+    }
+    QString label;
+    bool hasAxes = false;
+    if (key == "translate" || key == "rotate") {
+        label = QCoreApplication::translate("kerf::ui::PropertyEditor", key == "translate" ? "Position" : "Rotation");
+        hasAxes = true;
+    } else {
+        for (const FieldSpec& f : nodeTypeSpec(n.type).fields)
+            if (f.key == key) {
+                label = QCoreApplication::translate("NodeTypes", std::string(f.label).c_str());
+                hasAxes = f.shape == FieldShape::Vector || f.shape == FieldShape::Direction || f.shape == FieldShape::Counts;
+                if (f.shape == FieldShape::Points && index >= 0)
+                    label = QCoreApplication::translate("kerf", "%1, point %2").arg(label).arg(index + 1);
+                break;
+            }
+    }
+    if (label.isEmpty()) return QString::fromStdString(field);
+    if (hasAxes && index >= 0 && index < 3) label += QStringLiteral(" ") + QChar("XYZ"[index]);
+    return label;
+}
+
+QString describeRefusal(const Node& root, const std::string& nodeId, const std::string& field,
+                        const std::string& reason)
+{
+    const Node* n = nodeId.empty() ? nullptr : root.find(nodeId);
+    const QString why = QString::fromStdString(reason);
+    if (!n) {
+        if (nodeId.empty()) return field.empty() ? why : QString::fromStdString(field) + ": " + why;
+        QString s = QString::fromStdString("'" + nodeId + "'");
+        if (!field.empty()) s += QString::fromStdString(", " + field);
+        return s + ": " + why;
+    }
+    const QString label = field.empty() ? QString() : fieldLabel(*n, field);
+    // A key no row shows (its children): the feature alone is named.
+    if (label.isEmpty() || label == QString::fromStdString(field)) return featureName(*n) + ": " + why;
+    return QCoreApplication::translate("kerf", "%1 of %2: %3").arg(label, featureName(*n), why);
 }
 
 } // namespace kerf::ui

@@ -77,6 +77,7 @@ PropertyEditor::PropertyEditor(DocumentSession* session, QWidget* parent) : QWid
 {
     auto* outer = new QVBoxLayout(this);
     title_ = new QLabel(this);
+    title_->setObjectName("properties.title");
     title_->setStyleSheet(QStringLiteral("font-weight: bold;"));
     outer->addWidget(title_);
     auto* body = new QWidget(this);
@@ -291,7 +292,6 @@ void PropertyEditor::rebuild()
         return;
     }
     shownType_ = n->type;
-    title_->setText(tr("%1 — %2").arg(nodeTypeLabel(n->type), QString::fromStdString(n->id)));
 
     name_ = new QLineEdit(this);
     name_->setObjectName("field.name");
@@ -491,6 +491,9 @@ void PropertyEditor::refresh()
     }
     if (!n) return;
     refreshing_ = true;
+    // The feature's name as it is now ("Box — Side" once renamed; it kept
+    // the id a newcomer had renamed away).
+    title_->setText(tr("%1 — %2").arg(nodeTypeLabel(n->type), displayName(*n)));
     if (name_ && !name_->hasFocus()) name_->setText(n->name ? QString::fromStdString(*n->name) : QString());
     if (visible_) visible_->setChecked(n->visible);
     if (color_) {
