@@ -901,6 +901,12 @@ void MainWindowTest::everyShortcutIsBoundOnceAndRedoAnswersBothKeys()
             owner.insert(key, name);
         }
     }
+    // The standard views' keys are in the View menu (a newcomer found them
+    // only in the README).
+    QCOMPARE(owner.value("0"), QString("action.view.iso"));
+    QCOMPARE(owner.value("1"), QString("action.view.front"));
+    QCOMPARE(owner.value("3"), QString("action.view.right"));
+    QCOMPARE(owner.value("7"), QString("action.view.top"));
     QVERIFY(owner.contains("Ctrl+Z") && owner.contains("Ctrl+Shift+Z") && owner.contains("Ctrl+Y"));
 
     action(w.get(), "action.new")->trigger();

@@ -194,6 +194,12 @@ void MainWindow::buildViewMenu()
           std::tuple{"bottom", tr("Botto&m"), QKeySequence()}}) {
         QAction* a = new QAction(label, this);
         a->setObjectName(QString("action.view.") + name);
+        // Shown in the menu (a newcomer found the keys only in the README),
+        // and answered anywhere in the window as F and 5 are.
+        if (!key.isEmpty()) {
+            a->setShortcut(key);
+            a->setShortcutContext(Qt::WidgetWithChildrenShortcut);
+        }
         const QString n = name;
         connect(a, &QAction::triggered, this, [this, n] { viewport_->setStandardView(n); });
         view->addAction(a);
