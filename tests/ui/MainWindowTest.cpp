@@ -1500,10 +1500,25 @@ void MainWindowTest::cutListMeasureAndSection()
     QVERIFY2(w->measureText().contains("Distance: " + expected + " mm"), qPrintable(w->measureText()));
 
     // Section: across Y through the middle; the viewport traces with it.
+    // It keeps the half away from the eye (the front view looks from -Y),
+    // so the cut faces the viewer: the plane's normal, pointing at the half
+    // cut away, is -Y, and "Keep the other side" says so (a newcomer looking
+    // from the front saw the uncut face). The person may change it.
+    action(w.get(), "action.view.front")->trigger();
     w->findChild<QCheckBox*>("section.enabled")->setChecked(true);
     w->findChild<QComboBox*>("section.axis")->setCurrentIndex(1);
     QVERIFY(v->section().enabled);
+    QCOMPARE(v->section().normal, glm::dvec3(0, -1, 0));
+    auto* flip = w->findChild<QCheckBox*>("section.flip");
+    QVERIFY(flip->isChecked());
+    flip->setChecked(false);
     QCOMPARE(v->section().normal, glm::dvec3(0, 1, 0));
+    // From the back (eye at +Y), turned on again: the other half, facing it.
+    action(w.get(), "action.view.back")->trigger();
+    w->findChild<QCheckBox*>("section.enabled")->setChecked(false);
+    w->findChild<QCheckBox*>("section.enabled")->setChecked(true);
+    QCOMPARE(v->section().normal, glm::dvec3(0, 1, 0));
+    QVERIFY(!flip->isChecked());
     const QImage cutPicture = v->grabFrame();
     QVERIFY(!cutPicture.isNull());
 }

@@ -211,7 +211,7 @@ void MainWindow::buildDocks()
             if (gpuLayout_ && gpuLayout_->tileCount() > 0) return gpuLayout_->bounds();
             return voxelizer_->latest() ? voxelizer_->latest()->layout.bounds() : Aabb{glm::dvec3(-100), glm::dvec3(100)};
         },
-        this);
+        [this] { return viewport_->camera().eye(); }, this);
     connect(section, &SectionPanel::sectionChanged, viewport_, &qt::ViewportWidget::setSection);
     auto* sectionDock = new QDockWidget(tr("Section"), this);
     sectionDock->setObjectName("dock.section");

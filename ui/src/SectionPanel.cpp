@@ -17,8 +17,8 @@ namespace {
 constexpr int kSliderSteps = 1000;
 }
 
-SectionPanel::SectionPanel(std::function<Aabb()> partBounds, QWidget* parent)
-    : QWidget(parent), partBounds_(std::move(partBounds))
+SectionPanel::SectionPanel(std::function<Aabb()> partBounds, std::function<glm::dvec3()> eye, QWidget* parent)
+    : QWidget(parent), partBounds_(std::move(partBounds)), eye_(std::move(eye))
 {
     auto* layout = new QVBoxLayout(this);
     on_ = new QCheckBox(tr("Section view"), this);
@@ -53,11 +53,13 @@ SectionPanel::SectionPanel(std::function<Aabb()> partBounds, QWidget* parent)
     });
     connect(axis_, &QComboBox::currentIndexChanged, this, [this] {
         offset_->showValue(sliderOffset()); // the same place along the new axis
+        faceTheEye();
         publish();
     });
-    connect(on_, &QCheckBox::toggled, this, [this] {
+    connect(on_, &QCheckBox::toggled, this, [this](bool on) {
         if (placed_) followOffset();
         else offset_->showValue(sliderOffset());
+        if (on) faceTheEye();
         publish();
     });
     connect(flip_, &QCheckBox::toggled, this, &SectionPanel::publish);
@@ -91,5 +93,15 @@ void SectionPanel::followOffset()
 }
 
 void SectionPanel::publish() { emit sectionChanged(section()); }
+
+void SectionPanel::faceTheEye()
+{
+    if (!eye_) return;
+    // The plane cuts away where (axis) > offset, or < offset when flipped:
+    // away goes the half the eye is in.
+    const int a = axis_->currentIndex();
+    const QSignalBlocker block(flip_);
+    flip_->setChecked(eye_()[a] < offset_->value());
+}
 
 } // namespace kerf::ui
