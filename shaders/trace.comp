@@ -189,6 +189,16 @@ float exactAt(uint tape, vec3 e, vec3 dir, float tileSize, float s)
     return evaluateTileTape(tape, (e + s * dir) * tileSize) / tileSize;
 }
 
+// ReferenceTracer.cpp, onlyTouches: the ray met a sheet of no thickness.
+bool onlyTouches(uint tape, vec3 e, vec3 dir, float tileSize, float sHit, float voxelEdge)
+{
+    const float f0 = exactAt(tape, e, dir, tileSize, sHit);
+    const float nearStep = 2.0 * max(f0, 0.0) + float(KERF_EXACT_TOUCH_NEAR) * voxelEdge;
+    const float farStep = float(KERF_EXACT_TOUCH_FAR) * voxelEdge;
+    return exactAt(tape, e, dir, tileSize, sHit + nearStep) > f0 + 0.5 * nearStep &&
+           exactAt(tape, e, dir, tileSize, sHit + farStep) > f0 + 0.5 * farStep;
+}
+
 const int kStart = 0, kBack = 1, kProbe = 2, kMarch = 3, kEnd = 4, kRefine = 5;
 const int kMaxEvaluations = 3 + KERF_EXACT_STEPS + KERF_EXACT_REFINEMENTS;
 
@@ -523,7 +533,10 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
                         ? exactCrossingLanes(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge, searched)
                         : exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
                                         w >= 0.0 ? s + w / voxelScale : -1.0, searched);
-                if (sHit >= 0.0) {
+                if (sHit >= 0.0 && onlyTouches(tape, e, dir, tileSize, sHit, voxelEdge)) {
+                    // A sheet of no thickness, not a surface: search on past it (ReferenceTracer.cpp).
+                    searched = max(searched, sHit + float(KERF_EXACT_TOUCH_FAR) * voxelEdge);
+                } else if (sHit >= 0.0) {
                     hit.tape = tape;
                     hit.point = (e + max(sHit - float(KERF_EXACT_EPSILON) * voxelEdge, 0.0) * dir) * tileSize;
                     hit.normal = -dir;

@@ -209,21 +209,26 @@ TEST(Extremes, AFlushBlindHoleTurnedAlongXIsOpenAtTheFace)
     for (const double featureSize : {0.5, 1.0}) {
         const VoxelSnapshot snap = voxelize(tape, GridLayout::choose(tape.bounds(), featureSize));
         const FlatVoxelBuffers flat = FlatVoxelBuffers::flatten(snap);
-        int filmed = 0, rays = 0;
-        // Rays along -X into the hole's mouth, within 2 mm of its axis
-        // (half a millimetre off its wall): they pass the face (x = 9) and
-        // meet the bottom (x = -3) or the wall, never anything at the face.
-        for (double dy = -2.0; dy <= 2.0; dy += 0.125)
-            for (double dz = -2.0; dz <= 2.0; dz += 0.125) {
-                if (dy * dy + dz * dz > 4.0) continue;
-                Ray ray;
-                ray.origin = {50.0, -113.0 + dy, 200.0 + dz};
-                ray.direction = {-1, 0, 0};
-                const RayHit h = traceRay(flat, ray);
-                ++rays;
-                if (!h.hit() || h.depth < 41.0 + featureSize) ++filmed;
-            }
-        EXPECT_EQ(filmed, 0) << "of " << rays << " rays into the hole at " << featureSize << " mm";
+        // The voxels, and Exact Edges (whose search on the exact field met
+        // the field's 0 across the mouth the same way).
+        for (const TraceQuality quality : {TraceQuality::Voxels, TraceQuality::Exact, TraceQuality::ExactEverywhere}) {
+            int filmed = 0, rays = 0;
+            // Rays along -X into the hole's mouth, within 2.3 mm of its axis
+            // (0.2 mm off its wall): they pass the face (x = 9) and meet the
+            // bottom (x = -3) or the wall, never anything at the face.
+            for (double dy = -2.3; dy <= 2.3; dy += 0.1)
+                for (double dz = -2.3; dz <= 2.3; dz += 0.1) {
+                    if (dy * dy + dz * dz > 2.3 * 2.3) continue;
+                    Ray ray;
+                    ray.origin = {50.0, -113.0 + dy, 200.0 + dz};
+                    ray.direction = {-1, 0, 0};
+                    const RayHit h = traceRay(flat, ray, {}, quality);
+                    ++rays;
+                    if (!h.hit() || h.depth < 41.05) ++filmed;
+                }
+            EXPECT_EQ(filmed, 0) << "of " << rays << " rays into the hole at " << featureSize << " mm, quality "
+                                 << int(quality);
+        }
     }
 }
 

@@ -20,6 +20,22 @@ namespace kerf {
 
 namespace {
 
+// The ray came within epsilon of the surface at p (field f there): whether
+// the field rises on beyond at half its slope or more instead of going
+// below zero, as past a sheet of no thickness (a blind hole's mouth cut
+// flush with a face is 0 across it) and never past a surface the ray
+// enters. The refinement's rule (ReferenceTracer.cpp, onlyTouches), at the
+// scale of epsilon.
+constexpr double kTouchNear = 20.0, kTouchFar = 100.0;
+
+bool onlyTouches(const Tape& tape, PointEvaluator<double>& points, const glm::dvec3& p, const glm::dvec3& direction,
+                 double f, double epsilon)
+{
+    const glm::dvec3 a = p + kTouchNear * epsilon * direction, b = p + kTouchFar * epsilon * direction;
+    return points.evaluate(tape, a.x, a.y, a.z) > f + 0.5 * kTouchNear * epsilon &&
+           points.evaluate(tape, b.x, b.y, b.z) > f + 0.5 * kTouchFar * epsilon;
+}
+
 constexpr int kPacket = 64;      // rays marched together: one evaluator block
 constexpr int kMaxSteps = 4000;  // a ray still marching after this many steps skims a surface: a miss
 constexpr double kFarMm = 1.0e7; // where rays end when the part is unbounded (a halfspace)
@@ -92,6 +108,10 @@ public:
             for (int k = 0; k < n; ++k) {
                 RayState& s = rays[std::size_t(which[std::size_t(k)])];
                 const double f = d_[std::size_t(k)];
+                if (f < epsilon_ && onlyTouches(tape_, points_, s.origin + s.t * s.direction, s.direction, f, epsilon_)) {
+                    s.t += kTouchFar * epsilon_; // a sheet of no thickness: on past it
+                    continue;
+                }
                 if (f < epsilon_) {
                     s.hit = true;
                     s.active = false;
@@ -180,6 +200,10 @@ ExactHit castExactRay(const Tape& tape, const Ray& ray, double epsilon)
         const glm::dvec3 p = o + t * ray.direction;
         const double f = points.evaluate(tape, p.x, p.y, p.z);
         if (!std::isfinite(f)) return h;
+        if (f < epsilon && onlyTouches(tape, points, p, ray.direction, f, epsilon)) {
+            t += kTouchFar * epsilon; // a sheet of no thickness: on past it
+            continue;
+        }
         if (f < epsilon) {
             GradientEvaluator<double> gradients;
             double d = 0.0, gx = 0.0, gy = 0.0, gz = 0.0;

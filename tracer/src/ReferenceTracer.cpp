@@ -192,6 +192,23 @@ float exactAt(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& di
     return voxel::evaluateTileTape(tape, (e + s * dir) * tileSize) / tileSize;
 }
 
+// Whether the exact field, having come within KERF_EXACT_EPSILON of zero at
+// sHit, rises on beyond it at half its slope or more instead of going below
+// zero: the ray met a sheet of no thickness, not a surface it enters. Where
+// a tool is cut flush with a face (a blind hole's mouth), the face's field
+// and the hole's are both 0 across the mouth, and the search stopped there,
+// drawing a film across the hole with Exact Edges on.
+bool onlyTouches(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& dir, float tileSize, float sHit,
+                 float voxelEdge, std::uint32_t& evaluations)
+{
+    const float f0 = exactAt(tape, e, dir, tileSize, sHit, evaluations);
+    // Just past where the sheet would be (f0 ahead, or less), and further.
+    const float nearStep = 2.0f * glm::max(f0, 0.0f) + float(KERF_EXACT_TOUCH_NEAR) * voxelEdge;
+    const float farStep = float(KERF_EXACT_TOUCH_FAR) * voxelEdge;
+    return exactAt(tape, e, dir, tileSize, sHit + nearStep, evaluations) > f0 + 0.5f * nearStep &&
+           exactAt(tape, e, dir, tileSize, sHit + farStep, evaluations) > f0 + 0.5f * farStep;
+}
+
 // How a round of exactCrossingLanes spreads its points over [lo, end]: the
 // first from lo itself to end; inside a segment whose end is known, strictly
 // between the two; over the next span of the window, up to end.
@@ -625,7 +642,10 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
                         ? exactCrossingLanes(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge, lanes, searched, hit)
                         : exactCrossing(tape, e, dir, tileSize, s, sExit, sTileEnd, voxelEdge,
                                         w >= 0.0f ? s + w / voxelScale : -1.0f, searched, hit.evaluations);
-                if (sHit >= 0.0f) {
+                if (sHit >= 0.0f && onlyTouches(tape, e, dir, tileSize, sHit, voxelEdge, hit.evaluations)) {
+                    // A sheet of no thickness, not a surface: search on past it.
+                    searched = glm::max(searched, sHit + float(KERF_EXACT_TOUCH_FAR) * voxelEdge);
+                } else if (sHit >= 0.0f) {
                     // The normal is taken a hair in front of the hit: exactly
                     // on the surface some fields have no derivative (a
                     // cone's cap is a sqrt(0) there).

@@ -20,6 +20,16 @@
 // The ray hits where the exact field drops below this.
 #define KERF_EXACT_EPSILON 0.001
 
+// A crossing the search found is tested a little further along the ray:
+// just past where a sheet would be (twice the field's value there, plus
+// NEAR) and at FAR (voxel edges). Where the field rises at both at half
+// their distance or more, the ray only touched a sheet of no thickness (a
+// blind hole's mouth cut flush with the face: 0 across it) and searches
+// on. A ray through a sharp edge's corner for less than about NEAR is
+// taken for such a touch too.
+#define KERF_EXACT_TOUCH_NEAR 0.004
+#define KERF_EXACT_TOUCH_FAR 0.1
+
 // The check of a voxel hit (VoxelHitCheck.hpp), in voxel edges of the
 // tile's finest level: how far the first Newton step may move the hit, and
 // the second. A first step that long is a voxel's rounding of a face; a
