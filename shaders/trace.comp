@@ -190,13 +190,25 @@ float exactAt(uint tape, vec3 e, vec3 dir, float tileSize, float s)
 }
 
 // ReferenceTracer.cpp, onlyTouches: the ray met a sheet of no thickness.
+// In the listed pass the ray's first three lanes evaluate the three points
+// in one round (every lane of the ray is here, with the same sHit).
 bool onlyTouches(uint tape, vec3 e, vec3 dir, float tileSize, float sHit, float voxelEdge)
 {
-    const float f0 = exactAt(tape, e, dir, tileSize, sHit);
-    const float nearStep = 2.0 * max(f0, 0.0) + float(KERF_EXACT_TOUCH_NEAR) * voxelEdge;
+    const float nearStep = float(2.0 * KERF_EXACT_EPSILON + KERF_EXACT_TOUCH_NEAR) * voxelEdge;
     const float farStep = float(KERF_EXACT_TOUCH_FAR) * voxelEdge;
-    return exactAt(tape, e, dir, tileSize, sHit + nearStep) > f0 + 0.5 * nearStep &&
-           exactAt(tape, e, dir, tileSize, sHit + farStep) > f0 + 0.5 * farStep;
+    float f0, fNear, fFar;
+    if (kPass == kTraceListed) {
+        const uint j = refineLane;
+        const float f = exactAt(tape, e, dir, tileSize, sHit + (j == 1u ? nearStep : j == 2u ? farStep : 0.0));
+        f0 = subgroupShuffle(f, refineLaneBase);
+        fNear = subgroupShuffle(f, refineLaneBase + 1u);
+        fFar = subgroupShuffle(f, refineLaneBase + 2u);
+    } else {
+        f0 = exactAt(tape, e, dir, tileSize, sHit);
+        fNear = exactAt(tape, e, dir, tileSize, sHit + nearStep);
+        fFar = exactAt(tape, e, dir, tileSize, sHit + farStep);
+    }
+    return fNear > f0 + 0.5 * nearStep && fFar > f0 + 0.5 * farStep;
 }
 
 const int kStart = 0, kBack = 1, kProbe = 2, kMarch = 3, kEnd = 4, kRefine = 5;

@@ -201,9 +201,10 @@ float exactAt(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& di
 bool onlyTouches(const std::uint32_t* tape, const glm::vec3& e, const glm::vec3& dir, float tileSize, float sHit,
                  float voxelEdge, std::uint32_t& evaluations)
 {
+    // Just past where the sheet would be (within KERF_EXACT_EPSILON ahead),
+    // and further: three points the GPU's lanes evaluate in one round.
     const float f0 = exactAt(tape, e, dir, tileSize, sHit, evaluations);
-    // Just past where the sheet would be (f0 ahead, or less), and further.
-    const float nearStep = 2.0f * glm::max(f0, 0.0f) + float(KERF_EXACT_TOUCH_NEAR) * voxelEdge;
+    const float nearStep = float(2.0 * KERF_EXACT_EPSILON + KERF_EXACT_TOUCH_NEAR) * voxelEdge;
     const float farStep = float(KERF_EXACT_TOUCH_FAR) * voxelEdge;
     return exactAt(tape, e, dir, tileSize, sHit + nearStep, evaluations) > f0 + 0.5f * nearStep &&
            exactAt(tape, e, dir, tileSize, sHit + farStep, evaluations) > f0 + 0.5f * farStep;
