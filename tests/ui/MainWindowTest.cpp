@@ -1277,6 +1277,16 @@ void MainWindowTest::anOperationFromTheToolbarActsOnTheSelectedFeature()
     QCOMPARE(array->children.size(), std::size_t(1));
     QCOMPARE(array->children.front().id, std::string("cylinder"));
     QCOMPARE(w->selectedNodeIds(), std::vector<std::string>{"array"});
+    // A count is whole: 2.5 is refused beside the field in the panel's
+    // words, not rounded to 3 without a word (a newcomer's Count Z).
+    const auto counts = [&] { return w->session()->document().root.find("array")->as<ArrayParams>().count; };
+    const auto before = counts();
+    typeInto(field(*w, "count.z"), "2.5");
+    QCOMPARE(counts(), before);
+    QCOMPARE(w->propertyEditor()->errorFor("count.z"), QString("Count Z of the array: must be a whole number, not 2.5"));
+    typeInto(field(*w, "count.z"), "3");
+    QCOMPARE(counts()[2], std::int64_t(3));
+    QCOMPARE(w->propertyEditor()->errorFor("count.z"), QString());
     // Nothing selected: a mirror with a placeholder box, which the next
     // primitive pressed replaces.
     w->selectNodes({});

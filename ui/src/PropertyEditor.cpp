@@ -7,6 +7,7 @@
 #include "QuantityEdit.hpp"
 #include "kerf/document/Expression.hpp"
 #include "kerf/document/DocumentEdits.hpp"
+#include "kerf/document/DocumentError.hpp"
 #include "UndoKeysToWindow.hpp"
 
 #include "kerf/document/NodeTypes.hpp"
@@ -370,7 +371,15 @@ void PropertyEditor::rebuild()
                           const auto& c = spec->countsIn(m);
                           return glm::dvec3(double(c[0]), double(c[1]), double(c[2]));
                       },
-                      [spec](Node& m, int a, double v) { spec->countsIn(m)[std::size_t(a)] = std::llround(v); }, 0);
+                      [spec, key](Node& m, int a, double v) {
+                          // A count is whole: 2.5 is refused beside the
+                          // field, not rounded to 3 without a word (a
+                          // newcomer's Count Z; the field had no decimals).
+                          if (v != std::floor(v))
+                              throw DocumentError("", m.id, key.toStdString() + "[" + std::to_string(a) + "]",
+                                                  "must be a whole number, not " + QString::number(v).toStdString());
+                          spec->countsIn(m)[std::size_t(a)] = std::llround(v);
+                      });
             break;
         case FieldShape::Points: addProfileTable(*spec); break;
         }
