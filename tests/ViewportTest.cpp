@@ -242,6 +242,82 @@ TEST_F(VulkanTracer, AnOutgrownHeapStaysReadableUntilTheSwitch)
     EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
 }
 
+// A target replaced before it became resident (an edit, or File > New,
+// while the last version still streams) leaves tiles that nobody shows.
+// Their placements must go with them: the streamer knows tiles by their
+// address, and a tile made later at a freed tile's address was once taken
+// for it (a box drawn with pieces of the chair open before New). Here
+// every tile lives in storage the test owns, so the new part's tiles are
+// made exactly where the abandoned part's were.
+TEST_F(VulkanTracer, ATileMadeWhereAnAbandonedTileWasIsUploadedAsItself)
+{
+    struct Slot {
+        alignas(TileData) unsigned char bytes[sizeof(TileData)];
+        bool live = false;
+    };
+    std::vector<std::unique_ptr<Slot>> slots;
+    // `from`'s tiles rebuilt in the test's slots: a free slot first, in order.
+    const auto inSlots = [&](const VoxelSnapshot& from) {
+        auto snap = std::make_shared<VoxelSnapshot>(from);
+        std::size_t next = 0;
+        for (auto& t : snap->tiles) {
+            if (!t) continue;
+            while (next < slots.size() && slots[next]->live) ++next;
+            if (next == slots.size()) slots.push_back(std::make_unique<Slot>());
+            Slot* slot = slots[next].get();
+            slot->live = true;
+            t = std::shared_ptr<const TileData>(new (slot->bytes) TileData(*t), [slot](const TileData* d) {
+                d->~TileData();
+                slot->live = false;
+            });
+        }
+        return std::shared_ptr<const VoxelSnapshot>(std::move(snap));
+    };
+    const auto voxelsOf = [](const char* example, double featureSize) {
+        const Tape tape = compileTape(Document::load(std::filesystem::path(KERF_EXAMPLES_DIR) / example));
+        return voxelize(tape, GridLayout::choose(tape.bounds(), featureSize));
+    };
+
+    const std::size_t budget = 64 * 1024;
+    vk::VoxelStreamer streamer(*context, {.budgetBytesPerFrame = budget, .framesInFlight = 2, .initialHeapBytes = 16u << 20});
+    auto frame = [&] {
+        vk::FrameUpload up;
+        context->submitAndWait([&](VkCommandBuffer cb) { up = streamer.recordFrame(cb); });
+        return up;
+    };
+    // The chair, some of it uploaded; then New: nothing to show for a moment.
+    {
+        auto chair = inSlots(voxelsOf("side-chair.kerf", 2.0));
+        streamer.setTarget(chair);
+        for (int i = 0; i < 8; ++i) ASSERT_FALSE(frame().switched);
+    }
+    streamer.setTarget(nullptr);
+    ASSERT_TRUE(std::none_of(slots.begin(), slots.end(), [](const auto& s) { return s->live; }))
+        << "the abandoned chair's tiles should be let go";
+    // The stool, made in the chair's slots, streams as the stool.
+    const VoxelSnapshot stoolVoxels = voxelsOf("stool.kerf", 2.0);
+    auto stool = inSlots(stoolVoxels);
+    streamer.setTarget(stool);
+    for (int i = 0;; ++i) {
+        if (frame().switched) break;
+        ASSERT_LT(i, 100000);
+    }
+    const Camera camera = Camera::standardView(stool->layout.bounds(), "iso", 160, 120);
+    vk::ComputeTracer tracer(*context);
+    tracer.setVoxels(FlatVoxelBuffers::flatten(stoolVoxels));
+    EXPECT_TRUE(sameImage(tracer.trace(camera, streamer.resident()), tracer.trace(camera)));
+    // Once the frames in flight are done, the heap holds the stool alone.
+    for (int i = 0; i < 4; ++i) frame();
+    std::size_t stoolBytes = 0;
+    for (const auto& t : stool->tiles)
+        if (t && t->state == TileState::Surface) stoolBytes += t->bytes();
+    EXPECT_LE(streamer.heapBytesInUse(), stoolBytes + stoolBytes / 4 + 64 * stool->tiles.size())
+        << "the abandoned chair's heap ranges should be freed";
+    EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
+    stool.reset();
+    streamer.setTarget(nullptr);
+}
+
 // An empty part (everything hidden) publishes a grid of no tiles: it
 // streams and traces as nothing, with no zero-sized copy.
 TEST_F(VulkanTracer, AnEmptyPartStreamsAsNothing)

@@ -107,9 +107,41 @@ void VoxelStreamer::setTarget(std::shared_ptr<const VoxelSnapshot> snapshot)
     beginTarget();
 }
 
+void VoxelStreamer::releaseLater(std::vector<std::pair<std::size_t, std::size_t>> ranges,
+                                 std::function<void()> alsoRelease)
+{
+    const std::uint64_t generation = heapGeneration_;
+    retired_.push_back({frame_ + std::uint64_t(options_.framesInFlight) + 1,
+                        [this, ranges = std::move(ranges), alsoRelease = std::move(alsoRelease), generation] {
+                            if (alsoRelease) alsoRelease();
+                            // Ranges of a heap since replaced are not this allocator's.
+                            if (generation != heapGeneration_) return;
+                            for (auto [offset, size] : ranges) heap_.release(offset, size);
+                        }});
+}
+
+void VoxelStreamer::dropAbandonedTiles()
+{
+    std::unordered_set<const TileData*> kept;
+    for (const auto* snap : {residentSnapshot_.get(), target_.get()})
+        if (snap)
+            for (const auto& t : snap->tiles) kept.insert(t.get());
+    std::vector<std::pair<std::size_t, std::size_t>> freed;
+    for (auto it = placed_.begin(); it != placed_.end();) {
+        if (kept.count(it->first)) {
+            ++it;
+            continue;
+        }
+        freed.emplace_back(it->second.offset, it->second.bytes);
+        it = placed_.erase(it);
+    }
+    if (!freed.empty()) releaseLater(std::move(freed));
+}
+
 void VoxelStreamer::beginTarget()
 {
     pending_.clear();
+    dropAbandonedTiles();
     if (!target_) return;
     std::size_t needed = 0;
     for (const auto& t : target_->tiles)
@@ -129,6 +161,7 @@ void VoxelStreamer::beginTarget()
             const auto offset = heap_.allocate(blob.total);
             if (!offset) throw VulkanError("voxel heap: allocation", VK_ERROR_OUT_OF_DEVICE_MEMORY);
             Placement p;
+            p.tile = t;
             p.offset = *offset;
             p.bytes = blob.total;
             p.entry.node = std::uint32_t(*offset / sizeof(voxel::Node));
@@ -274,15 +307,9 @@ FrameUpload VoxelStreamer::recordFrame(VkCommandBuffer cb)
                     placed_.erase(it);
                 }
             auto oldSnapshot = residentSnapshot_;
-            const std::uint64_t generation = heapGeneration_;
             auto oldHeaps = std::move(replacedHeaps_);
             replacedHeaps_.clear();
-            retired_.push_back({frame_ + std::uint64_t(options_.framesInFlight) + 1,
-                                [this, oldTables, freed, oldSnapshot, oldHeaps, generation] {
-                                    // Ranges of a heap since replaced are not this allocator's.
-                                    if (generation != heapGeneration_) return;
-                                    for (auto [offset, size] : freed) heap_.release(offset, size);
-                                }});
+            releaseLater(std::move(freed), [oldTables, oldSnapshot, oldHeaps] {});
             tables_ = {tileBuf, entryBuf};
             residentSnapshot_ = target_;
             resident_.snapshotVersion = target_->version;

@@ -22,6 +22,7 @@
 #include "kerf/voxelizer/VoxelSnapshot.hpp"
 
 #include <deque>
+#include <functional>
 #include <memory>
 #include <unordered_map>
 
@@ -66,9 +67,17 @@ public:
     const std::shared_ptr<const VoxelSnapshot>& residentSnapshot() const { return residentSnapshot_; }
     bool upToDate() const;
     std::size_t heapCapacity() const { return heap_.capacity(); }
+    /// Heap bytes allocated to tiles (the resident set's, the target's, and
+    /// ranges waiting for the frames in flight).
+    std::size_t heapBytesInUse() const { return heap_.used(); }
 
 private:
     struct Placement {
+        // Held, not only pointed at: the map is keyed by the tile's address,
+        // and a tile freed while its entry stayed let a new tile made at the
+        // same address pass for it (a plain box drawn with pieces of the
+        // chair that was open before File > New).
+        std::shared_ptr<const TileData> tile;
         std::size_t offset = 0, bytes = 0;
         std::size_t uploaded = 0; // bytes of the blob already copied
         TileEntry entry{};        // offsets in elements of the heap base
@@ -78,6 +87,12 @@ private:
         std::function<void()> release;
     };
     void beginTarget();
+    /// Frees the heap ranges of placed tiles that neither the resident set
+    /// nor the target holds (those of a target replaced before it became
+    /// resident), once the frames in flight that may still copy into them
+    /// are done.
+    void dropAbandonedTiles();
+    void releaseLater(std::vector<std::pair<std::size_t, std::size_t>> ranges, std::function<void()> alsoRelease = {});
     void growHeap(std::size_t needed);
     std::size_t stage(VkCommandBuffer cb, const void* data, std::size_t bytes, VkBuffer dst, std::size_t dstOffset);
 
