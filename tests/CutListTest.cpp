@@ -157,6 +157,24 @@ TEST(CutList, BodiesOfAssembliesInTheirOwnFrames)
     for (const auto& r : rows) EXPECT_LE(r.uncertainty, 1e-2) << r.nodeId;
 }
 
+TEST(CutList, AnUnnamedBodyTakesTheNameOfTheBoardItIsMadeOf)
+{
+    // A newcomer rounded a shelf side by an offset of the drilled board: the
+    // cut list said "offset", the node's id, where the board was "Side".
+    const Document doc = parse(R"({"id":"root","type":"union","children":[
+        {"id":"offset","type":"offset","distance":1,"children":[
+            {"id":"d","type":"difference","children":[
+                {"id":"board","type":"box","name":"Side","size":[18,300,720]},
+                {"id":"hole","type":"cylinder","name":"Pin hole","radius":2.5,"height":40}]}]},
+        {"id":"shell","type":"shell","thickness":2,"children":[
+            {"id":"block","type":"box","size":[50,50,50],"transform":{"translate":[200,0,0]}}]}]})");
+    const auto rows = cutList(doc);
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_EQ(rows[0].nodeId, "offset");
+    EXPECT_EQ(rows[0].name, "Side");
+    EXPECT_EQ(rows[1].name, "shell"); // nothing named on the way down: the id
+}
+
 TEST(CutList, CsvQuotesAndUsesCrLf)
 {
     std::vector<CutListRow> rows(2);

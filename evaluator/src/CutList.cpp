@@ -40,6 +40,19 @@ std::vector<const Node*> visibleChildren(const Node& n)
     return v;
 }
 
+// An unnamed body's name: the first name on the way down through first
+// children (an unnamed offset of a difference of the named board is the
+// board, as the woodworker calls it), else its id.
+std::string nameOfBase(const Node& body)
+{
+    for (const Node* n = &body;;) {
+        if (n->name) return *n->name;
+        const std::vector<const Node*> kids = visibleChildren(*n);
+        if (kids.empty()) return body.id;
+        n = kids.front();
+    }
+}
+
 class Collector {
 public:
     explicit Collector(double tolerance) : tolerance_(tolerance) {}
@@ -111,7 +124,7 @@ private:
         if (tape.empty() || tape.bounds().isEmpty()) return;
         CutListRow row;
         row.nodeId = n.id;
-        row.name = n.name ? *n.name : scope.labelledBy ? *scope.labelledBy->name : n.id;
+        row.name = n.name ? *n.name : scope.labelledBy ? *scope.labelledBy->name : nameOfBase(n);
         row.quantity = scope.quantity;
         if (!tape.bounds().isBounded()) {
             row.unbounded = true;

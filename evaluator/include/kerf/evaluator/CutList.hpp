@@ -31,7 +31,7 @@ namespace kerf {
 
 struct CutListRow {
     std::string nodeId;
-    std::string name;     // the node's name, or its id
+    std::string name;     // the node's name, its difference's, the first below it (through first children), or its id
     long quantity = 1;
     double length = 0.0;  // mm, the largest local extent
     double width = 0.0;
