@@ -4,6 +4,7 @@
 #include "kerf/document/AddFeature.hpp"
 #include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/DocumentError.hpp"
+#include "kerf/document/NodeBounds.hpp"
 
 #include <gtest/gtest.h>
 
@@ -166,6 +167,32 @@ TEST(DocumentEdits, ADifferenceWithANewBaseIsNamed)
     EXPECT_EQ(edit::differenceWithNewBase(before, before), "");
 }
 
+TEST(DocumentEdits, ADeletionNamesEveryDifferenceThatLosesItsBase)
+{
+    // Two differences, one inside the other's base: deleting the inner
+    // board changes both (the outer one's base loses nothing, the inner's
+    // does) and deleting the outer base changes only the outer.
+    const Document before = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"root","type":"union",
+        "children":[{"id":"outer","type":"difference","children":[
+            {"id":"inner","type":"difference","children":[{"id":"board","type":"box","size":[100,50,18]},
+                {"id":"a","type":"cylinder","radius":4,"height":30}]},
+            {"id":"b","type":"sphere","radius":3}]}]}})",
+                                            "d.kerf");
+    Document noBoard = before;
+    edit::removeNodes(noBoard, {"board"});
+    EXPECT_EQ(edit::differencesWithNewBase(before, noBoard), std::vector<std::string>{"inner"});
+    Document noInner = before;
+    edit::removeNodes(noInner, {"inner", "board"}); // the board went with its parent: skipped
+    EXPECT_EQ(edit::differencesWithNewBase(before, noInner), std::vector<std::string>{"outer"});
+    Document emptied = before;
+    edit::removeNodes(emptied, {"board", "a"});
+    EXPECT_EQ(edit::differencesWithNewBase(before, emptied), std::vector<std::string>{"inner"});
+    // All or nothing.
+    Document refused = before;
+    EXPECT_THROW(edit::removeNodes(refused, {"a", "root"}), std::invalid_argument);
+    EXPECT_TRUE(refused == before);
+}
+
 // ---------------------------------------------------------------------------
 // Where an added feature goes (AddFeature.hpp)
 
@@ -215,6 +242,78 @@ TEST(AddFeature, APrimitiveReplacesAnUntouchedPlaceholder)
     EXPECT_EQ(childIds(*doc.root.find("array")), std::vector<std::string>{"array-box"});
     EXPECT_EQ(edit::locate(doc, "sphere")->parentId, "root");
     doc.validate();
+}
+
+TEST(AddFeature, ANewPrimitiveRestsOnTheGrid)
+{
+    // Its lowest point on z = 0, centred on the Z axis; a half-space, which
+    // has no bottom, stays where makeNode puts it.
+    Document doc = edit::emptyDocument();
+    for (NodeType type : {NodeType::Box, NodeType::Sphere, NodeType::Cylinder, NodeType::Cone, NodeType::Torus,
+                          NodeType::Extrude, NodeType::Revolve}) {
+        const std::string id = edit::addFeature(doc, type, {});
+        const Aabb b = nodeBounds(*doc.root.find(id));
+        EXPECT_DOUBLE_EQ(b.min.z, 0.0) << id;
+        EXPECT_GT(b.max.z, 0.0) << id;
+        EXPECT_NEAR(b.min.x + b.max.x, 0.0, 1e-9) << id;
+        EXPECT_NEAR(b.min.y + b.max.y, 0.0, 1e-9) << id;
+    }
+    Document cut = edit::emptyDocument();
+    const std::string h = edit::addFeature(cut, NodeType::Halfspace, {});
+    EXPECT_TRUE(cut.root.find(h)->transform.isIdentity());
+    // An operation's placeholder box rests on the grid too, and is still
+    // recognised as one; so is one that a file made before this kept at the origin.
+    const std::string a = edit::addFeature(doc, NodeType::Array, {});
+    EXPECT_DOUBLE_EQ(nodeBounds(doc.root.find(a)->children.front()).min.z, 0.0);
+    EXPECT_EQ(edit::placeholderOf(doc, a), a + "-box");
+    doc.root.find(a + "-box")->transform.translate = glm::dvec3(0.0);
+    EXPECT_EQ(edit::placeholderOf(doc, a), a + "-box");
+    doc.validate();
+}
+
+TEST(AddFeature, APrimitiveRestingOnTheGridStaysThereAsItsHeightChanges)
+{
+    Document doc = edit::emptyDocument();
+    const std::string id = edit::addFeature(doc, NodeType::Box, {});
+    const Node before = *doc.root.find(id);
+    Node thinner = before;
+    thinner.as<BoxParams>().size.z = 18.0;
+    edit::keepResting(before, thinner);
+    EXPECT_DOUBLE_EQ(nodeBounds(thinner).min.z, 0.0);
+    EXPECT_DOUBLE_EQ(nodeBounds(thinner).max.z, 18.0);
+    // Moved in the same edit: the user's position, as typed.
+    Node moved = before;
+    moved.as<BoxParams>().size.z = 18.0;
+    moved.transform.translate.x = 5.0;
+    edit::keepResting(before, moved);
+    EXPECT_DOUBLE_EQ(moved.transform.translate.z, before.transform.translate.z);
+    // Not resting (lifted, turned, or placed by an expression): left alone.
+    Node lifted = before;
+    lifted.transform.translate.z += 1.0;
+    Node liftedThinner = lifted;
+    liftedThinner.as<BoxParams>().size.z = 18.0;
+    edit::keepResting(lifted, liftedThinner);
+    EXPECT_DOUBLE_EQ(liftedThinner.transform.translate.z, lifted.transform.translate.z);
+    Node turned = before;
+    turned.transform.rotate.x = 90.0;
+    Node turnedThinner = turned;
+    turnedThinner.as<BoxParams>().size.z = 18.0;
+    edit::keepResting(turned, turnedThinner);
+    EXPECT_DOUBLE_EQ(turnedThinner.transform.translate.z, turned.transform.translate.z);
+    Node placed = before;
+    placed.expressions["transform.translate[2]"] = "t / 2";
+    Node placedThinner = placed;
+    placedThinner.as<BoxParams>().size.z = 18.0;
+    edit::keepResting(placed, placedThinner);
+    EXPECT_DOUBLE_EQ(placedThinner.transform.translate.z, placed.transform.translate.z);
+    // A cylinder made taller grows upward from the grid.
+    Document d2 = edit::emptyDocument();
+    const Node c = *d2.root.find(edit::addFeature(d2, NodeType::Cylinder, {}));
+    Node taller = c;
+    taller.as<CylinderParams>().height = 40.0;
+    edit::keepResting(c, taller);
+    EXPECT_DOUBLE_EQ(nodeBounds(taller).min.z, 0.0);
+    EXPECT_DOUBLE_EQ(nodeBounds(taller).max.z, 40.0);
 }
 
 } // namespace

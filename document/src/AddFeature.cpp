@@ -1,7 +1,10 @@
 #include "kerf/document/AddFeature.hpp"
 
 #include "kerf/document/DocumentEdits.hpp"
+#include "kerf/document/NodeBounds.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace kerf::edit {
@@ -13,6 +16,18 @@ bool takesOneChild(NodeType type) { return maxChildren(type) == 1; }
 // The placeholder's id for an operation: what addFeature names it.
 std::string placeholderBase(const std::string& operationId) { return operationId + "-box"; }
 
+// A new primitive rests on the ground grid (z = 0), centred on the Z axis,
+// as a board laid on a bench: centred on the origin, half of it was under
+// the grid, and a newcomer took it for a part sunk into the floor. A
+// half-space has no bottom and stays as it is.
+Node newPrimitive(NodeType type, std::string id)
+{
+    Node n = makeNode(type, std::move(id));
+    const Aabb b = nodeBounds(n);
+    if (!b.isEmpty() && b.isBounded()) n.transform.translate.z -= b.min.z;
+    return n;
+}
+
 } // namespace
 
 std::string placeholderOf(const Document& doc, const std::string& operationId)
@@ -21,10 +36,13 @@ std::string placeholderOf(const Document& doc, const std::string& operationId)
     if (!op || !takesOneChild(op->type) || op->children.size() != 1) return {};
     const Node& child = op->children.front();
     if (child.type != NodeType::Box || child.id.rfind(placeholderBase(operationId), 0) != 0) return {};
-    // Untouched: the box as makeNode gives it (an edited one is the user's).
-    Node pristine = makeNode(NodeType::Box, child.id);
-    pristine.children = child.children;
-    return child == pristine ? child.id : std::string();
+    // Untouched: the box as addFeature gives it, or as it gave it before
+    // new features rested on the grid (an edited one is the user's).
+    for (Node pristine : {newPrimitive(NodeType::Box, child.id), makeNode(NodeType::Box, child.id)}) {
+        pristine.children = child.children;
+        if (child == pristine) return child.id;
+    }
+    return {};
 }
 
 std::string addFeature(Document& doc, NodeType type, const std::vector<std::string>& selection)
@@ -42,7 +60,7 @@ std::string addFeature(Document& doc, NodeType type, const std::vector<std::stri
         if (const std::string box = placeholderOf(doc, selected->id); !box.empty()) {
             Document edited = doc;
             removeNode(edited, box);
-            insertNode(edited, selected->id, 0, makeNode(type, id));
+            insertNode(edited, selected->id, 0, newPrimitive(type, id));
             doc = std::move(edited);
             return id;
         }
@@ -64,11 +82,24 @@ std::string addFeature(Document& doc, NodeType type, const std::vector<std::stri
     const Node* target = edited.root.find(parent);
     if (!target || (target == &edited.root && maxChildren(edited.root.type) <= edited.root.children.size()))
         parent = wrapNodes(edited, {edited.root.id}, makeNode(NodeType::Union, uniqueId(edited, "part")));
-    Node n = makeNode(type, id);
-    if (!isPrimitive(type)) n.children.push_back(makeNode(NodeType::Box, uniqueId(edited, placeholderBase(id))));
+    Node n = isPrimitive(type) ? newPrimitive(type, id) : makeNode(type, id);
+    if (!isPrimitive(type)) n.children.push_back(newPrimitive(NodeType::Box, uniqueId(edited, placeholderBase(id))));
     insertNode(edited, parent, index, std::move(n));
     doc = std::move(edited);
     return id;
+}
+
+void keepResting(const Node& before, Node& after)
+{
+    if (!isPrimitive(before.type) || before.type != after.type || !(before.transform == after.transform) ||
+        before.transform.rotate != glm::dvec3(0.0) || after.expressions.count("transform.translate[2]"))
+        return; // an expression placing it is the user's rule, not ours
+    const Aabb was = nodeBounds(before);
+    const Aabb now = nodeBounds(after);
+    if (was.isEmpty() || !was.isBounded() || now.isEmpty() || !now.isBounded()) return;
+    // Resting: its bottom on the grid, to the rounding a typed position leaves.
+    if (std::abs(was.min.z) > 1e-9 * std::max(1.0, was.max.z - was.min.z)) return;
+    after.transform.translate.z -= now.min.z;
 }
 
 } // namespace kerf::edit

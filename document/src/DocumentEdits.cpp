@@ -354,6 +354,14 @@ void removeParameter(Document& doc, const std::string& name)
     doc.parameters.erase(it);
 }
 
+void removeNodes(Document& doc, const std::vector<std::string>& ids)
+{
+    Document edited = doc;
+    for (const std::string& id : ids)
+        if (edited.root.find(id)) removeNode(edited, id);
+    doc = std::move(edited);
+}
+
 Document emptyDocument()
 {
     Document doc;
@@ -371,16 +379,23 @@ void collectDifferences(const Node& n, std::vector<const Node*>& out)
 }
 } // namespace
 
-std::string differenceWithNewBase(const Document& before, const Document& after)
+std::vector<std::string> differencesWithNewBase(const Document& before, const Document& after)
 {
     std::vector<const Node*> differences;
     collectDifferences(after.root, differences);
+    std::vector<std::string> changed;
     for (const Node* d : differences) {
         const Node* old = before.root.find(d->id);
         if (!old || old->type != NodeType::Difference || old->children.empty()) continue;
-        if (d->children.empty() || d->children.front().id != old->children.front().id) return d->id;
+        if (d->children.empty() || d->children.front().id != old->children.front().id) changed.push_back(d->id);
     }
-    return {};
+    return changed;
+}
+
+std::string differenceWithNewBase(const Document& before, const Document& after)
+{
+    const std::vector<std::string> changed = differencesWithNewBase(before, after);
+    return changed.empty() ? std::string() : changed.front();
 }
 
 } // namespace kerf::edit

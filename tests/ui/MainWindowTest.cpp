@@ -353,6 +353,7 @@ private slots:
     void theLayoutIsRememberedAndTheViewFollowsThePartsScale();
     void anOperationFromTheToolbarActsOnTheSelectedFeature();
     void theTreeMarksTheBaseAndAsksBeforeAToolGoesAboveIt();
+    void deletingWhatADifferenceCutsFromAsksFirst();
     void cutListMeasureAndSection();
     void refusedFilesChangeNothing();
     void dragAndDropRegroupsInTheTree();
@@ -380,7 +381,8 @@ void MainWindowTest::buildsAPartFromNothingWithUndoRedoAndSaves()
     action(w.get(), "action.new")->trigger();
     QVERIFY(w->session()->document().root.children.empty());
 
-    // Add a box and size it through the property editor.
+    // Add a box and size it through the property editor: it rests on the
+    // grid, and stays there as it is made 18 mm thick.
     action(w.get(), "action.add.box")->trigger();
     QCOMPARE(w->selectedNodeIds(), std::vector<std::string>{"box"});
     typeInto(field(*w, "size.x"), "600");
@@ -402,8 +404,8 @@ void MainWindowTest::buildsAPartFromNothingWithUndoRedoAndSaves()
     const Document expected = Document::parse(R"({"format":"kerf","version":1,"root":
         {"id":"root","type":"union","name":"Part","children":[
           {"id":"difference","type":"difference","children":[
-            {"id":"box","type":"box","size":[600,300,18]},
-            {"id":"cylinder","type":"cylinder","radius":4,"height":40,"transform":{"translate":[100,0,0]}}]}]}})",
+            {"id":"box","type":"box","size":[600,300,18],"transform":{"translate":[0,0,9]}},
+            {"id":"cylinder","type":"cylinder","radius":4,"height":40,"transform":{"translate":[100,0,20]}}]}]}})",
                                               "expected.kerf");
     QCOMPARE(QString::fromStdString(built.serialize()), QString::fromStdString(expected.serialize()));
     QVERIFY(w->isWindowModified());
@@ -1345,6 +1347,69 @@ void MainWindowTest::theTreeMarksTheBaseAndAsksBeforeAToolGoesAboveIt()
     QCOMPARE(w->session()->undoStack()->undoText(), QString("Move the cylinder"));
     action(w.get(), "action.undo")->trigger();
     QVERIFY(w->session()->document() == before);
+}
+
+void MainWindowTest::deletingWhatADifferenceCutsFromAsksFirst()
+{
+    // A newcomer deleted the board of a shelf side and got its pin holes
+    // back as solid pegs, without a word.
+    const QString doc = files_.path() + "/side.kerf";
+    {
+        QFile f(doc);
+        QVERIFY(f.open(QIODevice::WriteOnly));
+        f.write(R"({"format":"kerf","version":1,"root":{"id":"root","type":"union","children":[
+            {"id":"leg","type":"box","size":[40,40,400]},
+            {"id":"d","type":"difference","name":"Shelf side","children":[
+                {"id":"board","type":"box","name":"Board","size":[100,50,18]},
+                {"id":"hole","type":"cylinder","name":"Pin hole","radius":2.5,"height":30},
+                {"id":"hole2","type":"cylinder","radius":2.5,"height":30,"translate":[20,0,0]}]}]}})");
+    }
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(doc.toStdString()));
+    const Document before = w->session()->document();
+    const auto deleteAnswering = [&](const std::vector<std::string>& ids, const char* button) {
+        w->selectNodes(ids);
+        MessageBoxAnswerer answer(button);
+        action(w.get(), "action.delete")->trigger();
+        return std::pair(answer.answered(), answer.text());
+    };
+
+    // Cancel, the default: nothing changes.
+    auto [asked, text] = deleteAnswering({"board"}, "delete.base.cancel");
+    QVERIFY(asked);
+    QVERIFY2(text.contains("Board is what Shelf side cuts from.") &&
+                 text.contains("Shelf side would cut from Pin hole instead: what it cuts away would become solid."),
+             qPrintable(text));
+    QVERIFY(w->session()->document() == before);
+
+    // The whole difference: one undo step.
+    std::tie(asked, text) = deleteAnswering({"board"}, "delete.base.whole");
+    QVERIFY(asked);
+    QVERIFY(!w->session()->document().root.find("d"));
+    QVERIFY(w->session()->document().root.find("leg"));
+    QCOMPARE(w->session()->undoStack()->undoText(), QString("Delete Board"));
+    action(w.get(), "action.undo")->trigger();
+    QVERIFY(w->session()->document() == before);
+
+    // Only the selection, as asked: the first tool becomes the body.
+    std::tie(asked, text) = deleteAnswering({"board"}, "delete.base.only");
+    QVERIFY(asked);
+    QCOMPARE(w->session()->document().root.find("d")->children.front().id, std::string("hole"));
+    action(w.get(), "action.undo")->trigger();
+    QVERIFY(w->session()->document() == before);
+
+    // The board with every tool: nothing left to cut from; only "too" or cancel.
+    std::tie(asked, text) = deleteAnswering({"board", "hole", "hole2"}, "delete.base.whole");
+    QVERIFY(asked);
+    QVERIFY2(text.contains("Shelf side has nothing left to cut from"), qPrintable(text));
+    QVERIFY(!w->session()->document().root.find("d"));
+    action(w.get(), "action.undo")->trigger();
+
+    // A tool goes without a question.
+    std::tie(asked, text) = deleteAnswering({"hole"}, "delete.base.cancel");
+    QVERIFY2(!asked, qPrintable(text));
+    QVERIFY(!w->session()->document().root.find("hole"));
+    QCOMPARE(w->session()->document().root.find("d")->children.front().id, std::string("board"));
 }
 
 void MainWindowTest::exportDialogWritesAClosedMesh()

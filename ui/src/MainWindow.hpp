@@ -137,6 +137,9 @@ protected:
     void dropEvent(QDropEvent* e) override;
 
 private:
+    // What to do when a deletion takes away what a difference cuts from.
+    enum class BaseDeletion { Cancel, WholeDifference, OnlySelection };
+    BaseDeletion askDeletingABase(const Node& difference, const Node* after);
     static constexpr int kLayoutVersion = 2; // saveState's version: bump when the docks change
     void restoreLayout();
     bool isBundledExample(const std::filesystem::path& file) const;

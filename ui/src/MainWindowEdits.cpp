@@ -11,6 +11,11 @@
 #include "kerf/document/NodeTypes.hpp"
 #include "kerf/viewport/ReferenceMesh.hpp"
 
+#include <QMessageBox>
+#include <QPushButton>
+
+#include <unordered_set>
+
 namespace kerf::ui {
 
 namespace fs = std::filesystem;
@@ -52,19 +57,81 @@ bool MainWindow::groupSelection(NodeType type)
 
 bool MainWindow::deleteSelection()
 {
-    const std::vector<std::string> ids = selectedNodeIds();
+    std::vector<std::string> ids = selectedNodeIds();
     if (ids.empty()) return false;
-    QString error;
     const Node* only = ids.size() == 1 ? session_->document().root.find(ids.front()) : nullptr;
-    const bool ok = session_->apply(only ? tr("Delete %1").arg(featureName(*only))
-                                         : tr("Delete %1 features").arg(ids.size()),
-                                    [&](Document& d) {
-                                        for (const auto& id : ids)
-                                            if (d.root.find(id)) edit::removeNode(d, id);
-                                    },
-                                    &error);
+    const QString step = only ? tr("Delete %1").arg(featureName(*only)) : tr("Delete %1 features").arg(ids.size());
+    // Deleting what a difference cuts from would make its first tool the
+    // body: holes would come back as pegs, without a word. Each such
+    // difference is asked about first (the whole of it, or only what was
+    // selected).
+    std::unordered_set<std::string> answered;
+    for (;;) {
+        Document trial = session_->document();
+        try {
+            edit::removeNodes(trial, ids);
+        } catch (const std::exception&) {
+            break; // refused below, with the reason
+        }
+        std::string changed;
+        for (const std::string& id : edit::differencesWithNewBase(session_->document(), trial))
+            if (!answered.count(id)) {
+                changed = id;
+                break;
+            }
+        if (changed.empty()) break;
+        answered.insert(changed);
+        switch (askDeletingABase(*session_->document().root.find(changed), trial.root.find(changed))) {
+        case BaseDeletion::Cancel: return false;
+        case BaseDeletion::WholeDifference: ids.push_back(changed); break;
+        case BaseDeletion::OnlySelection: break;
+        }
+    }
+    QString error;
+    const bool ok =
+        session_->apply(step, [&](Document& d) { edit::removeNodes(d, ids); }, &error);
     if (!ok) showMessage(tr("Cannot delete: %1").arg(error));
     return ok;
+}
+
+MainWindow::BaseDeletion MainWindow::askDeletingABase(const Node& difference, const Node* after)
+{
+    const auto sentence = [](QString text) {
+        if (!text.isEmpty()) text[0] = text[0].toUpper();
+        return text;
+    };
+    const QString base = featureName(difference.children.front());
+    const QString name = featureName(difference);
+    const QString consequence =
+        !after || after->children.empty()
+            ? tr("Without it, %1 has nothing left to cut from.").arg(name)
+            : tr("Without it, %1 would cut from %2 instead: what it cuts away would become solid.")
+                  .arg(name, featureName(after->children.front()));
+    QMessageBox ask(QMessageBox::Warning, tr("Delete the base?"),
+                    sentence(tr("%1 is what %2 cuts from.").arg(base, name)), QMessageBox::NoButton, this);
+    ask.setObjectName("delete.base");
+    ask.setInformativeText(consequence);
+    QPushButton* whole = nullptr;
+    if (&difference != &session_->document().root) {
+        whole = ask.addButton(tr("Delete %1 too").arg(name), QMessageBox::DestructiveRole);
+        whole->setObjectName("delete.base.whole");
+    }
+    // A difference left with no child is refused anyway (the apply says why).
+    const bool leftEmpty = !after || after->children.empty();
+    if (!whole && leftEmpty) return BaseDeletion::OnlySelection;
+    QPushButton* onlySelection = nullptr;
+    if (!leftEmpty) {
+        onlySelection = ask.addButton(tr("Delete only the selection"), QMessageBox::DestructiveRole);
+        onlySelection->setObjectName("delete.base.only");
+    }
+    QPushButton* cancel = ask.addButton(QMessageBox::Cancel);
+    cancel->setObjectName("delete.base.cancel");
+    ask.setDefaultButton(cancel);
+    ask.setEscapeButton(cancel);
+    ask.exec();
+    if (whole && ask.clickedButton() == whole) return BaseDeletion::WholeDifference;
+    if (onlySelection && ask.clickedButton() == onlySelection) return BaseDeletion::OnlySelection;
+    return BaseDeletion::Cancel;
 }
 
 bool MainWindow::duplicateSelection()

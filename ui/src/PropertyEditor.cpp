@@ -6,6 +6,7 @@
 #include "NameCompleter.hpp"
 #include "QuantityEdit.hpp"
 #include "kerf/document/Expression.hpp"
+#include "kerf/document/AddFeature.hpp"
 #include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "UndoKeysToWindow.hpp"
@@ -139,6 +140,7 @@ bool PropertyEditor::applyToNode(const QString& text, const std::function<void(N
             // drives replaces the expression (else resolving would put it back).
             Node updated = *n;
             change(updated);
+            edit::keepResting(*n, updated);
             edit::updateNode(d, id, updated);
         },
         &why, mergeKey);
@@ -170,6 +172,7 @@ void PropertyEditor::commit(std::size_t index, double value)
             if (!m) throw std::invalid_argument("the node is gone");
             Node updated = *m; // through updateNode, as applyToNode
             set(updated, value);
+            edit::keepResting(*m, updated);
             edit::updateNode(d, id, updated);
         },
         &why, QString::fromStdString(id) + "/" + key);

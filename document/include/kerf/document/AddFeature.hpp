@@ -3,6 +3,8 @@
 // menu goes, and what it starts with: the editing rule the desktop
 // application applies, Qt-free and tested on its own (DocumentEditsTest).
 //
+// - A new primitive rests on the ground grid (its lowest point at z = 0 of
+//   its parent's frame), centred on the Z axis.
 // - A primitive goes into the selected boolean, into the selected offset,
 //   shell, array or mirror when it has room, and otherwise right after the
 //   selected feature; with nothing selected, at the end of the root (a root
@@ -31,5 +33,12 @@ std::string addFeature(Document& doc, NodeType type, const std::vector<std::stri
 /// when that is still the box addFeature gave it (its id, the operation's id
 /// with "-box", and default parameters); empty when there is none.
 std::string placeholderOf(const Document& doc, const std::string& operationId);
+
+/// A primitive that rests on the grid (its lowest point at z = 0 of its
+/// parent's frame, unrotated) keeps resting on it when an edit of its own
+/// parameters changes its height: a board laid on the bench and made
+/// thinner stays on the bench. Adjusts `after`'s translate z; leaves it
+/// alone when the edit moved the node itself, or it did not rest there.
+void keepResting(const Node& before, Node& after);
 
 } // namespace kerf::edit

@@ -46,6 +46,10 @@ void insertNode(Document& doc, std::string_view parentId, std::size_t index, Nod
 /// Removes a node and its subtree (not the root); returns what was removed.
 Node removeNode(Document& doc, std::string_view id);
 
+/// Removes each of `ids` with its subtree, in order; an id already gone
+/// with an earlier one's subtree is skipped. All or nothing.
+void removeNodes(Document& doc, const std::vector<std::string>& ids);
+
 /// Moves a node (with its subtree) to child `index` of `newParentId`, index
 /// counted in the parent's children as they are before the move. Refuses the
 /// root, a move into its own subtree and a parent that has no room.
@@ -73,6 +77,8 @@ void updateNode(Document& doc, std::string_view id, const Node& updated);
 /// editor asks before such a reorder: a tool moved above the base cuts from
 /// nothing, and the part empties.
 std::string differenceWithNewBase(const Document& before, const Document& after);
+/// Every such difference, in tree order (a deletion may change several).
+std::vector<std::string> differencesWithNewBase(const Document& before, const Document& after);
 
 /// The ids of a node and of everything below it.
 std::unordered_set<std::string> idsInSubtree(const Node& node);
