@@ -270,6 +270,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
                     j["worst_sample_at_mm"] = {stats.worstSampleAt.x, stats.worstSampleAt.y, stats.worstSampleAt.z};
             }
             j["triangles_over_tolerance"] = stats.trianglesOverTolerance;
+            j["area_over_tolerance_mm2"] = stats.areaOverTolerance;
             j["triangles_folded"] = stats.foldedTriangles;
             j["unfolds"] = stats.unfolds;
             if (stats.hiddenDetailCells > 0)

@@ -313,6 +313,7 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     stats.creaseSplits = refine.creaseSplits;
     stats.worstSample = refine.worstSample;
     stats.trianglesOverTolerance = refine.trianglesOverTolerance;
+    stats.areaOverTolerance = refine.areaOverTolerance;
     stats.worstSampleAt = refine.worstAt;
     stats.unfolds = refine.unfolds;
     stats.foldedTriangles = refine.foldedTriangles;
@@ -337,10 +338,12 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
             stats.splits += again.splits;
             stats.creaseSplits += again.creaseSplits;
             stats.unfolds += again.unfolds;
-            left = {again.worstSample, again.worstAt, again.trianglesOverTolerance, again.foldedTriangles};
+            left = {again.worstSample, again.worstAt, again.trianglesOverTolerance, again.areaOverTolerance,
+                    again.foldedTriangles};
         }
         stats.worstSample = left.worstSample;
         stats.trianglesOverTolerance = left.trianglesOverTolerance;
+        stats.areaOverTolerance = left.areaOverTolerance;
         stats.worstSampleAt = left.worstAt;
         stats.foldedTriangles = left.foldedTriangles;
     }
@@ -365,6 +368,7 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
             stats.unfolds += last.unfolds;
             stats.worstSample = last.worstSample;
             stats.trianglesOverTolerance = last.trianglesOverTolerance;
+            stats.areaOverTolerance = last.areaOverTolerance;
             stats.worstSampleAt = last.worstAt;
             stats.foldedTriangles = last.foldedTriangles;
         }
@@ -439,7 +443,9 @@ std::string describeTrianglesOverTolerance(const MeshStats& stats, double tolera
     if (stats.trianglesOverTolerance == 0) return {};
     const glm::dvec3& p = stats.worstSampleAt;
     std::string s = grouped(stats.trianglesOverTolerance) +
-                    (stats.trianglesOverTolerance == 1 ? " triangle stays " : " triangles stay ") + "up to " +
+                    (stats.trianglesOverTolerance == 1 ? " triangle (" : " triangles (") +
+                    shortNumber(stats.areaOverTolerance) + " mm^2 in all) " +
+                    (stats.trianglesOverTolerance == 1 ? "stays " : "stay ") + "up to " +
                     shortNumber(stats.worstSample) + " mm from the exact surface, beyond the tolerance of " +
                     shortNumber(tolerance) + " mm (the worst at (" + shortNumber(p.x) + ", " + shortNumber(p.y) +
                     ", " + shortNumber(p.z) + ") mm): ";

@@ -187,7 +187,12 @@ ToleranceCheck worstOf(const Mesh& mesh, const std::vector<double>& worst, const
             const Tri& tri = mesh.triangles[t];
             check.worstAt = (mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3.0;
         }
-        if (worst[t] > tolerance) ++check.trianglesOverTolerance;
+        if (worst[t] > tolerance) {
+            ++check.trianglesOverTolerance;
+            const Tri& tri = mesh.triangles[t];
+            check.areaOverTolerance += 0.5 * glm::length(glm::cross(mesh.vertices[tri[1]] - mesh.vertices[tri[0]],
+                                                                    mesh.vertices[tri[2]] - mesh.vertices[tri[0]]));
+        }
     }
     return check;
 }
@@ -627,6 +632,7 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
     stats.worstSample = left.worstSample;
     stats.worstAt = left.worstAt;
     stats.trianglesOverTolerance = left.trianglesOverTolerance;
+    stats.areaOverTolerance = left.areaOverTolerance;
     return true;
 }
 

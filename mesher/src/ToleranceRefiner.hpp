@@ -52,6 +52,7 @@ struct RefineStats {
     double worstSample = 0.0;
     glm::dvec3 worstAt{0.0}; // the centroid of the triangle with the worst sample (world mm)
     std::uint64_t trianglesOverTolerance = 0; // left over the tolerance at the round limit
+    double areaOverTolerance = 0.0;           // mm^2: their area
     std::uint64_t unfolds = 0;                // flips that turned a folded triangle the surface's way
     std::uint64_t foldedTriangles = 0;        // left facing into the part (no flip helped)
 };
@@ -92,6 +93,7 @@ struct ToleranceCheck {
     double worstSample = 0.0;
     glm::dvec3 worstAt{0.0};
     std::uint64_t trianglesOverTolerance = 0;
+    double areaOverTolerance = 0.0; // mm^2
     std::uint64_t foldedTriangles = 0; // triangles facing into the part at their centroid
 };
 ToleranceCheck checkTolerance(const Mesh& mesh, const Tape& tape, double tolerance, tbb::task_arena& arena);

@@ -150,6 +150,7 @@ struct MeshStats {
     std::uint64_t creaseSplits = 0;       // of which on sharp edges of the part
     double worstSample = 0.0;             // mm: the final mesh's largest sample distance (|f| / |grad f|)
     std::uint64_t trianglesOverTolerance = 0; // triangles the refinement could not bring within the tolerance
+    double areaOverTolerance = 0.0;           // mm^2: their area (a woodworker judges a few square mm, not a count)
     glm::dvec3 worstSampleAt{0.0};        // world mm: the centroid of the triangle with the worst sample
     std::uint64_t unfolds = 0;            // flips that turned a folded triangle the surface's way
     /// Triangles left facing into the part at their centroid (a fold no
