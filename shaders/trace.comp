@@ -510,7 +510,8 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
             const float wEnd = max(0.0, (sExit - s) * voxelScale);
             const vec4 along = alongRay(k, o, dir);
             if (capPending) {
-                if (evalCubic(along, 0.0) <= 0.0) {
+                // Inside by more than the cubic's rounding (ReferenceTracer.cpp).
+                if (evalCubic(along, 0.0) < -1e-5 * (abs(along.x) + abs(along.y) + abs(along.z) + abs(along.w))) {
                     hitCap(hit);
                     return true;
                 }
@@ -682,6 +683,7 @@ Hit traceRay(vec3 origin, vec3 direction, float from, float to)
             hitCap(hit);
             return hit;
         }
+        if (value == kEmptyTile) capPending = false; // outside, as the plane's point was (ReferenceTracer.cpp)
         if (value == kFullTile) {
             hit.depth = tEnter;
             hit.normal = vec3(0.0);

@@ -311,6 +311,45 @@ TEST(TracerAgreement, TilesOfMixedDepths)
     EXPECT_GE(a.normalWithin, 0.99);
 }
 
+// A newcomer's side table, cut across X at 0: a leg 180 mm behind the plane
+// was drawn hatched, as if cut, at the plane's depth. Its face lies on a
+// voxel face (a round millimetre), where the trilinear value at the ray's
+// entry is 0, and the cap was still pending after 180 mm of empty tiles.
+TEST(TracerSection, AFaceFarBehindThePlaneIsNoCut)
+{
+    const Tape tape = compileTape(doc(R"({"id":"u","type":"union","children":[
+        {"id":"top","type":"box","size":[500,400,20],"transform":{"translate":[0,0,490]}},
+        {"id":"leg","type":"box","size":[40,40,480],"transform":{"translate":[-200,-150,240]}}]})"));
+    for (const double featureSize : {0.5, 1.0, 2.0}) {
+        const FlatVoxelBuffers buffers = voxels(tape, featureSize);
+        const Section section = Section::alongAxis(0, 0.0); // keeps x <= 0
+        for (const TraceQuality quality : {TraceQuality::Voxels, TraceQuality::Exact}) {
+            int caps = 0, rays = 0;
+            // Straight along -X onto the leg's face at x = -180, and at an angle.
+            for (const glm::dvec3 direction : {glm::dvec3(-1, 0, 0), glm::normalize(glm::dvec3(-1, 0.1, 0.05))})
+                for (double y = -165; y <= -135; y += 3)
+                    for (double z = 20; z <= 460; z += 20) {
+                        Ray r;
+                        r.direction = direction;
+                        r.origin = glm::dvec3(-180, y, z) - 300.0 * direction; // 300 mm before the face
+                        const RayHit h = traceRay(buffers, r, section, quality);
+                        ++rays;
+                        ASSERT_TRUE(h.hit()) << featureSize << " mm, y " << y << ", z " << z;
+                        caps += h.feature == kSectionCap;
+                        EXPECT_NEAR(h.depth, 300.0, 0.5 * featureSize) << featureSize << " mm, y " << y << ", z " << z;
+                    }
+            EXPECT_EQ(caps, 0) << "of " << rays << " rays at " << featureSize << " mm";
+        }
+        // The top, which the plane does cut, still shows its cap there.
+        Ray r;
+        r.origin = {100, 0, 490};
+        r.direction = {-1, 0, 0};
+        const RayHit h = traceRay(buffers, r, section);
+        EXPECT_EQ(h.feature, kSectionCap);
+        EXPECT_NEAR(h.depth, 100.0, 1e-3);
+    }
+}
+
 // A section view is the exact image of the part intersected with the kept
 // half-space: the cut face of that solid is the plane, where the voxel
 // tracer reports the cap.

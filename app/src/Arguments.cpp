@@ -104,6 +104,9 @@ double Arguments::parseTolerance(const std::string& option, const std::string& t
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
     if (!text.empty() && *end == '\0' && v == 0.0) return 0.0;
+    if (!text.empty() && *end == '\0' && std::isfinite(v) && v < 0.0)
+        throw UsageError(option + " must be a positive number of millimetres (0 for none), not '" + printable(text) +
+                         "'");
     if (text.empty() || *end != '\0' || !std::isfinite(v) || !(v > 0.0))
         throw UsageError(option + " must be a number of millimetres (0 for none), not '" + printable(text) + "'");
     return parseFeatureSize(option, text);

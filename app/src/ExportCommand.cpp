@@ -236,6 +236,11 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         if (stats.hiddenDetailCells > 0) err << "kerf export: warning: " << describeHiddenDetail(stats) << "\n";
         if (stats.trianglesOverTolerance > 0)
             err << "kerf export: warning: " << describeTrianglesOverTolerance(stats, tolerance) << "\n";
+        if (const std::string coarse = describeCoarseTolerance(stats, tolerance); !coarse.empty())
+            err << "kerf export: warning: " << coarse << "\n";
+        if (const std::string miss = describeVisibleMiss(stats, tolerance, doc.settings.featureSize.value_or(defaultFeatureSize(bounds)));
+            !miss.empty())
+            err << "kerf export: warning: " << printable(target.string()) << ": " << miss << "\n";
 
         if (json) {
             nlohmann::ordered_json j;

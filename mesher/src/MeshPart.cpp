@@ -458,6 +458,33 @@ std::string describeTrianglesOverTolerance(const MeshStats& stats, double tolera
            shortNumber(finerFeatureSize(stats)) + " mm often leaves fewer";
 }
 
+std::string describeVisibleMiss(const MeshStats& stats, double tolerance, double ownFeatureSize)
+{
+    if (stats.trianglesOverTolerance == 0 || !(stats.worstSample > std::max(kVisibleMiss, 2.0 * tolerance)))
+        return {};
+    const double finer = finerFeatureSize(stats);
+    const double tryThis =
+        ownFeatureSize > 0.0 && ownFeatureSize < stats.cellSize ? ownFeatureSize : finer;
+    std::string s = "the file does not match the part: in places it is up to " + shortNumber(stats.worstSample) +
+                    " mm from the exact surface, far beyond the tolerance of " + shortNumber(tolerance) +
+                    " mm (at " + shortNumber(stats.cellSize) +
+                    " mm cells, holes, grooves and walls thinner than a cell can come out missing, joined or "
+                    "through a face)";
+    if (tryThis > 0.0 && tryThis < stats.cellSize)
+        s += "; export it at a feature size of " + shortNumber(tryThis) + " mm" +
+             (tryThis == ownFeatureSize ? " (the part's own)" : "");
+    return s;
+}
+
+std::string describeCoarseTolerance(const MeshStats& stats, double tolerance)
+{
+    if (!(tolerance > stats.cellSize) || !(tolerance > kVisibleMiss)) return {};
+    return "a tolerance of " + shortNumber(tolerance) + " mm is coarser than the feature size of " +
+           shortNumber(stats.cellSize) + " mm: holes, grooves and rounds smaller than about " +
+           shortNumber(2.0 * tolerance) + " mm may lose their shape (the default, " +
+           shortNumber(kDefaultExportTolerance) + " mm, keeps them)";
+}
+
 std::optional<Mesh> meshPart(const Document& doc, const MeshOptions& options, const Progress& work,
                              MeshStats* stats)
 {

@@ -368,6 +368,7 @@ private slots:
     void theBoundingBoxOfTheSelectionIsMeasuredAndDrawn();
     void aTurnedProfileIsEditedInItsPointTable();
     void theThicknessChangedInTheParametersPanelCarriesEveryDependentFeature();
+    void deleteInTheParametersTableIsTheParametersNotTheFeatures();
     void lengthsShownInInchesAreTypedInInchesAndTheDocumentKeepsMillimetres();
     void theGpuVoxelizesWhenAskedAndTheCpuTakesOverWhenItCannot();
 
@@ -2036,6 +2037,47 @@ void MainWindowTest::theBoundingBoxOfTheSelectionIsMeasuredAndDrawn()
     action(w.get(), "action.boundingBox")->trigger();
     QTRY_VERIFY_WITH_TIMEOUT(w->measureText().startsWith("Bounding box: 18.00 x 300.00 x 1800.00 mm"), 30000);
     QCOMPARE(w->viewport()->dimensionText(), QString("18.00 x 300.00 x 1800.00 mm"));
+}
+
+void MainWindowTest::deleteInTheParametersTableIsTheParametersNotTheFeatures()
+{
+    // A newcomer selected the table top in the tree, clicked a parameter's
+    // row and pressed Delete: the table top went, the parameter stayed.
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side-parametric.kerf"));
+    w->show();
+    QVERIFY(QTest::qWaitForWindowExposed(w.get()));
+    w->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(w.get()));
+    w->selectNodes({"panel"});
+    auto* panel = w->findChild<ParametersPanel*>("parametersPanel");
+    QTableWidget* table = panel->table();
+    const Document before = w->session()->document();
+    // A parameter in use: refused beside the table, and no feature goes.
+    table->setFocus();
+    table->setCurrentCell(0, ParametersPanel::NameColumn);
+    QTest::keyClick(table, Qt::Key_Delete);
+    QVERIFY(w->session()->document() == before);
+    QVERIFY2(panel->error().contains("thickness"), qPrintable(panel->error()));
+    // An unused one goes, in one undo step; the features stay.
+    panel->addParameter();
+    QTRY_VERIFY(table->findChild<QLineEdit*>() != nullptr);
+    QTest::keyClick(table->findChild<QLineEdit*>(), Qt::Key_Escape);
+    const std::size_t count = w->session()->document().parameters.size();
+    table->setFocus();
+    table->setCurrentCell(int(count) - 1, ParametersPanel::NameColumn);
+    QTest::keyClick(table, Qt::Key_Delete);
+    QCOMPARE(w->session()->document().parameters.size(), count - 1);
+    QVERIFY(w->session()->document().root == before.root);
+    // In the tree, Delete is still the feature's (the panel is what the
+    // part cuts from: asked first, and cancelled).
+    w->featureTree()->setFocus();
+    {
+        MessageBoxAnswerer cancel("delete.base.cancel");
+        QTest::keyClick(w->featureTree(), Qt::Key_Delete);
+        QVERIFY(cancel.answered());
+    }
+    QVERIFY(w->session()->document().root == before.root);
 }
 
 void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependentFeature()

@@ -97,6 +97,7 @@ float evalCubic(const Cubic& c, float w) { return c.a0 + w * (c.a1 + w * (c.a2 +
 // of its coefficients' sizes (float rounding of the trilinear sum is a few
 // times 1e-7 of it). shaders/trace.comp has the same.
 constexpr float kCubicZero = 1e-5f;
+float cubicZero(const Cubic& c) { return kCubicZero * (std::abs(c.a0) + std::abs(c.a1) + std::abs(c.a2) + std::abs(c.a3)); }
 
 float firstCrossing(const Cubic& c, float wEnd, float& least)
 {
@@ -131,7 +132,7 @@ float firstCrossing(const Cubic& c, float wEnd, float& least)
     // voxel whose face lies on a face of the part that a tool cuts flush (a
     // blind hole's mouth) has 0 at every corner of that face, and taking
     // the cubic's -1e-8 there as a hit drew a film across the mouth.
-    const float zero = kCubicZero * (std::abs(c.a0) + std::abs(c.a1) + std::abs(c.a2) + std::abs(c.a3));
+    const float zero = cubicZero(c);
     float a = breaks[0];
     float fa = evalCubic(c, a);
     least = fa;
@@ -487,9 +488,10 @@ float exactCrossingLanes(const std::uint32_t* tape, const glm::vec3& e, const gl
 }
 
 // A section's cap, pending while the ray, started on the section plane, has
-// met no populated voxel yet: until then no surface was crossed, so the
-// first voxel's value at the ray's entry says whether the plane point was
-// inside the solid (a cap) or not.
+// met no populated voxel and no empty tile yet: until then no surface was
+// crossed, so a full tile, or the first voxel's value at the ray's entry,
+// says whether the plane point was inside the solid (a cap) or not, and an
+// empty tile that it was not.
 struct CapState {
     bool pending = false;
     float depth = 0.0f;
@@ -602,7 +604,10 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
             const float wEnd = glm::max(0.0f, (sExit - s) * voxelScale);
             const Cubic along = alongRay(tri, o, dir);
             if (cap.pending) {
-                if (evalCubic(along, 0.0f) <= 0.0f) {
+                // Inside by more than the cubic's rounding: a face of the
+                // part lying on the voxel's face where the ray enters is
+                // not inside (it hatched a leg's face as cut).
+                if (evalCubic(along, 0.0f) < -cubicZero(along)) {
                     cap.hitAt(hit);
                     return true;
                 }
@@ -791,6 +796,10 @@ RayHit traceGrid(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::
             cap.hitAt(hit);
             return hit;
         }
+        // Outside, with no surface crossed since the plane: so was the
+        // plane's point, and nothing further on is its cap (a leg far behind
+        // the plane was drawn hatched at the plane's depth).
+        if (value == voxel::kEmptyTile) cap.pending = false;
         if (value == voxel::kFullTile) {
             hit.depth = tEnter;
             hit.normal = glm::vec3(0.0f);

@@ -6,6 +6,7 @@
 
 #include <QDialogButtonBox>
 #include <QFileDialog>
+#include <QFileInfo>
 #include <QHeaderView>
 #include <QLabel>
 #include <QPushButton>
@@ -17,8 +18,8 @@
 
 namespace kerf::ui {
 
-CutListDialog::CutListDialog(const Document& doc, QString partName, QWidget* parent)
-    : QDialog(parent), partName_(std::move(partName))
+CutListDialog::CutListDialog(const Document& doc, QString partName, QString suggestedFile, QWidget* parent)
+    : QDialog(parent), partName_(std::move(partName)), suggestedFile_(std::move(suggestedFile))
 {
     setWindowTitle(tr("Cut list — %1").arg(partName_));
     resize(720, 420);
@@ -41,8 +42,10 @@ CutListDialog::CutListDialog(const Document& doc, QString partName, QWidget* par
     layout->addWidget(buttons);
     connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
     connect(exportButton_, &QPushButton::clicked, this, [this] {
-        const QString f = QFileDialog::getSaveFileName(this, tr("Export cut list"), partName_ + ".csv",
-                                                       tr("CSV files (*.csv)"));
+        QString f = QFileDialog::getSaveFileName(this, tr("Export cut list"), suggestedFile_, tr("CSV files (*.csv)"));
+        // A name typed without an extension gets the filter's (Qt's own
+        // dialog leaves it as typed: "cutlist2" was written so).
+        if (!f.isEmpty() && QFileInfo(f).suffix().isEmpty()) f += ".csv";
         if (!f.isEmpty()) exportCsv(f);
     });
     connect(&watcher_, &QFutureWatcher<std::vector<CutListRow>>::finished, this, [this] {

@@ -19,7 +19,8 @@ namespace kerf::ui {
 class CutListDialog : public QDialog {
     Q_OBJECT
 public:
-    CutListDialog(const Document& doc, QString partName, QWidget* parent = nullptr);
+    /// `suggestedFile`: where Export CSV… starts (beside the document, named after it).
+    CutListDialog(const Document& doc, QString partName, QString suggestedFile, QWidget* parent = nullptr);
 
     /// Writes the list as CSV; false with a message in the dialog on failure.
     bool exportCsv(const QString& file);
@@ -32,7 +33,7 @@ signals:
 private:
     void showRows(std::vector<CutListRow> rows);
 
-    QString partName_;
+    QString partName_, suggestedFile_;
     QTableWidget* table_;
     QLabel* status_;
     QPushButton* exportButton_;

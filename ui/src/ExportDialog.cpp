@@ -57,7 +57,7 @@ QString megabytes(std::uint64_t bytes)
 
 // What a reader of the file gets, in one paragraph.
 QString describeWritten(const std::filesystem::path& file, MeshFileFormat format, const ExportedPart& exported,
-                        double tolerance, double seconds)
+                        double tolerance, double seconds, double ownFeatureSize)
 {
     const MeshReport& r = exported.report.asRead;
     const QLocale locale;
@@ -76,6 +76,10 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
                             : holes == 1 ? QObject::tr("1 hole through it")
                             : holes > 1  ? QObject::tr("%1 holes through it").arg(holes)
                                          : QString();
+    // A file that does not match the part says so first, before the
+    // read-back's reassurances (a closed solid can still be the wrong one).
+    const std::string miss = describeVisibleMiss(exported.stats, tolerance, ownFeatureSize);
+    if (!miss.empty()) s += "\n" + QObject::tr("Warning: %1.").arg(QString::fromStdString(miss));
     s += "\n" + QObject::tr("As read back: closed (watertight), no crossing triangles; %1%2.")
                     .arg(pieces, through.isEmpty() ? QString() : ", " + through);
     if (!(tolerance > 0.0))
@@ -94,12 +98,17 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
     if (exported.stats.hiddenDetailCells > 0) {
         s += "\n" + QObject::tr("Warning: %1.").arg(QString::fromStdString(describeHiddenDetail(exported.stats)));
     }
-    if (exported.stats.trianglesOverTolerance > 0) {
-        s += "\n" + QObject::tr("Warning: %1. The file is a closed solid all the same (the default tolerance, %2 mm, "
-                                "is finer than a router or printer reproduces).")
+    if (exported.stats.trianglesOverTolerance > 0 && miss.empty()) {
+        s += "\n" + QObject::tr("Warning: %1. The file is a closed solid all the same, within %2 mm of the part "
+                                "(finer than a router or printer reproduces).")
                         .arg(QString::fromStdString(describeTrianglesOverTolerance(exported.stats, tolerance)))
-                        .arg(kDefaultExportTolerance);
+                        .arg(kVisibleMiss);
+    } else if (exported.stats.trianglesOverTolerance > 0) {
+        s += "\n" + QObject::tr("Warning: %1.")
+                        .arg(QString::fromStdString(describeTrianglesOverTolerance(exported.stats, tolerance)));
     }
+    if (const std::string coarse = describeCoarseTolerance(exported.stats, tolerance); !coarse.empty())
+        s += "\n" + QObject::tr("Warning: %1.").arg(QString::fromStdString(coarse));
     if (!exported.stats.note.empty()) s += "\n" + QString::fromStdString(exported.stats.note);
     return s;
 }
@@ -312,7 +321,8 @@ void ExportDialog::start()
     if (!(featureSize > 0.0)) return refuse(tr("The feature size must be a positive number of millimetres."));
     const double tolerance = simplify_->isChecked() ? tolerance_->value() : 0.0;
     if (simplify_->isChecked() && !(tolerance > 0.0))
-        return refuse(tr("The tolerance must be a positive number of millimetres."));
+        return refuse(tr("The tolerance must be a positive number of millimetres (for the marching-cubes mesh without "
+                         "simplification, untick Simplify)."));
     std::optional<MeshFileFormat> format = meshFileFormatFor(file, format_->currentIndex() == 1);
     if (!format) return refuse(tr("Name the file .stl (STL) or .3mf (3MF)."));
     if (!mayReplace(file))
@@ -386,7 +396,7 @@ void ExportDialog::start()
                 o.closed = true;
                 o.triangles = exported.report.asRead.triangles;
                 o.simplified = tolerance > 0.0 && exported.simplificationDefects.empty();
-                o.message = describeWritten(file, format, exported, tolerance, seconds);
+                o.message = describeWritten(file, format, exported, tolerance, seconds, documentFeatureSize_);
             }
         } catch (const std::bad_alloc&) {
             o.message = tr("Export failed: out of memory; choose a larger feature size.");

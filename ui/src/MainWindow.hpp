@@ -140,6 +140,8 @@ private:
     // What to do when a deletion takes away what a difference cuts from.
     enum class BaseDeletion { Cancel, WholeDifference, OnlySelection };
     BaseDeletion askDeletingABase(const Node& difference, const Node* after);
+    /// Where a file made from the document goes first: beside it, named after it.
+    std::filesystem::path suggestedFile(const char* extension) const;
     static constexpr int kLayoutVersion = 2; // saveState's version: bump when the docks change
     void restoreLayout();
     bool isBundledExample(const std::filesystem::path& file) const;

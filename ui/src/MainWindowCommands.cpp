@@ -104,7 +104,8 @@ void MainWindow::buildFileMenu()
     connect(commands_.exportPart, &QAction::triggered, this, &MainWindow::showExportDialog);
     QAction* cutList = newAction(tr("&Cut List…"), "action.cutList");
     connect(cutList, &QAction::triggered, this, [this] {
-        auto* d = new CutListDialog(session_->document(), session_->displayName(), this);
+        auto* d = new CutListDialog(session_->document(), session_->displayName(),
+                                    QString::fromStdString(suggestedFile(".csv").string()), this);
         d->setObjectName("cutListDialog");
         d->setAttribute(Qt::WA_DeleteOnClose);
         d->show();
@@ -355,11 +356,19 @@ void MainWindow::buildTreeContextMenu()
     });
 }
 
+fs::path MainWindow::suggestedFile(const char* extension) const
+{
+    // Beside the document, named after it (an untitled part: in the home
+    // folder, named after the example it came from or "part").
+    fs::path file = session_->path() ? session_->path()->parent_path() / session_->path()->stem()
+                                     : fs::path(QDir::homePath().toStdString()) / untitledStem_.toStdString();
+    file += extension;
+    return file;
+}
+
 void MainWindow::showExportDialog()
 {
-    fs::path suggested = session_->path() ? session_->path()->parent_path() / session_->path()->stem()
-                                          : fs::path(QDir::homePath().toStdString()) / "part";
-    suggested += ".stl";
+    const fs::path suggested = suggestedFile(".stl");
     // One export dialog: Export… again brings it forward (a newcomer had
     // three stacked on one another).
     if (exportDialog_) {

@@ -9,6 +9,7 @@
 #include <QFocusEvent>
 #include <QHBoxLayout>
 #include <QHeaderView>
+#include <QKeyEvent>
 #include <QLabel>
 #include <QLineEdit>
 #include <QPushButton>
@@ -51,6 +52,7 @@ ParametersPanel::ParametersPanel(DocumentSession* session, QWidget* parent) : QW
 {
     auto* layout = new QVBoxLayout(this);
     table_ = new QTableWidget(0, 4, this);
+    table_->installEventFilter(this);
     table_->setObjectName("parameters.table");
     table_->setHorizontalHeaderLabels({tr("Name"), tr("Expression"), tr("Value"), tr("Comment")});
     table_->verticalHeader()->hide();
@@ -189,6 +191,22 @@ void ParametersPanel::addParameter()
             table_->setCurrentCell(r, NameColumn);
             table_->editItem(table_->item(r, NameColumn));
         }
+}
+
+bool ParametersPanel::eventFilter(QObject* watched, QEvent* event)
+{
+    if (watched == table_ && (event->type() == QEvent::ShortcutOverride || event->type() == QEvent::KeyPress)) {
+        const auto* key = static_cast<QKeyEvent*>(event);
+        if (key->matches(QKeySequence::Delete) || key->key() == Qt::Key_Backspace) {
+            if (event->type() == QEvent::ShortcutOverride) {
+                event->accept(); // the key is the table's, not the window's Delete
+                return true;
+            }
+            removeSelected();
+            return true;
+        }
+    }
+    return QWidget::eventFilter(watched, event);
 }
 
 void ParametersPanel::removeSelected()

@@ -31,6 +31,14 @@ public:
     explicit ParametersPanel(DocumentSession* session, QWidget* parent = nullptr);
 
     QTableWidget* table() const { return table_; }
+
+protected:
+    /// Delete (or Backspace) with the table in focus removes the selected
+    /// parameter: the window's Delete, which deletes the selected feature,
+    /// does not fire there (a newcomer lost the table top that way).
+    bool eventFilter(QObject* watched, QEvent* event) override;
+
+public:
     /// The refusal shown under the table ("" when none).
     QString error() const;
 

@@ -205,6 +205,27 @@ std::string describeEmptyPart(const MeshStats& stats, const Aabb& bounds);
 /// 1 mm cells). Empty when none. For `kerf export` and the export dialog.
 std::string describeTrianglesOverTolerance(const MeshStats& stats, double tolerance);
 
+/// How far a mesh may miss the exact surface before a woodworker would see
+/// it in the workshop (more than a router or a printer hides, mm).
+inline constexpr double kVisibleMiss = 0.1;
+
+/// Where the written mesh misses the part by more than kVisibleMiss and
+/// twice the tolerance (stats.worstSample, with triangles left over the
+/// tolerance): one sentence that the file does not match the part, how far
+/// off it is, what that does, and the feature size to export at
+/// (`ownFeatureSize`, the document's, where coarser cells were asked for,
+/// else finerFeatureSize); empty when the miss is within that. A newcomer
+/// exported a shelf side at 10 mm cells: 12 mm pin holes came out through
+/// its show face, 3.4 mm off, and the result called it "a closed solid all
+/// the same".
+std::string describeVisibleMiss(const MeshStats& stats, double tolerance, double ownFeatureSize);
+
+/// A tolerance so coarse that the part's features may lose their shape:
+/// above the feature size (stats.cellSize, the smallest feature resolved)
+/// and above kVisibleMiss. One sentence, or empty. (A tolerance of 5 mm
+/// turned 5 mm pin holes into blobs without a word.)
+std::string describeCoarseTolerance(const MeshStats& stats, double tolerance);
+
 /// Meshes the document's part. An empty part gives an empty mesh. `work`
 /// hears the fraction done; once it is cancelled the meshing stops soon
 /// (within one contree node or one batch of cells) and returns nothing
