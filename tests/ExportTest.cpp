@@ -464,6 +464,44 @@ TEST(ExportedFileSimplified, ShelfPinHolesTakeTheTrianglesTheirRimsNeed)
     EXPECT_LE(read.triangles.size(), std::size_t(count) * 230 + 300);
 }
 
+// The sentences that tell a person the file is not the part. A newcomer
+// exported a shelf side at 10 mm cells: pin holes came out through its show
+// face, 3.4 mm off, and the dialog called it "a closed solid all the same".
+TEST(ExportMessages, AFileFarFromThePartSaysSoAndNamesTheFeatureSizeToUse)
+{
+    MeshStats stats;
+    stats.cellSize = 10.0;
+    stats.trianglesOverTolerance = 300;
+    stats.worstSample = 3.4;
+    const std::string miss = describeVisibleMiss(stats, 0.05, 1.0);
+    EXPECT_NE(miss.find("the file does not match the part: in places it is up to 3.4 mm from the exact surface"),
+              std::string::npos)
+        << miss;
+    EXPECT_NE(miss.find("export it at a feature size of 1 mm (the part's own)"), std::string::npos) << miss;
+    // Without a finer size of the part's own: half the cell.
+    EXPECT_NE(describeVisibleMiss(stats, 0.05, 0.0).find("feature size of 5 mm"), std::string::npos);
+    // Within what a router or a printer reproduces, or twice the tolerance: nothing.
+    stats.worstSample = 0.09;
+    EXPECT_EQ(describeVisibleMiss(stats, 0.05, 1.0), "");
+    stats.worstSample = 0.3;
+    EXPECT_EQ(describeVisibleMiss(stats, 0.2, 1.0), "");
+    stats.trianglesOverTolerance = 0;
+    stats.worstSample = 3.4;
+    EXPECT_EQ(describeVisibleMiss(stats, 0.05, 1.0), "");
+}
+
+TEST(ExportMessages, ATolerancePastTheFeatureSizeIsWarnedOf)
+{
+    MeshStats stats;
+    stats.cellSize = 1.0;
+    EXPECT_NE(describeCoarseTolerance(stats, 5.0).find("a tolerance of 5 mm is coarser than the feature size of 1 mm"),
+              std::string::npos);
+    EXPECT_EQ(describeCoarseTolerance(stats, 0.5), "");  // finer than the cells
+    EXPECT_EQ(describeCoarseTolerance(stats, 0.05), ""); // the default
+    stats.cellSize = 0.02;                               // a tiny part's own cells
+    EXPECT_EQ(describeCoarseTolerance(stats, 0.05), "");  // within what nobody sees
+}
+
 // Where triangles stay over the tolerance, the report gives their area: a
 // woodworker judges "a few hundredths of a square millimetre" where a count
 // of triangles says nothing (and led to halving the feature size again and

@@ -57,6 +57,9 @@ OutputFileError folderRefuses(const fs::path& file, int err)
     case EROFS: why = folder + " is on a read-only disk"; break;
     case ENOSPC:
     case EDQUOT: why = "the disk of " + folder + " is full"; break;
+    // "No such file or directory" about a folder that exists (a virtual
+    // one, such as /proc) only confused a newcomer: no reason then.
+    case ENOENT: why = folder + " takes no new files"; break;
     default: why = folder + " takes no new files (" + std::strerror(err) + ")"; break;
     }
     return refusal(file, why + "; choose another folder; nothing was written");
