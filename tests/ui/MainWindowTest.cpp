@@ -364,6 +364,7 @@ private slots:
     void dropsDocumentsAndMeshesOntoTheWindow();
     void aClickOnThePartSelectsItsFeature();
     void measuringSnapsToHoleCentresAndDrawsTheDimension();
+    void keyFiveInTheViewMovesTheOrthographicCheckMark();
     void theGizmoMovesAHoleBySnappedOrTypedDistancesInOneUndoStep();
     void aSelectedHoleShowsItsToolBodyAsAGhost();
     void theBoundingBoxOfTheSelectionIsMeasuredAndDrawn();
@@ -1884,6 +1885,29 @@ void MainWindowTest::aClickOnThePartSelectsItsFeature()
     if (surface) QTest::mouseClick(surface, Qt::LeftButton, Qt::NoModifier, corner);
     else QTest::mouseClick(v->childAt(corner), Qt::LeftButton, Qt::NoModifier, corner);
     QTRY_VERIFY(w->selectedNodeIds().empty());
+}
+
+void MainWindowTest::keyFiveInTheViewMovesTheOrthographicCheckMark()
+{
+    // A newcomer turned Orthographic on in the View menu, pressed 5 in the
+    // view: the view went back to perspective, the toolbar still said
+    // Orthographic.
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "stool.kerf"));
+    QVERIFY(waitForViewport(*w));
+    qt::ViewportWidget* v = w->viewport();
+    QAction* ortho = action(w.get(), "action.orthographic");
+    ortho->trigger();
+    QVERIFY(ortho->isChecked());
+    QVERIFY(v->orthographic());
+    const Surface surface(v);
+    surface.click(QPoint(3, 3)); // the view has the keyboard
+    surface.key(Qt::Key_5);
+    QTRY_VERIFY(!v->orthographic());
+    QVERIFY(!ortho->isChecked());
+    surface.key(Qt::Key_5);
+    QTRY_VERIFY(v->orthographic());
+    QVERIFY(ortho->isChecked());
 }
 
 void MainWindowTest::measuringSnapsToHoleCentresAndDrawsTheDimension()

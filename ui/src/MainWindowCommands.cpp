@@ -213,6 +213,8 @@ void MainWindow::buildViewMenu()
     commands_.orthographic->setShortcutContext(Qt::WidgetWithChildrenShortcut);
     commands_.orthographic->setCheckable(true);
     connect(commands_.orthographic, &QAction::toggled, viewport_, &qt::ViewportWidget::setOrthographic);
+    // Key 5 in the view switches it there: the menu's and toolbar's check mark follows.
+    connect(viewport_, &qt::ViewportWidget::orthographicChanged, commands_.orthographic, &QAction::setChecked);
     QAction* grid = newAction(tr("&Grid"), "action.grid");
     grid->setCheckable(true);
     grid->setChecked(true);

@@ -479,8 +479,10 @@ void ViewportWidget::fitAll()
 
 void ViewportWidget::setOrthographic(bool on)
 {
+    const bool was = orthographic();
     view_.setProjection(on ? Projection::Orthographic : Projection::Perspective);
     sceneChanged();
+    if (was != on) emit orthographicChanged(on);
 }
 
 bool ViewportWidget::orthographic() const { return view_.projection() == Projection::Orthographic; }

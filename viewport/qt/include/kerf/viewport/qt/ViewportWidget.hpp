@@ -207,6 +207,9 @@ signals:
     void gizmoDragFinished(bool cancelled);
     /// Esc in the view with no drag under way (clears a measurement).
     void escapePressed();
+    /// The projection changed (from the View menu, or key 5 in the view):
+    /// for the menu's check mark.
+    void orthographicChanged(bool on);
     /// A frame was drawn; status() has its figures.
     void frameDrawn();
     /// The viewport fell back to the CPU tracer (the reason in status()).
