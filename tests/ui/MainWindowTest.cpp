@@ -505,6 +505,14 @@ void MainWindowTest::expressionsAndMergedSteps()
     QCOMPARE(w->session()->undoStack()->count(), count + 1);
     action(w.get(), "action.undo")->trigger();
     QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.z, 20.0);
+    // Values typed and entered one after another are a step each (a
+    // newcomer typed 510, then 520, and one undo went back past both).
+    typeInto(field(*w, "size.x"), "510");
+    typeInto(field(*w, "size.x"), "520");
+    action(w.get(), "action.undo")->trigger();
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.x, 510.0);
+    action(w.get(), "action.undo")->trigger();
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.x, 36.0);
 }
 
 void MainWindowTest::restoresTheAutosaveAfterACrash()

@@ -148,7 +148,7 @@ bool PropertyEditor::applyToNode(const QString& text, const std::function<void(N
     return ok;
 }
 
-void PropertyEditor::commit(std::size_t index, double value)
+void PropertyEditor::commit(std::size_t index, double value, bool step)
 {
     if (refreshing_ || index >= fields_.size()) return;
     const Node* n = session_->document().root.find(nodeId_);
@@ -175,7 +175,9 @@ void PropertyEditor::commit(std::size_t index, double value)
             edit::keepResting(*m, updated);
             edit::updateNode(d, id, updated);
         },
-        &why, QString::fromStdString(id) + "/" + key);
+        // Steps of the arrows or the wheel merge into one undo step; values
+        // typed and entered are a step each (510 then 520, undone, is 510).
+        &why, step ? QString::fromStdString(id) + "/" + key : QString());
     if (error) showError(error, ok ? QString() : why);
     // Refused: the field shows the document's value again, the reason stays.
     if (!ok && edit)
@@ -221,7 +223,8 @@ void PropertyEditor::addQuantity(const QString& label, const QString& key, int u
     form_->addRow(label, row);
     fields_.push_back({key, label, edit, error, std::move(get), std::move(set)});
     const std::size_t index = fields_.size() - 1;
-    connect(edit, &QuantityEdit::valueChanged, this, [this, index](double value) { commit(index, value); });
+    connect(edit, &QuantityEdit::valueChanged, this,
+            [this, index, edit](double value) { commit(index, value, edit->stepping()); });
     connect(edit, &QuantityEdit::unreadable, this, [this, index](const QString& why) {
         showError(fields_[index].error, why);
     });

@@ -62,7 +62,7 @@ private:
                      std::function<void(Node&, double)> set, int decimals = 6);
     void addVector(const QString& label, const QString& key, int unit, std::function<glm::dvec3(const Node&)> get,
                    std::function<void(Node&, int, double)> set, int decimals = 6);
-    void commit(std::size_t index, double value);
+    void commit(std::size_t index, double value, bool step);
     /// "=..." typed into a field: the field is driven by that expression from now on.
     void commitExpression(std::size_t index, const QString& expression);
     bool applyToNode(const QString& text, const std::function<void(Node&)>& change, QLabel* error,

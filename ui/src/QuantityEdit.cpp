@@ -39,6 +39,13 @@ QuantityEdit::QuantityEdit(Unit unit, QWidget* parent) : QDoubleSpinBox(parent),
     setFocusPolicy(Qt::StrongFocus);
 }
 
+void QuantityEdit::stepBy(int steps)
+{
+    stepping_ = true;
+    QDoubleSpinBox::stepBy(steps);
+    stepping_ = false;
+}
+
 // Text that reads as no number never reaches editingFinished (the line
 // edit's validator holds it back) and the spin box then quietly puts the old
 // value back: say why first, on Enter and on leaving the field.

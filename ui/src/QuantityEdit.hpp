@@ -36,6 +36,12 @@ public:
     /// too, without the '=' ("thickness / 2").
     void completeNames(std::function<QStringList()> names);
 
+    /// Inside a step of the arrows, the wheel or Page Up/Down: the change
+    /// valueChanged reports is a step (merged into one undo step with the
+    /// next ones), not a value typed and entered (a step of its own).
+    bool stepping() const { return stepping_; }
+    void stepBy(int steps) override;
+
     QValidator::State validate(QString& text, int& pos) const override;
     double valueFromText(const QString& text) const override;
     QString textFromValue(double value) const override;
@@ -56,6 +62,7 @@ signals:
     void expressionEntered(const QString& expression);
 
 private:
+    bool stepping_ = false;
     /// Lengths shown in inches in this field.
     bool inInches() const;
     /// Unit, step and text for the length unit now shown.
