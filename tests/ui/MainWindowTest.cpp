@@ -365,6 +365,7 @@ private slots:
     void aClickOnThePartSelectsItsFeature();
     void measuringSnapsToHoleCentresAndDrawsTheDimension();
     void keyFiveInTheViewMovesTheOrthographicCheckMark();
+    void aPartThinnerThanAVoxelEverywhereIsSaidNotLeftBlank();
     void theGizmoMovesAHoleBySnappedOrTypedDistancesInOneUndoStep();
     void aSelectedHoleShowsItsToolBodyAsAGhost();
     void theBoundingBoxOfTheSelectionIsMeasuredAndDrawn();
@@ -1893,6 +1894,31 @@ void MainWindowTest::aClickOnThePartSelectsItsFeature()
     if (surface) QTest::mouseClick(surface, Qt::LeftButton, Qt::NoModifier, corner);
     else QTest::mouseClick(v->childAt(corner), Qt::LeftButton, Qt::NoModifier, corner);
     QTRY_VERIFY(w->selectedNodeIds().empty());
+}
+
+void MainWindowTest::aPartThinnerThanAVoxelEverywhereIsSaidNotLeftBlank()
+{
+    // A newcomer typed 2000 into an array's count: the part became 100 m
+    // long, its view feature size 100 mm, its 40 mm legs thinner than a
+    // voxel, and the view went blank without a word.
+    const QString doc = files_.path() + "/long.kerf";
+    {
+        QFile f(doc);
+        QVERIFY(f.open(QIODevice::WriteOnly));
+        f.write(R"({"format":"kerf","version":1,"root":{"id":"u","type":"union","children":[
+            {"id":"legs","type":"array","count":[2000,1,1],"step":[50,0,0],"children":[
+                {"id":"leg","type":"box","size":[40,40,40]}]}]}})");
+    }
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(doc.toStdString()));
+    QTRY_VERIFY_WITH_TIMEOUT(w->statusBar()->currentMessage().startsWith("Nothing shows at the view feature size of"),
+                             60000);
+    QVERIFY2(w->statusBar()->currentMessage().contains("Set a finer View feature size"),
+             qPrintable(w->statusBar()->currentMessage()));
+    // Done so, the legs show and the message goes.
+    w->selectNodes({});
+    typeInto(w->propertyEditor()->findChild<QuantityEdit*>("part.featureSize"), "10");
+    QTRY_VERIFY_WITH_TIMEOUT(!w->statusBar()->currentMessage().startsWith("Nothing shows"), 120000);
 }
 
 void MainWindowTest::keyFiveInTheViewMovesTheOrthographicCheckMark()

@@ -9,6 +9,7 @@
 #include "SelectionGhosts.hpp"
 #include "StatusReadout.hpp"
 #include "kerf/document/DocumentEdits.hpp"
+#include "kerf/document/NodeBounds.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/voxelizer/DirtyRegion.hpp"
 #include "kerf/viewport/ReferenceMesh.hpp"
@@ -139,6 +140,7 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
         voxelizeAgain();
     });
     connect(voxelizer_, &VoxelizerBridge::published, this, [this](std::shared_ptr<const VoxelSnapshot> s) {
+        sayWhenNothingShows(*s);
         viewport_->setSnapshot(std::move(s));
         updateStatus();
     });
@@ -381,6 +383,22 @@ void MainWindow::voxelizeAgain()
         // Said when the document changed; the CPU voxelizer reports it too.
     }
     voxelize(session_->document(), std::move(tape));
+}
+
+void MainWindow::sayWhenNothingShows(const VoxelSnapshot& s)
+{
+    // A part whose every feature is thinner than a voxel voxelizes to
+    // nothing: the view went blank without a word when a newcomer made an
+    // array of 2000 legs (100 m long, so 100 mm voxels for 40 mm legs).
+    const QString nothing = tr("Nothing shows at the view feature size of %1 mm: every feature of the part is thinner "
+                               "than a voxel. Set a finer View feature size in Properties (with nothing selected).");
+    const bool said = statusBar()->currentMessage().startsWith(nothing.left(nothing.indexOf('%')));
+    if (!s.complete) return;
+    const bool empty = std::none_of(s.tiles.begin(), s.tiles.end(),
+                                    [](const auto& t) { return t && t->state != TileState::Empty; });
+    // Everything hidden, or a new part: nothing to show, rightly.
+    if (empty && !partBounds(session_->document()).isEmpty()) showMessage(nothing.arg(s.layout.voxelSize), 0);
+    else if (said) statusBar()->clearMessage(); // shown again: the message is stale
 }
 
 void MainWindow::updateStatus()

@@ -140,6 +140,9 @@ private:
     // What to do when a deletion takes away what a difference cuts from.
     enum class BaseDeletion { Cancel, WholeDifference, OnlySelection };
     BaseDeletion askDeletingABase(const Node& difference, const Node* after);
+    /// A voxelized part with nothing in it, from a document that has
+    /// features: said in the status bar, with what to change.
+    void sayWhenNothingShows(const VoxelSnapshot& snapshot);
     /// Where a file made from the document goes first: beside it, named after it.
     std::filesystem::path suggestedFile(const char* extension) const;
     static constexpr int kLayoutVersion = 2; // saveState's version: bump when the docks change
