@@ -366,6 +366,7 @@ private slots:
     void measuringSnapsToHoleCentresAndDrawsTheDimension();
     void keyFiveInTheViewMovesTheOrthographicCheckMark();
     void aPartThinnerThanAVoxelEverywhereIsSaidNotLeftBlank();
+    void aNewBoxStaysOnTheGridWhateverSetsItsHeight();
     void theGizmoMovesAHoleBySnappedOrTypedDistancesInOneUndoStep();
     void aSelectedHoleShowsItsToolBodyAsAGhost();
     void theBoundingBoxOfTheSelectionIsMeasuredAndDrawn();
@@ -1894,6 +1895,28 @@ void MainWindowTest::aClickOnThePartSelectsItsFeature()
     if (surface) QTest::mouseClick(surface, Qt::LeftButton, Qt::NoModifier, corner);
     else QTest::mouseClick(v->childAt(corner), Qt::LeftButton, Qt::NoModifier, corner);
     QTRY_VERIFY(w->selectedNodeIds().empty());
+}
+
+void MainWindowTest::aNewBoxStaysOnTheGridWhateverSetsItsHeight()
+{
+    // A newcomer typed a parameter's name as a new leg's height: the leg
+    // stayed centred where the 20 mm box had been, half under the grid,
+    // and later plain numbers did not lift it either.
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    action(w.get(), "action.add.box")->trigger();
+    const auto bottom = [&] { return nodeBounds(*w->session()->document().root.find("box")).min.z; };
+    QCOMPARE(bottom(), 0.0);
+    typeInto(field(*w, "size.z"), "=400 + 80");
+    QVERIFY2(w->propertyEditor()->errorFor("size.z").isEmpty(), qPrintable(w->propertyEditor()->errorFor("size.z")));
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.z, 480.0);
+    QCOMPARE(bottom(), 0.0);
+    typeInto(field(*w, "size.z"), "100");
+    QCOMPARE(bottom(), 0.0);
+    // Lifted by hand, it is the user's place: a new height grows about it.
+    typeInto(field(*w, "translate.z"), "200");
+    typeInto(field(*w, "size.z"), "50");
+    QCOMPARE(w->session()->document().root.find("box")->transform.translate.z, 200.0);
 }
 
 void MainWindowTest::aPartThinnerThanAVoxelEverywhereIsSaidNotLeftBlank()

@@ -140,8 +140,18 @@ bool PropertyEditor::applyToNode(const QString& text, const std::function<void(N
             // drives replaces the expression (else resolving would put it back).
             Node updated = *n;
             change(updated);
-            edit::keepResting(*n, updated);
             edit::updateNode(d, id, updated);
+            // A primitive resting on the grid stays on it, judged on the
+            // values its expressions give (a height typed as "=leg_l" left
+            // a new leg half under the grid).
+            if (!updated.expressions.empty()) {
+                const Document resolved = d.resolved();
+                if (const Node* r = resolved.root.find(id)) updated = *r;
+            }
+            Node placed = updated;
+            edit::keepResting(*n, placed);
+            if (placed.transform.translate.z != updated.transform.translate.z)
+                d.root.find(id)->transform.translate.z = placed.transform.translate.z;
         },
         &why, mergeKey);
     if (error) showError(error, ok ? QString() : why);
