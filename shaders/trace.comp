@@ -510,8 +510,7 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
             const float wEnd = max(0.0, (sExit - s) * voxelScale);
             const vec4 along = alongRay(k, o, dir);
             if (capPending) {
-                // Inside by more than the cubic's rounding (ReferenceTracer.cpp).
-                if (evalCubic(along, 0.0) < -1e-5 * (abs(along.x) + abs(along.y) + abs(along.z) + abs(along.w))) {
+                if (evalCubic(along, 0.0) <= 0.0) { // at or below zero (ReferenceTracer.cpp)
                     hitCap(hit);
                     return true;
                 }
@@ -683,7 +682,8 @@ Hit traceRay(vec3 origin, vec3 direction, float from, float to)
             hitCap(hit);
             return hit;
         }
-        if (value == kEmptyTile) capPending = false; // outside, as the plane's point was (ReferenceTracer.cpp)
+        // Outside, as the plane's point was, where the ray crosses it for a length (ReferenceTracer.cpp).
+        if (value == kEmptyTile && tExitTile - tEnter > 1e-3 * tileSize) capPending = false;
         if (value == kFullTile) {
             hit.depth = tEnter;
             hit.normal = vec3(0.0);

@@ -312,9 +312,9 @@ TEST(TracerAgreement, TilesOfMixedDepths)
 }
 
 // A newcomer's side table, cut across X at 0: a leg 180 mm behind the plane
-// was drawn hatched, as if cut, at the plane's depth. Its face lies on a
-// voxel face (a round millimetre), where the trilinear value at the ray's
-// entry is 0, and the cap was still pending after 180 mm of empty tiles.
+// was drawn hatched, as if cut, at the plane's depth: the cap was still
+// pending after 180 mm of empty tiles, and the leg's face, on a voxel face
+// (a round millimetre), gives 0 at the ray's entry, which counts as inside.
 TEST(TracerSection, AFaceFarBehindThePlaneIsNoCut)
 {
     const Tape tape = compileTape(doc(R"({"id":"u","type":"union","children":[

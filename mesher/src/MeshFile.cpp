@@ -109,9 +109,11 @@ std::optional<std::string> toleranceTheFileCannotHold(const Aabb& partBounds, Me
     char text[640];
     std::snprintf(text, sizeof text,
                   "a tolerance of %.3g mm is finer than a %s file can hold for this part: its coordinates step by "
-                  "%.2g mm where the part reaches, %.3g mm from %s; the finest tolerance it holds is %.2g mm (or "
+                  "%.2g mm where the part reaches, %.*f mm from %s; the finest tolerance it holds is %.2g mm (or "
                   "none: the marching-cubes mesh without simplification)%s",
-                  tolerance, describe(format), 0.5 * finest, writtenReach(partBounds, format),
+                  // The reach in plain digits ("1600", never "1.6e+03"), to a tenth below 100 mm.
+                  tolerance, describe(format), 0.5 * finest, writtenReach(partBounds, format) < 100.0 ? 1 : 0,
+                  writtenReach(partBounds, format),
                   stl ? "the origin" : "its middle", finest,
                   stl && tolerance >= finestTolerance(partBounds, MeshFileFormat::ThreeMf)
                       ? "; a .3mf file holds it"

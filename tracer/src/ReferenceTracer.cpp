@@ -488,10 +488,10 @@ float exactCrossingLanes(const std::uint32_t* tape, const glm::vec3& e, const gl
 }
 
 // A section's cap, pending while the ray, started on the section plane, has
-// met no populated voxel and no empty tile yet: until then no surface was
-// crossed, so a full tile, or the first voxel's value at the ray's entry,
-// says whether the plane point was inside the solid (a cap) or not, and an
-// empty tile that it was not.
+// met no populated voxel and crossed no empty tile yet: until then no
+// surface was crossed, so a full tile, or the first voxel's value at the
+// ray's entry, says whether the plane point was inside the solid (a cap) or
+// not, and an empty tile that it was not.
 struct CapState {
     bool pending = false;
     float depth = 0.0f;
@@ -604,10 +604,10 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
             const float wEnd = glm::max(0.0f, (sExit - s) * voxelScale);
             const Cubic along = alongRay(tri, o, dir);
             if (cap.pending) {
-                // Inside by more than the cubic's rounding: a face of the
-                // part lying on the voxel's face where the ray enters is
-                // not inside (it hatched a leg's face as cut).
-                if (evalCubic(along, 0.0f) < -cubicZero(along)) {
+                // At or below zero: a plane lying on a face of the part caps
+                // it (below by more than the cubic's rounding, CPU and GPU
+                // decided such points differently).
+                if (evalCubic(along, 0.0f) <= 0.0f) {
                     cap.hitAt(hit);
                     return true;
                 }
@@ -798,8 +798,10 @@ RayHit traceGrid(const FlatVoxelBuffers& b, const glm::vec3& origin, const glm::
         }
         // Outside, with no surface crossed since the plane: so was the
         // plane's point, and nothing further on is its cap (a leg far behind
-        // the plane was drawn hatched at the plane's depth).
-        if (value == voxel::kEmptyTile) cap.pending = false;
+        // the plane was drawn hatched at the plane's depth). Only a tile the
+        // ray crosses for a length: on a plane that lies on tile faces the
+        // first tile may be the one behind it, by rounding.
+        if (value == voxel::kEmptyTile && tExitTile - tEnter > 1e-3f * tileSize) cap.pending = false;
         if (value == voxel::kFullTile) {
             hit.depth = tEnter;
             hit.normal = glm::vec3(0.0f);
