@@ -331,7 +331,7 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
         // nothing simplifies after it. So does a fold the simplification
         // made. The mesh is reported as it is.
         ToleranceCheck left = checkTolerance(mesh, tape, options.tolerance, arena);
-        if (left.trianglesOverTolerance > 0 || left.foldedTriangles > 0) {
+        if ((left.trianglesOverTolerance > 0 || left.foldedTriangles > 0) && !refine.gaveUp) {
             RefineStats again;
             if (!refineToTolerance(mesh, normals, tape, refineSettings, arena, again, work.stage(0.98, 0.99)))
                 return std::nullopt;
@@ -352,7 +352,12 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     // the part: a last refinement, on a copy, flips those upright too, and
     // is kept where it leaves fewer over (as the rule throughout, it left a
     // few more over on the turned leg's default export).
-    if (stats.trianglesOverTolerance > 0) {
+    //
+    // Neither is tried where the first refinement gave up (its splits were
+    // digging at detail that cells coarser than the part's feature size
+    // missed): they would dig again, for minutes, at a mesh that cannot
+    // match the part (what the export then says, describeVisibleMiss).
+    if (stats.trianglesOverTolerance > 0 && !refine.gaveUp) {
         Mesh attempt = mesh;
         std::vector<glm::dvec3> attemptNormals = normals;
         RefineSettings leaning = refineSettings;
@@ -435,7 +440,8 @@ std::string describeEmptyPart(const MeshStats& stats, const Aabb& bounds)
     if (bounds.isEmpty() || !(smallest > 0.0) || !std::isfinite(smallest)) return s + ")";
     const double tryThis = roundDownToStep(0.25 * smallest);
     if (!(tryThis < stats.cellSize)) return s + ")";
-    return s + "; a feature size of " + shortNumber(tryThis) + " mm, a quarter of its smallest extent, meshes it)";
+    // A round step at or under the quarter (2 mm for an 18 mm board): said as such.
+    return s + "; a feature size of " + shortNumber(tryThis) + " mm (a quarter of its smallest extent or less) meshes it)";
 }
 
 std::string describeTrianglesOverTolerance(const MeshStats& stats, double tolerance)

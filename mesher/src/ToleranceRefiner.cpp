@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <unordered_map>
 
@@ -565,6 +566,8 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
     std::vector<std::uint8_t> splitThisRound;
     std::vector<std::uint32_t> stuck;
     std::vector<std::uint8_t> touched; // vertices of this round's changed triangles
+    std::size_t fewestOver = std::numeric_limits<std::size_t>::max();
+    int fewestOverRound = 0;
     for (stats.rounds = 0; !dirty.empty(); ++stats.rounds) {
         if (work.cancelled()) return false;
         // (Most refinements are done in a few rounds: the bar then jumps.)
@@ -580,8 +583,17 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
             if (verdicts[i].worst > tolerance || turnsUpright(verdicts[i].facing))
                 failing.emplace_back(-verdicts[i].worst, std::uint32_t(i));
         }
-        if (failing.empty() || stats.rounds >= settings.maxRounds || mesh.triangles.size() >= settings.maxTriangles)
+        const auto over = std::size_t(std::count_if(worst.begin(), worst.end(), [&](double w) { return w > tolerance; }));
+        if (over < fewestOver) {
+            fewestOver = over;
+            fewestOverRound = stats.rounds;
+        }
+        if (failing.empty()) break;
+        if (stats.rounds >= settings.maxRounds || mesh.triangles.size() >= settings.maxTriangles ||
+            stats.rounds - fewestOverRound >= settings.patienceRounds) {
+            stats.gaveUp = true;
             break;
+        }
         // Worst first: where two want the same edge, the worse one splits it.
         std::sort(failing.begin(), failing.end());
         splitThisRound.assign(mesh.triangles.size(), 0);
