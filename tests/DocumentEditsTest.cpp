@@ -193,6 +193,32 @@ TEST(DocumentEdits, ADeletionNamesEveryDifferenceThatLosesItsBase)
     EXPECT_TRUE(refused == before);
 }
 
+// A mirror, an array or a group whose every child goes acts on nothing: a
+// deletion takes it along, and the group around it where that empties too.
+TEST(DocumentEdits, ADeletionTakesAlongWhatItLeavesWithoutAChild)
+{
+    const Document before = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"root","type":"union",
+        "children":[{"id":"top","type":"box","size":[100,100,18]},
+            {"id":"legs","type":"union","children":[
+                {"id":"m","type":"mirror","normal":[1,0,0],"offset":0,"children":[
+                    {"id":"leg","type":"box","size":[10,10,100]}]},
+                {"id":"rail","type":"box","size":[80,10,10]}]}]}})",
+                                            "d.kerf");
+    EXPECT_EQ(edit::emptiedByRemoving(before, {"leg"}), std::vector<std::string>{"m"});
+    EXPECT_EQ(edit::emptiedByRemoving(before, {"leg", "rail"}), (std::vector<std::string>{"legs", "m"}));
+    EXPECT_TRUE(edit::emptiedByRemoving(before, {"rail"}).empty());
+    EXPECT_TRUE(edit::emptiedByRemoving(before, {"m"}).empty());
+    // Never the root, even when everything goes.
+    EXPECT_EQ(edit::emptiedByRemoving(before, {"top", "leg", "rail"}), (std::vector<std::string>{"legs", "m"}));
+    // Taken along, the document is one a file can hold.
+    Document after = before;
+    std::vector<std::string> ids{"leg"};
+    for (const std::string& id : edit::emptiedByRemoving(before, ids)) ids.push_back(id);
+    edit::removeNodes(after, ids);
+    EXPECT_EQ(after.root.find("m"), nullptr);
+    EXPECT_NO_THROW(Document::parse(after.serialize(), "after.kerf"));
+}
+
 // ---------------------------------------------------------------------------
 // Where an added feature goes (AddFeature.hpp)
 

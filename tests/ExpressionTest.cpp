@@ -378,6 +378,12 @@ TEST(DocumentExpressions, ParametersAreAddedRenamedWithTheirUsesAndRemovedOnlyWh
     EXPECT_THROW(edit::renameParameter(d, "tall", "thickness"), std::invalid_argument); // taken
     EXPECT_THROW(edit::renameParameter(d, "tall", "no good"), std::invalid_argument);
     EXPECT_THROW(edit::renameParameter(d, "absent", "x"), std::invalid_argument);
+    // A unit's name would read as the unit after a number ("18mm").
+    for (const char* unit : {"mm", "in", "m", "cm", "ft"}) {
+        EXPECT_THROW(edit::renameParameter(d, "width2", unit), std::invalid_argument) << unit;
+        EXPECT_THROW(edit::addParameter(d, unit, "1"), std::invalid_argument) << unit;
+    }
+    EXPECT_EQ(d, before);
     try {
         edit::removeParameter(d, "thickness");
         ADD_FAILURE() << "removed a parameter in use";
@@ -399,6 +405,36 @@ TEST(DocumentExpressions, AFeatureDraggedAlongOneAxisKeepsTheExpressionsOfTheOth
     EXPECT_DOUBLE_EQ(after.root.find("hole")->transform.translate.z, -286.0); // dragged, not put back
     EXPECT_FALSE(after.root.find("hole")->expressions.count("transform.translate[2]"));
     EXPECT_EQ(after.root.find("hole")->expressions.at("transform.translate[0]"), "thickness / 6");
+}
+
+// A drag of the move gizmo moves the coordinates the drag changes, except
+// those set by an expression: the hole's z here ("-height / 2 + 64"). A
+// newcomer's drag replaced such an expression without a word.
+TEST(DocumentExpressions, ADragMovesOnlyTheCoordinatesNotSetByExpressions)
+{
+    Document d = load(kShelfSide);
+    std::vector<int> held;
+    EXPECT_EQ(edit::moveKeepingExpressions(d, "hole", {3.0, -2.0, 10.0}, &held), glm::dvec3(3.0, -2.0, 0.0));
+    EXPECT_EQ(held, std::vector<int>{2});
+    held.clear();
+    EXPECT_EQ(edit::moveKeepingExpressions(d, "hole", {3.0, 0.0, 0.0}, &held), glm::dvec3(3.0, 0.0, 0.0));
+    EXPECT_TRUE(held.empty());
+    edit::moveNodeInWorld(d, "hole", edit::moveKeepingExpressions(d, "hole", {3.0, -2.0, 10.0}));
+    const Document after = d.resolved();
+    EXPECT_EQ(after.root.find("hole")->expressions.at("transform.translate[2]"), "-height / 2 + 64");
+    EXPECT_DOUBLE_EQ(after.root.find("hole")->transform.translate.z, -296.0);
+    EXPECT_DOUBLE_EQ(after.root.find("hole")->transform.translate.x, 3.0);
+
+    // Under a turned parent the coordinate held is the node's own: with the
+    // array turned a quarter about Y, the hole's z runs along world X.
+    d.root.find("holes")->transform.rotate = {0.0, 90.0, 0.0};
+    held.clear();
+    EXPECT_LT(glm::length(edit::moveKeepingExpressions(d, "hole", {5.0, 0.0, 0.0}, &held)), 1e-9);
+    EXPECT_EQ(held, std::vector<int>{2});
+    held.clear();
+    const glm::dvec3 along = edit::moveKeepingExpressions(d, "hole", {0.0, 0.0, 5.0}, &held);
+    EXPECT_LT(glm::length(along - glm::dvec3(0.0, 0.0, 5.0)), 1e-9);
+    EXPECT_TRUE(held.empty());
 }
 
 TEST(DocumentExpressions, ADocumentWithoutExpressionsHasNone)

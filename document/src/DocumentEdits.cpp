@@ -53,8 +53,9 @@ void requireRoom(const Node& parent, std::size_t extra)
     const std::size_t limit = maxChildren(parent.type);
     if (limit == 0) refuse("a " + std::string(nodeTypeName(parent.type)) + " has no children");
     if (parent.children.size() + extra > limit)
-        refuse("a " + std::string(nodeTypeName(parent.type)) + " takes exactly 1 child, and " + inQuotes(parent.id) +
-               " has one already");
+        // Named as the tree shows it: by its name where it has one.
+        refuse("a " + std::string(nodeTypeName(parent.type)) + " takes exactly 1 child, and " +
+               inQuotes(parent.name.value_or(parent.id)) + " has one already");
 }
 
 void renumber(const Document& doc, Node& n, std::unordered_set<std::string>& taken)
@@ -299,6 +300,7 @@ Parameter* findParameter(Document& doc, const std::string& name)
 std::string addParameter(Document& doc, const std::string& base, const std::string& expression)
 {
     if (!isName(base)) refuse("'" + base + "' is not a name (letters, digits and _, not starting with a digit)");
+    if (expr::isUnitName(base)) refuse("'" + base + "' is a unit: a parameter so named would read as one (18" + base + ")");
     std::string name = base;
     for (int k = 2; findParameter(doc, name); ++k) name = base + std::to_string(k);
     Parameter p;
@@ -327,6 +329,8 @@ void renameParameter(Document& doc, const std::string& from, const std::string& 
     if (!findParameter(doc, from)) refuse("there is no parameter '" + from + "'");
     if (from == to) return;
     if (!isName(to)) refuse("'" + to + "' is not a name (letters, digits and _, not starting with a digit)");
+    // Files that hold such a name still load; a new one is refused.
+    if (expr::isUnitName(to)) refuse("'" + to + "' is a unit: a parameter so named would read as one (18" + to + ")");
     if (findParameter(doc, to)) refuse("there is a parameter '" + to + "' already");
     Document renamed = doc;
     forEachExpression(renamed, [&](const std::string&, std::string& text) {
@@ -360,6 +364,29 @@ void removeNodes(Document& doc, const std::vector<std::string>& ids)
     for (const std::string& id : ids)
         if (edited.root.find(id)) removeNode(edited, id);
     doc = std::move(edited);
+}
+
+std::vector<std::string> emptiedByRemoving(const Document& doc, const std::vector<std::string>& ids)
+{
+    std::unordered_set<std::string> gone(ids.begin(), ids.end());
+    std::vector<std::string> emptied;
+    // Children first: a group emptied empties the group around it in turn.
+    const auto visit = [&](const auto& self, const Node& n) -> bool { // whether n goes
+        if (gone.count(n.id)) return true;
+        if (n.children.empty()) return false;
+        bool allGo = true;
+        for (const Node& c : n.children)
+            allGo = self(self, c) && allGo;
+        if (allGo && &n != &doc.root) {
+            emptied.push_back(n.id);
+            return true;
+        }
+        return false;
+    };
+    visit(visit, doc.root);
+    // A parent before what it holds.
+    std::reverse(emptied.begin(), emptied.end());
+    return emptied;
 }
 
 Document emptyDocument()

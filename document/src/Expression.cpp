@@ -365,6 +365,8 @@ bool addsBareNumbersToLengths(std::string_view text)
     }
 }
 
+bool isUnitName(std::string_view name) { return unitScale(name).has_value(); }
+
 std::string renameName(std::string_view text, std::string_view from, std::string_view to)
 {
     Parser p(text, nullptr);

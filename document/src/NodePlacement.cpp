@@ -2,6 +2,7 @@
 
 #include "kerf/document/NodeBounds.hpp"
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -61,6 +62,22 @@ void moveNodeInWorld(Document& doc, std::string_view id, const glm::dvec3& world
     // A moved coordinate is the number the move gave, no longer its expression's.
     for (int a = 0; a < 3; ++a)
         if (local[a] != 0.0) n->expressions.erase("transform.translate[" + std::to_string(a) + "]");
+}
+
+glm::dvec3 moveKeepingExpressions(const Document& doc, std::string_view id, const glm::dvec3& worldDelta,
+                                  std::vector<int>* held)
+{
+    const Affine frame = parentFrame(doc, id);
+    const Node* n = doc.root.find(id);
+    glm::dvec3 local = frame.inverseOrthogonal().applyLinear(worldDelta);
+    // A change below a nanometre is a rounding of the frame's rotation, not a move.
+    constexpr double kNoMove = 1e-9;
+    for (int a = 0; a < 3; ++a)
+        if (n->expressions.count("transform.translate[" + std::to_string(a) + "]")) {
+            if (held && std::abs(local[a]) > kNoMove) held->push_back(a);
+            local[a] = 0.0;
+        }
+    return frame.applyLinear(local);
 }
 
 bool isSubtracted(const Document& doc, std::string_view id)

@@ -365,8 +365,13 @@ private slots:
     void aClickOnThePartSelectsItsFeature();
     void measuringSnapsToHoleCentresAndDrawsTheDimension();
     void keyFiveInTheViewMovesTheOrthographicCheckMark();
+    void theViewKeysAnswerWithTheFeatureTreeInFocus();
     void aPartThinnerThanAVoxelEverywhereIsSaidNotLeftBlank();
     void aNewBoxStaysOnTheGridWhateverSetsItsHeight();
+    void escapeInAFieldTakesBackWhatWasTyped();
+    void deletingAMirroredLegTakesTheEmptiedMirrorAlong();
+    void aMirrorTurnsToAnotherAxisInOneClick();
+    void theGizmoLeavesACoordinateSetByAnExpression();
     void theGizmoMovesAHoleBySnappedOrTypedDistancesInOneUndoStep();
     void aSelectedHoleShowsItsToolBodyAsAGhost();
     void theBoundingBoxOfTheSelectionIsMeasuredAndDrawn();
@@ -736,11 +741,21 @@ void MainWindowTest::exportDialogSaysWhenTheFileDoesNotMatchThePart()
     QVERIFY(dialog);
     dialog->findChild<QLineEdit*>("export.path")->setText(files_.path() + "/table-top-coarse.stl");
     dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(8.0);
+    // The buttons stay where they were whatever the report's length (a
+    // dialog that grew with it moved them from under a newcomer's pointer).
+    auto* close = dialog->findChild<QPushButton*>("export.dismiss");
+    QVERIFY(QTest::qWaitForWindowExposed(dialog));
+    const QSize sizeBefore = dialog->size();
+    const QPoint closeBefore = close->mapTo(dialog, QPoint(0, 0));
     QSignalSpy done(dialog, &ExportDialog::finished);
     QTest::mouseClick(dialog->findChild<QPushButton*>("export.start"), Qt::LeftButton);
     QVERIFY(done.wait(120000));
     const QString message = dialog->outcome().message;
     QVERIFY2(dialog->outcome().written, qPrintable(message));
+    QTest::qWait(50); // any resize the report would cause
+    QCOMPARE(dialog->size(), sizeBefore);
+    QCOMPARE(close->mapTo(dialog, QPoint(0, 0)), closeBefore);
+    QVERIFY(message.count('\n') >= 4); // a long report, then
     const qsizetype miss = message.indexOf("Warning: the file does not match the part: in places it is up to ");
     QVERIFY2(miss > 0, qPrintable(message));
     QVERIFY2(miss < message.indexOf("As read back"), qPrintable(message)); // said before the reassurances
@@ -834,7 +849,7 @@ void MainWindowTest::exportDialogTakesThePartAsItIsWhenExportIsPressed()
     const QString empty = dialog->outcome().message;
     QVERIFY(!dialog->outcome().written);
     QVERIFY2(empty.contains("The part is empty at a feature size of 1000 mm") &&
-                 empty.contains("a feature size of 5 mm, a quarter of its smallest extent, meshes it"),
+                 empty.contains("a feature size of 5 mm (a quarter of its smallest extent or less) meshes it"),
              qPrintable(empty));
 }
 
@@ -1277,6 +1292,21 @@ void MainWindowTest::theLayoutIsRememberedAndTheViewFollowsThePartsScale()
     QVERIFY(waitForViewport(*v));
     QVERIFY2(v->viewport()->view().distance() > 20.0 * small,
              qPrintable(QString("%1 against %2").arg(v->viewport()->view().distance()).arg(small)));
+    // Undone to nothing and redone: framed on the 1800 mm board again (a
+    // newcomer's redone table stayed framed on the 20 mm box that its undo
+    // passed through on the way to nothing).
+    const double large = v->viewport()->view().distance();
+    QUndoStack* steps = v->session()->undoStack();
+    while (steps->canUndo()) {
+        steps->undo();
+        QVERIFY(waitForViewport(*v));
+    }
+    QVERIFY(v->session()->document().root.children.empty());
+    while (steps->canRedo()) {
+        steps->redo();
+        QVERIFY(waitForViewport(*v));
+    }
+    QCOMPARE(v->viewport()->view().distance(), large);
 
     // A restored autosave of another part is framed.
     QTemporaryDir folder;
@@ -1439,12 +1469,14 @@ void MainWindowTest::deletingWhatADifferenceCutsFromAsksFirst()
     action(w.get(), "action.undo")->trigger();
     QVERIFY(w->session()->document() == before);
 
-    // The board with every tool: nothing left to cut from; only "too" or cancel.
-    std::tie(asked, text) = deleteAnswering({"board", "hole", "hole2"}, "delete.base.whole");
-    QVERIFY(asked);
-    QVERIFY2(text.contains("Shelf side has nothing left to cut from"), qPrintable(text));
+    // The board with every tool: the difference is left with nothing and
+    // goes too, without a question (there is no other way on), and says so.
+    std::tie(asked, text) = deleteAnswering({"board", "hole", "hole2"}, "delete.base.cancel");
+    QVERIFY2(!asked, qPrintable(text));
     QVERIFY(!w->session()->document().root.find("d"));
+    QCOMPARE(w->session()->undoStack()->undoText(), QString("Delete 3 features and Shelf side, left empty"));
     action(w.get(), "action.undo")->trigger();
+    QVERIFY(w->session()->document() == before);
 
     // A tool goes without a question.
     std::tie(asked, text) = deleteAnswering({"hole"}, "delete.base.cancel");
@@ -1919,6 +1951,116 @@ void MainWindowTest::aNewBoxStaysOnTheGridWhateverSetsItsHeight()
     QCOMPARE(w->session()->document().root.find("box")->transform.translate.z, 200.0);
 }
 
+void MainWindowTest::escapeInAFieldTakesBackWhatWasTyped()
+{
+    // A newcomer typed into a field, thought better of it and pressed Esc:
+    // the typed text stayed, and went into the part when the field was left.
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    action(w.get(), "action.add.box")->trigger();
+    typeInto(field(*w, "size.x"), "600");
+    const Document before = w->session()->document();
+    const int steps = w->session()->undoStack()->count();
+    QuantityEdit* x = field(*w, "size.x");
+    x->setFocus();
+    x->selectAll();
+    QTest::keyClicks(x, "999");
+    QTest::keyClick(x, Qt::Key_Escape);
+    QCOMPARE(x->text(), QString("600 mm"));
+    field(*w, "size.y")->setFocus(); // leaving the field enters nothing
+    QCOMPARE(w->session()->document(), before);
+    QCOMPARE(w->session()->undoStack()->count(), steps);
+    // A field set by an expression gets its expression back.
+    typeInto(x, "=300 * 2 + 10");
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.x, 610.0);
+    x->setFocus();
+    x->selectAll();
+    QTest::keyClicks(x, "5");
+    QTest::keyClick(x, Qt::Key_Escape);
+    QCOMPARE(x->text(), QString("=300 * 2 + 10"));
+    field(*w, "size.y")->setFocus();
+    QCOMPARE(w->session()->document().root.find("box")->expressions.at("size[0]"), std::string("300 * 2 + 10"));
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.x, 610.0);
+}
+
+void MainWindowTest::deletingAMirroredLegTakesTheEmptiedMirrorAlong()
+{
+    // A newcomer deleted the leg under a mirror and was refused: "a mirror
+    // needs at least 1 child", with no way on but finding the mirror.
+    const QString doc = files_.path() + "/mirrored.kerf";
+    {
+        QFile f(doc);
+        QVERIFY(f.open(QIODevice::WriteOnly));
+        f.write(R"({"format":"kerf","version":1,"root":{"id":"root","type":"union","children":[
+            {"id":"top","type":"box","size":[100,100,18]},
+            {"id":"m","type":"mirror","normal":[1,0,0],"offset":0,"children":[
+                {"id":"leg","type":"box","name":"Leg","size":[10,10,100],"transform":{"translate":[40,0,50]}}]}]}})");
+    }
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(doc.toStdString()));
+    const Document before = w->session()->document();
+    w->selectNodes({"leg"});
+    action(w.get(), "action.delete")->trigger();
+    QCOMPARE(w->session()->document().root.find("leg"), nullptr);
+    QCOMPARE(w->session()->document().root.find("m"), nullptr);
+    QVERIFY(w->session()->document().root.find("top"));
+    QVERIFY2(w->lastMessage().startsWith("Delete Leg and the mirror, left empty"), qPrintable(w->lastMessage()));
+    QCOMPARE(w->session()->undoStack()->undoText(), QString("Delete Leg and the mirror, left empty"));
+    w->session()->undoStack()->undo();
+    QCOMPARE(w->session()->document(), before);
+}
+
+void MainWindowTest::aMirrorTurnsToAnotherAxisInOneClick()
+{
+    // From X to Y one field at a time passes through (0, 0, 0), which is
+    // refused: a newcomer had to find that Y goes first.
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    action(w.get(), "action.add.box")->trigger();
+    action(w.get(), "action.group.mirror")->trigger();
+    const std::vector<std::string> selected = w->selectedNodeIds();
+    QCOMPARE(selected.size(), std::size_t(1));
+    const auto normal = [&] { return w->session()->document().root.find(selected.front())->as<MirrorParams>().normal; };
+    QCOMPARE(normal(), glm::dvec3(1, 0, 0));
+    auto* alongY = w->propertyEditor()->findChild<QPushButton*>("field.normal.along.y");
+    QVERIFY(alongY);
+    QTest::mouseClick(alongY, Qt::LeftButton);
+    QCOMPARE(normal(), glm::dvec3(0, 1, 0));
+    QVERIFY2(w->session()->undoStack()->undoText().startsWith("Set normal of the mirror along Y"),
+             qPrintable(w->session()->undoStack()->undoText()));
+    QCOMPARE(field(*w, "normal.x")->value(), 0.0);
+    QCOMPARE(field(*w, "normal.y")->value(), 1.0);
+    QTest::mouseClick(w->propertyEditor()->findChild<QPushButton*>("field.normal.along.z"), Qt::LeftButton);
+    QCOMPARE(normal(), glm::dvec3(0, 0, 1));
+}
+
+void MainWindowTest::theGizmoLeavesACoordinateSetByAnExpression()
+{
+    // A newcomer dragged a leg whose height on the frame was an expression:
+    // the drag replaced it with a number without a word. A coordinate set
+    // by an expression now stays, and the status bar says why.
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side.kerf"));
+    QVERIFY(waitForViewport(*w));
+    qt::ViewportWidget* v = w->viewport();
+    lookAtTheFirstHoles(*v);
+    clickRow(*w, "shelf-pin-hole");
+    typeInto(field(*w, "translate.z"), "=150 + 10");
+    const auto find = [&] { return w->session()->document().root.find("shelf-pin-hole"); };
+    QCOMPARE(find()->transform.translate.z, 160.0);
+    QTRY_VERIFY(v->moveGizmo().has_value());
+    QTRY_COMPARE(v->moveGizmoOrigin()->z, 160.0);
+    const Surface surface(v);
+    const MoveGizmo g = *v->moveGizmo();
+    const glm::dvec3 grip = g.origin + 0.7 * g.armLength * glm::dvec3(0, 0, 1);
+    surface.press(surface.at(grip));
+    for (double dz : {5.0, 12.0, 20.0}) surface.move(surface.at(grip + glm::dvec3(0, 0, dz)));
+    QVERIFY2(w->lastMessage().contains("Z stays =150 + 10"), qPrintable(w->lastMessage()));
+    surface.release(surface.at(grip + glm::dvec3(0, 0, 20.0)));
+    QCOMPARE(find()->transform.translate.z, 160.0);
+    QCOMPARE(find()->expressions.at("transform.translate[2]"), std::string("150 + 10"));
+}
+
 void MainWindowTest::aPartThinnerThanAVoxelEverywhereIsSaidNotLeftBlank()
 {
     // A newcomer typed 2000 into an array's count: the part became 100 m
@@ -1965,6 +2107,39 @@ void MainWindowTest::keyFiveInTheViewMovesTheOrthographicCheckMark()
     surface.key(Qt::Key_5);
     QTRY_VERIFY(v->orthographic());
     QVERIFY(ortho->isChecked());
+}
+
+void MainWindowTest::theViewKeysAnswerWithTheFeatureTreeInFocus()
+{
+    // A newcomer clicked a feature in the tree and pressed 1: nothing (the
+    // keys answered only in the view). In a table, a digit still edits.
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side-parametric.kerf"));
+    w->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(w.get())); // shortcuts answer in the active window
+    qt::ViewportWidget* v = w->viewport();
+    action(w.get(), "action.view.front")->trigger();
+    const double frontYaw = v->view().yawDegrees(), frontPitch = v->view().pitchDegrees();
+    action(w.get(), "action.view.iso")->trigger();
+    QVERIFY(v->view().yawDegrees() != frontYaw || v->view().pitchDegrees() != frontPitch);
+    clickRow(*w, "panel");
+    auto* tree = w->findChild<QTreeView*>("featureTree");
+    QVERIFY(tree && tree->hasFocus());
+    QTest::keyClick(tree, Qt::Key_1);
+    QCOMPARE(v->view().yawDegrees(), frontYaw);
+    QCOMPARE(v->view().pitchDegrees(), frontPitch);
+
+    // In the Parameters table a digit starts editing the cell, as typing does.
+    action(w.get(), "action.view.iso")->trigger();
+    auto* table = w->findChild<ParametersPanel*>("parametersPanel")->table();
+    table->setFocus();
+    table->setCurrentCell(0, ParametersPanel::ExpressionColumn);
+    QTest::keyClick(table, Qt::Key_1);
+    auto* editor = table->findChild<QLineEdit*>();
+    QVERIFY(editor && editor->isVisible());
+    QCOMPARE(editor->text(), QString("1"));
+    QVERIFY(v->view().yawDegrees() != frontYaw || v->view().pitchDegrees() != frontPitch);
+    if (auto* open = table->findChild<QLineEdit*>()) QTest::keyClick(open, Qt::Key_Escape);
 }
 
 void MainWindowTest::measuringSnapsToHoleCentresAndDrawsTheDimension()
@@ -2197,7 +2372,9 @@ void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependen
     QCOMPARE(table->rowCount(), 6);
     QCOMPARE(table->item(0, ParametersPanel::NameColumn)->text(), QString("thickness"));
     QCOMPARE(table->item(0, ParametersPanel::ValueColumn)->text(), QString("18 mm"));
-    QVERIFY(table->item(0, ParametersPanel::NameColumn)->toolTip().contains("panel.size[0]"));
+    // Where it is used, as the Properties name it (not "panel.size[0]").
+    QVERIFY2(table->item(0, ParametersPanel::NameColumn)->toolTip().startsWith("Used by Size X of "),
+             qPrintable(table->item(0, ParametersPanel::NameColumn)->toolTip()));
     auto panelThickness = [&] { return w->session()->document().root.find("panel")->as<BoxParams>().size.x; };
     auto dadoX = [&] { return w->session()->document().root.find("dado-bottom")->transform.translate.x; };
 
@@ -2248,7 +2425,16 @@ void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependen
     // In use: Delete is refused, saying where; a new unused one goes.
     table->setCurrentCell(0, ParametersPanel::NameColumn);
     panel->removeSelected();
-    QVERIFY2(panel->error().contains("'board' is used by"), qPrintable(panel->error()));
+    // Named as the panels name things, not "panel.size[0]".
+    QVERIFY2(panel->error().startsWith("board is used by Size X of "), qPrintable(panel->error()));
+    QVERIFY2(!panel->error().contains("size[0]"), qPrintable(panel->error()));
+    // Any change to the document makes the refusal stale: it goes.
+    w->session()->apply("touch", [](Document& d) { d.root.name = "Touched"; });
+    QVERIFY(panel->error().isEmpty());
+    w->session()->undoStack()->undo();
+    table->setCurrentCell(0, ParametersPanel::NameColumn);
+    panel->removeSelected();
+    QVERIFY(!panel->error().isEmpty());
     QCOMPARE(table->rowCount(), 6);
     panel->addParameter();
     QCOMPARE(table->rowCount(), 7);

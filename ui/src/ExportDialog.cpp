@@ -21,6 +21,7 @@
 #include <QMessageBox>
 #include <QProgressBar>
 #include <QPushButton>
+#include <QScrollArea>
 #include <QTimer>
 #include <QVBoxLayout>
 
@@ -176,11 +177,22 @@ ExportDialog::ExportDialog(std::function<Document()> document, std::string partN
     progress_->setRange(0, 1000);
     progress_->setValue(0);
     layout->addWidget(progress_);
-    result_ = new QLabel(this);
+    // The report (one line to a dozen) scrolls in room kept for it from the
+    // start: a dialog that grew with each report moved its buttons, and a
+    // newcomer's clicks on Close landed on nothing.
+    result_ = new QLabel;
     result_->setObjectName("export.result");
     result_->setWordWrap(true);
     result_->setTextInteractionFlags(Qt::TextSelectableByMouse);
-    layout->addWidget(result_);
+    result_->setAlignment(Qt::AlignLeft | Qt::AlignTop);
+    auto* resultArea = new QScrollArea(this);
+    resultArea->setObjectName("export.resultArea");
+    resultArea->setWidget(result_);
+    resultArea->setWidgetResizable(true);
+    resultArea->setFrameShape(QFrame::NoFrame);
+    resultArea->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+    resultArea->setMinimumHeight(12 * fontMetrics().lineSpacing());
+    layout->addWidget(resultArea, 1);
     auto* buttons = new QDialogButtonBox(this);
     exportButton_ = buttons->addButton(tr("Export"), QDialogButtonBox::AcceptRole);
     exportButton_->setObjectName("export.start");
@@ -308,7 +320,6 @@ void ExportDialog::start()
         outcome_.message = why;
         result_->setText(why);
         progress_->setValue(0); // not the last export's, which this one is not
-        adjustSize();           // no room left over from a longer report
         emit finished(outcome_);
     };
     if (!unreadable_.isEmpty()) {
@@ -424,8 +435,6 @@ void ExportDialog::poll()
     }
     setFieldsEnabled(true);
     result_->setText(outcome_.message);
-    // The report is several lines: grow to show them whole.
-    adjustSize();
     exportButton_->setEnabled(true);
     // Nothing runs any more: the button only closes the dialog (a newcomer
     // read "Cancel" under a written file as "the file will be taken back").

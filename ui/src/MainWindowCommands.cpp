@@ -193,14 +193,12 @@ void MainWindow::buildViewMenu()
           std::tuple{"back", tr("&Back"), QKeySequence()}, std::tuple{"left", tr("&Left"), QKeySequence()},
           std::tuple{"right", tr("&Right"), QKeySequence(tr("3"))}, std::tuple{"top", tr("&Top"), QKeySequence(tr("7"))},
           std::tuple{"bottom", tr("Botto&m"), QKeySequence()}}) {
-        QAction* a = new QAction(label, this);
-        a->setObjectName(QString("action.view.") + name);
         // Shown in the menu (a newcomer found the keys only in the README),
-        // and answered anywhere in the window as F and 5 are.
-        if (!key.isEmpty()) {
-            a->setShortcut(key);
-            a->setShortcutContext(Qt::WidgetWithChildrenShortcut);
-        }
+        // and answered anywhere in the window as F and 5 are: the action is
+        // the window's too (a shortcut of the menu's alone answered only in
+        // the view, and 1 did nothing with the feature tree in focus).
+        QAction* a = newAction(label, QString("action.view.") + name, key);
+        a->setShortcutContext(Qt::WidgetWithChildrenShortcut);
         const QString n = name;
         connect(a, &QAction::triggered, this, [this, n] { viewport_->setStandardView(n); });
         view->addAction(a);

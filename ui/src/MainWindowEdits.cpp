@@ -60,7 +60,15 @@ bool MainWindow::deleteSelection()
     std::vector<std::string> ids = selectedNodeIds();
     if (ids.empty()) return false;
     const Node* only = ids.size() == 1 ? session_->document().root.find(ids.front()) : nullptr;
-    const QString step = only ? tr("Delete %1").arg(featureName(*only)) : tr("Delete %1 features").arg(ids.size());
+    QString step = only ? tr("Delete %1").arg(featureName(*only)) : tr("Delete %1 features").arg(ids.size());
+    // A mirror, an array or a group whose only child goes acts on nothing:
+    // it goes too, and the step says so (a newcomer's deletion of a
+    // mirrored leg was refused with "a mirror needs at least 1 child").
+    const std::vector<std::string> emptied = edit::emptiedByRemoving(session_->document(), ids);
+    if (!emptied.empty()) {
+        step += tr(" and %1, left empty").arg(featureName(*session_->document().root.find(emptied.front())));
+        ids.insert(ids.end(), emptied.begin(), emptied.end());
+    }
     // Deleting what a difference cuts from would make its first tool the
     // body: holes would come back as pegs, without a word. Each such
     // difference is asked about first (the whole of it, or only what was
@@ -91,6 +99,7 @@ bool MainWindow::deleteSelection()
     const bool ok =
         session_->apply(step, [&](Document& d) { edit::removeNodes(d, ids); }, &error);
     if (!ok) showMessage(tr("Cannot delete: %1").arg(error));
+    else if (!emptied.empty()) showMessage(step + tr(" (Undo brings them back)."));
     return ok;
 }
 
@@ -100,37 +109,30 @@ MainWindow::BaseDeletion MainWindow::askDeletingABase(const Node& difference, co
         if (!text.isEmpty()) text[0] = text[0].toUpper();
         return text;
     };
+    // A difference left with no child at all goes with the deletion
+    // (emptiedByRemoving), unless it is the part itself, which may be empty.
+    if (!after || after->children.empty()) return BaseDeletion::OnlySelection;
     const QString base = featureName(difference.children.front());
     const QString name = featureName(difference);
-    const QString consequence =
-        !after || after->children.empty()
-            ? tr("Without it, %1 has nothing left to cut from.").arg(name)
-            : tr("Without it, %1 would cut from %2 instead: what it cuts away would become solid.")
-                  .arg(name, featureName(after->children.front()));
     QMessageBox ask(QMessageBox::Warning, tr("Delete the base?"),
                     sentence(tr("%1 is what %2 cuts from.").arg(base, name)), QMessageBox::NoButton, this);
     ask.setObjectName("delete.base");
-    ask.setInformativeText(consequence);
+    ask.setInformativeText(tr("Without it, %1 would cut from %2 instead: what it cuts away would become solid.")
+                               .arg(name, featureName(after->children.front())));
     QPushButton* whole = nullptr;
     if (&difference != &session_->document().root) {
         whole = ask.addButton(tr("Delete %1 too").arg(name), QMessageBox::DestructiveRole);
         whole->setObjectName("delete.base.whole");
     }
-    // A difference left with no child is refused anyway (the apply says why).
-    const bool leftEmpty = !after || after->children.empty();
-    if (!whole && leftEmpty) return BaseDeletion::OnlySelection;
-    QPushButton* onlySelection = nullptr;
-    if (!leftEmpty) {
-        onlySelection = ask.addButton(tr("Delete only the selection"), QMessageBox::DestructiveRole);
-        onlySelection->setObjectName("delete.base.only");
-    }
+    QPushButton* onlySelection = ask.addButton(tr("Delete only the selection"), QMessageBox::DestructiveRole);
+    onlySelection->setObjectName("delete.base.only");
     QPushButton* cancel = ask.addButton(QMessageBox::Cancel);
     cancel->setObjectName("delete.base.cancel");
     ask.setDefaultButton(cancel);
     ask.setEscapeButton(cancel);
     ask.exec();
     if (whole && ask.clickedButton() == whole) return BaseDeletion::WholeDifference;
-    if (onlySelection && ask.clickedButton() == onlySelection) return BaseDeletion::OnlySelection;
+    if (ask.clickedButton() == onlySelection) return BaseDeletion::OnlySelection;
     return BaseDeletion::Cancel;
 }
 

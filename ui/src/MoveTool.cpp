@@ -128,6 +128,16 @@ void MoveTool::dragged(const qt::GizmoDrag& drag)
     }
     const Node* node = start_.root.find(id_);
     if (!node) return;
+    // A coordinate set by an expression stays as its expression says.
+    std::vector<int> held;
+    delta = edit::moveKeepingExpressions(start_, id_, delta, &held);
+    QStringList heldText;
+    for (const int a : held) {
+        const std::string& expression = node->expressions.at("transform.translate[" + std::to_string(a) + "]");
+        heldText << tr("%1 stays =%2").arg(kAxisName[a], QString::fromStdString(expression));
+    }
+    if (!heldText.isEmpty())
+        how = tr("%1 (set by an expression: change it in the Properties)").arg(heldText.join(", "));
     QString where;
     if (!isPlaneHandle(drag.handle)) {
         where = tr("%1 along %2").arg(distanceText(delta[axis]), kAxisName[axis]);

@@ -70,4 +70,19 @@ QString describeRefusal(const Node& root, const std::string& nodeId, const std::
     return QCoreApplication::translate("kerf", "%1 of %2: %3").arg(label, featureName(*n), why);
 }
 
+QString describeExpressionUse(const Node& root, const std::string& use)
+{
+    constexpr std::string_view kParameters = "parameters.";
+    if (use.starts_with(kParameters))
+        return QCoreApplication::translate("kerf", "the parameter %1").arg(QString::fromStdString(use.substr(kParameters.size())));
+    // An id holds no dot (ids are names), so the first dot ends it.
+    const auto dot = use.find('.');
+    const Node* n = dot == std::string::npos ? nullptr : root.find(use.substr(0, dot));
+    if (!n) return QString::fromStdString(use);
+    std::string field = use.substr(dot + 1);
+    constexpr std::string_view kTransform = "transform.";
+    if (field.starts_with(kTransform)) field.erase(0, kTransform.size());
+    return QCoreApplication::translate("kerf", "%1 of %2").arg(fieldLabel(*n, field), featureName(*n));
+}
+
 } // namespace kerf::ui

@@ -26,5 +26,9 @@ QString fieldLabel(const Node& n, const std::string& field);
 /// is looked for in `doc`; one it does not hold is named by its id.
 QString describeRefusal(const Node& root, const std::string& nodeId, const std::string& field,
                         const std::string& reason);
+/// Where an expression is used, as parameterUses gives it ("panel.size[0]",
+/// "parameters.depth"), in the panels' words: "Size X of Side panel",
+/// "the parameter depth".
+QString describeExpressionUse(const Node& root, const std::string& use);
 
 } // namespace kerf::ui

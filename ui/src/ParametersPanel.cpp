@@ -3,6 +3,7 @@
 #include "DocumentSession.hpp"
 #include "LengthDisplay.hpp"
 #include "NameCompleter.hpp"
+#include "NodeText.hpp"
 #include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/NodeTypes.hpp"
 
@@ -94,6 +95,9 @@ ParametersPanel::ParametersPanel(DocumentSession* session, QWidget* parent) : QW
     connect(remove_, &QPushButton::clicked, this, &ParametersPanel::removeSelected);
     connect(table_, &QTableWidget::itemChanged, this, &ParametersPanel::onItemChanged);
     connect(session_, &DocumentSession::documentChanged, this, &ParametersPanel::refresh);
+    // A refusal is about the document as it was: any change (an undo, an
+    // edit in the Properties) makes it stale. (A refused edit changes nothing.)
+    connect(session_, &DocumentSession::documentChanged, error_, &QWidget::hide);
     connect(&LengthDisplay::instance(), &LengthDisplay::changed, this, &ParametersPanel::refresh);
     refresh();
 }
@@ -129,9 +133,7 @@ void ParametersPanel::refresh()
         const QString uses = [&] {
             const std::vector<std::string> where = edit::parameterUses(session_->document(), p.name);
             if (where.empty()) return tr("Not used yet");
-            QString list;
-            for (const std::string& w : where) list += (list.isEmpty() ? "" : ", ") + QString::fromStdString(w);
-            return tr("Used by %1").arg(list);
+            return tr("Used by %1").arg(usesText(where));
         }();
         table_->item(r, NameColumn)->setToolTip(uses);
         table_->item(r, ValueColumn)->setToolTip(uses);
@@ -205,6 +207,13 @@ bool ParametersPanel::eventFilter(QObject* watched, QEvent* event)
             removeSelected();
             return true;
         }
+        // A printable key starts editing the cell (AnyKeyPressed), never the
+        // window's one-key shortcuts: "1" is the front view, "f" Fit All.
+        const bool plain = !(key->modifiers() & (Qt::ControlModifier | Qt::AltModifier | Qt::MetaModifier));
+        if (event->type() == QEvent::ShortcutOverride && plain && !key->text().isEmpty() && key->text()[0].isPrint()) {
+            event->accept();
+            return true;
+        }
     }
     return QWidget::eventFilter(watched, event);
 }
@@ -215,7 +224,26 @@ void ParametersPanel::removeSelected()
     const std::vector<Parameter>& params = session_->document().parameters;
     if (r < 0 || r >= int(params.size())) return;
     const std::string name = params[std::size_t(r)].name;
+    // Refused here in the panel's words (the document's own refusal names
+    // ids and keys: "used by board.size[0]").
+    const std::vector<std::string> where = edit::parameterUses(session_->document(), name);
+    if (!where.empty()) {
+        error_->setText(tr("%1 is used by %2: change those first.").arg(QString::fromStdString(name), usesText(where)));
+        error_->show();
+        return;
+    }
     apply(tr("Delete parameter %1").arg(QString::fromStdString(name)), [&](Document& d) { edit::removeParameter(d, name); });
+}
+
+QString ParametersPanel::usesText(const std::vector<std::string>& where) const
+{
+    constexpr std::size_t kListed = 5;
+    QStringList list;
+    for (std::size_t i = 0; i < where.size() && i < kListed; ++i)
+        list << describeExpressionUse(session_->document().root, where[i]);
+    QString text = list.join(", ");
+    if (where.size() > kListed) text += tr(" and %n more", nullptr, int(where.size() - kListed));
+    return text;
 }
 
 } // namespace kerf::ui

@@ -13,6 +13,8 @@
 #include <QWidget>
 
 #include <functional>
+#include <string>
+#include <vector>
 
 class QLabel;
 class QPushButton;
@@ -48,6 +50,9 @@ public:
     void removeSelected();
 
 private:
+    /// "Size X of Side panel, Position Z of the cylinder and 3 more".
+    QString usesText(const std::vector<std::string>& where) const;
+
     void refresh();
     void onItemChanged(QTableWidgetItem* item);
     bool apply(const QString& undoText, const std::function<void(Document&)>& edit);

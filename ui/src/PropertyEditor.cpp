@@ -380,6 +380,7 @@ void PropertyEditor::rebuild()
         case FieldShape::Direction:
             addVector(label, key, unit, [spec](const Node& m) { return spec->vectorIn(m); },
                       [spec](Node& m, int a, double v) { setNormalComponent(spec->vectorIn(m), a, v); });
+            addAxisButtons(label, key, *spec);
             break;
         case FieldShape::Counts:
             addVector(label, key, unit,
@@ -406,6 +407,37 @@ void PropertyEditor::rebuild()
                 item->widget()->setToolTip(help);
     }
     refresh();
+}
+
+void PropertyEditor::addAxisButtons(const QString& label, const QString& key, const FieldSpec& field)
+{
+    // A mirror's normal turned from X to Y one field at a time passes
+    // through (0, 0, 0), which no plane has: a newcomer had to find that Y
+    // goes first. One click sets a direction along an axis.
+    auto* row = new QWidget(this);
+    auto* h = new QHBoxLayout(row);
+    h->setContentsMargins(0, 0, 0, 0);
+    const FieldSpec* spec = &field;
+    for (int a = 0; a < 3; ++a) {
+        const QString axis = QString(kAxes[a]).toUpper();
+        auto* button = new QPushButton(tr("Along %1").arg(axis), row);
+        button->setObjectName(QString("field.%1.along.%2").arg(key, QString(kAxes[a])));
+        button->setToolTip(tr("%1 along the %2 axis").arg(label, axis));
+        connect(button, &QPushButton::clicked, this, [this, spec, a, label, axis] {
+            const Node* n = session_->document().root.find(nodeId_);
+            if (!n) return;
+            QString named = label; // "Normal" -> "normal", as the other steps name a field
+            if (named.size() > 1 && named[1].isLower()) named[0] = named[0].toLower();
+            applyToNode(tr("Set %1 of %2 along %3").arg(named, featureName(*n), axis), [spec, a](Node& m) {
+                glm::dvec3 along(0.0);
+                along[a] = 1.0;
+                spec->vectorIn(m) = along;
+            }, generalError_);
+        });
+        h->addWidget(button);
+    }
+    h->addStretch();
+    form_->addRow(QString(), row);
 }
 
 void PropertyEditor::addProfileTable(const FieldSpec& field)

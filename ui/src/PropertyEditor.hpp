@@ -69,6 +69,8 @@ private:
                      const QString& mergeKey = {});
     void showError(QLabel* error, const QString& message);
     void addProfileTable(const FieldSpec& field);
+    /// "Along X", "Along Y", "Along Z" under a direction's fields.
+    void addAxisButtons(const QString& label, const QString& key, const FieldSpec& field);
     void addPartSettings();
     void commitProfile();
 

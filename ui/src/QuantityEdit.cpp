@@ -69,8 +69,26 @@ QString QuantityEdit::typedExpression() const
 void QuantityEdit::setExpression(const QString& expression)
 {
     expression_ = expression;
-    if (hasFocus() && !lineEdit()->isModified())
-        lineEdit()->setText(expression_.isEmpty() ? textFromValue(value()) + suffix() : "=" + expression_);
+    if (hasFocus() && !lineEdit()->isModified()) showEnteredText();
+}
+
+void QuantityEdit::showEnteredText()
+{
+    if (expression_.isEmpty()) {
+        showUnit(true);
+        lineEdit()->setText(textFromValue(value()) + suffix());
+        return;
+    }
+    // The spin box's validator appends the suffix to any text that lacks it:
+    // an expression showed as "=depth - 2 mm", read as a length times a unit.
+    showUnit(false);
+    lineEdit()->setText("=" + expression_);
+}
+
+void QuantityEdit::showUnit(bool on)
+{
+    const QString wanted = on ? unitSuffix() : QString();
+    if (suffix() != wanted) setSuffix(wanted);
 }
 
 void QuantityEdit::completeNames(std::function<QStringList()> names)
@@ -83,7 +101,7 @@ void QuantityEdit::focusInEvent(QFocusEvent* event)
 {
     QDoubleSpinBox::focusInEvent(event);
     if (!expression_.isEmpty()) {
-        lineEdit()->setText("=" + expression_);
+        showEnteredText();
         lineEdit()->selectAll();
     }
 }
@@ -97,6 +115,7 @@ void QuantityEdit::followLengthDisplay()
 {
     // A sixteenth of an inch per arrow step in inches, a millimetre otherwise.
     setSingleStep(inInches() ? 25.4 / 16.0 : 1.0);
+    if (hasFocus() && !expression_.isEmpty()) return; // an expression shown has no unit to change
     setSuffix(unitSuffix()); // and the text again, in the unit now shown
     if (!hasFocus() || !lineEdit()->isModified()) showValue(value());
 }
@@ -116,6 +135,15 @@ void QuantityEdit::reportUnreadableText()
 
 void QuantityEdit::keyPressEvent(QKeyEvent* event)
 {
+    // Esc takes back what was typed and not entered, as in a table's cell;
+    // a field left as it was passes Esc on (a dialog closes).
+    if (event->key() == Qt::Key_Escape && lineEdit()->isModified()) {
+        showEnteredText();
+        lineEdit()->setModified(false);
+        lineEdit()->selectAll();
+        event->accept();
+        return;
+    }
     if (event->key() == Qt::Key_Return || event->key() == Qt::Key_Enter) {
         // "=thickness + 2": an expression for the document, not a number for the box.
         if (const QString e = typedExpression(); !e.isNull()) {
@@ -146,6 +174,7 @@ void QuantityEdit::focusOutEvent(QFocusEvent* event)
         }
     }
     QDoubleSpinBox::focusOutEvent(event);
+    showUnit(true); // the value again, with its unit
 }
 
 void QuantityEdit::wheelEvent(QWheelEvent* event)

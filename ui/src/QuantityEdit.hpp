@@ -75,6 +75,11 @@ private:
     QString expression_;
     std::function<QStringList()> names_; // the names an expression may use (completeNames)
     void reportUnreadableText();
+    /// What was last entered: the expression ("=depth - 2", without the
+    /// unit), else the value with its unit.
+    void showEnteredText();
+    /// The unit after the value, or none while an expression is shown.
+    void showUnit(bool on);
     Unit unit_;
 };
 

@@ -259,7 +259,11 @@ double ViewportWidget::partExtent() const
 
 void ViewportWidget::refitIfRescaled()
 {
-    if (!viewFramed_ || !ViewController::rescaled(framedExtent_, partExtent())) return;
+    // A part with nothing to show (all undone, all hidden) has no scale: the
+    // view stays, and what comes back is judged against what was framed.
+    // (Framed on "nothing", a table redone from nothing stayed framed on
+    // the first 20 mm box its undo had passed through.)
+    if (!viewFramed_ || partExtent() == 0.0 || !ViewController::rescaled(framedExtent_, partExtent())) return;
     const QSize px = pixelSize();
     view_.fit(partBounds(), double(px.width()) / px.height());
     framedExtent_ = partExtent();

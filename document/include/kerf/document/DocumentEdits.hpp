@@ -50,6 +50,12 @@ Node removeNode(Document& doc, std::string_view id);
 /// with an earlier one's subtree is skipped. All or nothing.
 void removeNodes(Document& doc, const std::vector<std::string>& ids);
 
+/// The features that removing `ids` would leave with no child (a mirror,
+/// an array or a group whose only child goes), up the tree, not the root:
+/// they act on nothing, and a document does not hold them, so a deletion
+/// takes them along. A parent before the features it holds; none of `ids`.
+std::vector<std::string> emptiedByRemoving(const Document& doc, const std::vector<std::string>& ids);
+
 /// Moves a node (with its subtree) to child `index` of `newParentId`, index
 /// counted in the parent's children as they are before the move. Refuses the
 /// root, a move into its own subtree and a parent that has no room.

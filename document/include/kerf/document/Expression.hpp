@@ -87,4 +87,8 @@ bool addsBareNumbersToLengths(std::string_view text);
 /// renamed); everything else as it was written.
 std::string renameName(std::string_view text, std::string_view from, std::string_view to);
 
+/// Whether `name` is a unit a number may carry ("mm", "in", "m"...): a
+/// parameter so named would read as the unit after a number ("18mm").
+bool isUnitName(std::string_view name);
+
 } // namespace kerf::expr

@@ -37,6 +37,15 @@ Aabb firstInstanceBounds(const Document& doc, std::string_view id);
 /// Throws std::invalid_argument for an unknown id.
 void moveNodeInWorld(Document& doc, std::string_view id, const glm::dvec3& worldDelta);
 
+/// The part of `worldDelta` (mm, world axes) that moves the node without
+/// touching a coordinate of its translate set by an expression: those stay
+/// (the expression is the design's intent: a drag must not replace it
+/// without a word). `held`, when given, receives the local axes held
+/// (0 = x, 1 = y, 2 = z) that the move would have changed.
+/// Throws std::invalid_argument for an unknown id.
+glm::dvec3 moveKeepingExpressions(const Document& doc, std::string_view id, const glm::dvec3& worldDelta,
+                                  std::vector<int>* held = nullptr);
+
 /// Whether the node's material is taken away from the part: it lies under a
 /// difference's tools (children after the first visible one) an odd number
 /// of times on the way up (a hole; a plug inside a hole is material again).
