@@ -2055,7 +2055,8 @@ void MainWindowTest::theGizmoLeavesACoordinateSetByAnExpression()
     const glm::dvec3 grip = g.origin + 0.7 * g.armLength * glm::dvec3(0, 0, 1);
     surface.press(surface.at(grip));
     for (double dz : {5.0, 12.0, 20.0}) surface.move(surface.at(grip + glm::dvec3(0, 0, dz)));
-    QVERIFY2(w->lastMessage().contains("Z stays =150 + 10"), qPrintable(w->lastMessage()));
+    QVERIFY2(w->lastMessage().contains("stays where it is: its Z is set by =150 + 10. Change that in the Properties."),
+             qPrintable(w->lastMessage()));
     surface.release(surface.at(grip + glm::dvec3(0, 0, 20.0)));
     QCOMPARE(find()->transform.translate.z, 160.0);
     QCOMPARE(find()->expressions.at("transform.translate[2]"), std::string("150 + 10"));

@@ -134,10 +134,9 @@ void MoveTool::dragged(const qt::GizmoDrag& drag)
     QStringList heldText;
     for (const int a : held) {
         const std::string& expression = node->expressions.at("transform.translate[" + std::to_string(a) + "]");
-        heldText << tr("%1 stays =%2").arg(kAxisName[a], QString::fromStdString(expression));
+        heldText << tr("its %1 is set by =%2").arg(kAxisName[a], QString::fromStdString(expression));
     }
-    if (!heldText.isEmpty())
-        how = tr("%1 (set by an expression: change it in the Properties)").arg(heldText.join(", "));
+    const QString heldNote = heldText.join(tr(" and "));
     QString where;
     if (!isPlaneHandle(drag.handle)) {
         where = tr("%1 along %2").arg(distanceText(delta[axis]), kAxisName[axis]);
@@ -160,7 +159,13 @@ void MoveTool::dragged(const qt::GizmoDrag& drag)
     }
     moved_ = moved_ || delta != glm::dvec3(0.0);
     place();
-    emit message(tr("%1 (%2). Type a distance; Esc cancels.").arg(text, how));
+    if (!heldNote.isEmpty() && delta == glm::dvec3(0.0))
+        emit message(tr("%1 stays where it is: %2. Change that in the Properties.").arg(featureName(*node), heldNote));
+    else if (!heldNote.isEmpty())
+        emit message(tr("%1 (%2%3, which stays). Type a distance; Esc cancels.")
+                         .arg(text, how.isEmpty() ? QString() : how + "; ", heldNote));
+    else
+        emit message(tr("%1 (%2). Type a distance; Esc cancels.").arg(text, how));
 }
 
 void MoveTool::finished(bool cancelled)
