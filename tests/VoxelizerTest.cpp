@@ -264,7 +264,8 @@ TEST(VoxelFormat, CompactEncodingErrors)
 bool sameTile(const TileData* a, const TileData* b, const std::vector<Feature>& fa, const std::vector<Feature>& fb)
 {
     if (!a || !b) return !a && !b;
-    if (a->state != b->state || a->levels != b->levels || a->nodes.size() != b->nodes.size() ||
+    if (a->state != b->state || a->levels != b->levels || a->unresolved != b->unresolved ||
+        a->nodes.size() != b->nodes.size() ||
         a->leafData.size() != b->leafData.size() || a->vertices.size() != b->vertices.size())
         return false;
     for (std::size_t i = 0; i < a->nodes.size(); ++i)
@@ -697,13 +698,40 @@ TEST(Voxelizer, PublicationsAreConsistentAndNeverHoldPartialTiles)
             const int levels = t ? t->levels : s->layout.levels;
             auto fresh = buildTile(tape, s->layout, s->layout.tileCoord(i), levels, scratch);
             ASSERT_TRUE(fresh.has_value());
-            const TileData* f = fresh->state == TileState::Empty ? nullptr : &*fresh;
+            // Null where the voxelizer keeps nothing: empty, and settled at this depth.
+            const bool kept = fresh->state != TileState::Empty || (fresh->unresolved && levels < s->layout.levels);
+            const TileData* f = kept ? &*fresh : nullptr;
             ASSERT_TRUE(sameTile(t.get(), f, *s->features, *tape.sharedFeatures()))
                 << "revision " << s->documentRevision << " tile " << i;
         }
     }
     EXPECT_TRUE(published.back()->complete);
     EXPECT_EQ(published.back()->documentRevision, 5u);
+}
+
+// A newcomer's drawer: its 6 mm bottom, from z = 10 to 16, lay between the
+// corners of the coarse pass's 8 mm voxels (at z = 8 and 16), so its tiles
+// came out empty there, and the fine pass refined only tiles with a surface:
+// the bottom never showed in the view (kerf render, which builds at full
+// depth at once, drew it). A tile empty only at its depth is refined.
+TEST(Voxelizer, APlateBetweenTheCoarseVoxelsCornersIsFoundByTheFinePass)
+{
+    Document doc = parse(R"({"id":"root","type":"union","children":[
+        {"id":"front","type":"box","size":[600,18,160],"transform":{"translate":[0,9,80]}},
+        {"id":"back","type":"box","size":[576,12,144],"transform":{"translate":[0,444,88]}},
+        {"id":"bottom","type":"box","size":[587,432,6],"transform":{"translate":[0,234,13]}}]})",
+                         0.5);
+    Voxelizer vox({.limits = {}, .coarseLevelDrop = 2, .threads = 2, .featureSize = 0.0, .onPublish = {}});
+    const std::uint64_t rev = vox.setDocument(doc);
+    ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(60)));
+    const auto snap = vox.snapshot();
+    ASSERT_TRUE(snap->complete);
+    // The scenario: the coarse voxels' corners step over the bottom.
+    ASSERT_EQ(snap->layout.levels, 3);
+    const double coarseVoxel = snap->layout.voxelSizeAt(1);
+    const double below = std::floor((10.0 - snap->layout.origin.z) / coarseVoxel) * coarseVoxel + snap->layout.origin.z;
+    ASSERT_GE(below + coarseVoxel, 16.0) << "the bottom should lie between two coarse corners";
+    expectEqualsFullRebuild(*snap, doc);
 }
 
 TEST(Voxelizer, CoarsePublicationComesFirst)

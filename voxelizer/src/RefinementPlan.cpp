@@ -94,7 +94,7 @@ RefinementPlan planRefinement(const GridLayout& layout, const std::vector<std::s
     }
     for (std::size_t i = 0; i < n; ++i) {
         const auto& t = tiles[i];
-        if (!t || t->state != TileState::Surface) continue;
+        if (!t || !t->mayRefine()) continue;
         const Aabb box = layout.tileBox(layout.tileCoord(long(i)));
         int level = layout.levels;
         if (options.view) {

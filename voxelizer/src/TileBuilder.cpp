@@ -238,7 +238,9 @@ std::optional<TileData> buildTile(const Tape& tape, const GridLayout& layout, co
     try {
         Builder builder(scratch, levels, layout.tileSize, work);
         if (!builder.build(glm::dvec3(0.0), 0, root)) {
-            // Ambiguous to intervals but no sign change: report which side it is on.
+            // Ambiguous to intervals but no sign change: report which side it
+            // is on, at this depth (a deeper one may find a sign change).
+            empty.unresolved = true;
             const double c = 0.5 * layout.tileSize;
             if (scratch.points.evaluate(scratch.levelTapes[0], float(c), float(c), float(c)) < 0.0f)
                 empty.state = TileState::Full;

@@ -295,7 +295,10 @@ void Voxelizer::process(Request request)
                     aborted = true;
                     return;
                 }
-                if (t->state != TileState::Empty) built[k] = std::make_shared<const TileData>(std::move(*t));
+                // Empty tiles are kept as null, except those empty only at a
+                // depth short of the grid's (a deeper build may find a surface).
+                if (t->state != TileState::Empty || (t->unresolved && t->levels < layout.levels))
+                    built[k] = std::make_shared<const TileData>(std::move(*t));
                 ++tilesBuilt_;
             });
         });
@@ -361,7 +364,9 @@ void Voxelizer::process(Request request)
                 work.push_back(i);
                 continue;
             }
-            if (!t || t->state != TileState::Surface) continue;
+            // A tile empty only at its depth is refined as a surface tile
+            // is: the coarse pass's voxels may have stepped over a thin plate.
+            if (!t || !t->mayRefine()) continue;
             const int planned = plan.levels[std::size_t(i)];
             if (t->levels < planned || (overBudget && t->levels > planned)) {
                 work.push_back(i);

@@ -14,6 +14,13 @@ enum class TileState : std::uint8_t { Empty, Full, Surface };
 struct TileData {
     TileState state = TileState::Empty;
     int levels = 0; // contree depth this tile was built at
+    /// Empty or full at this depth only: the intervals could not rule a
+    /// surface out, but no voxel had corners on both sides of it. Material
+    /// thinner than these voxels (a 6 mm drawer bottom between the 8 mm
+    /// voxels of a coarse pass) may lie in it: a deeper build may find it.
+    bool unresolved = false;
+    /// Whether a deeper build might give another answer.
+    bool mayRefine() const { return state == TileState::Surface || unresolved; }
     std::vector<voxel::Node> nodes; // nodes[0] is the root
     std::vector<voxel::LeafIndirection> leafIndirections;
     std::vector<voxel::LeafData> leafData; // one per populated voxel
