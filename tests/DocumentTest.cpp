@@ -67,6 +67,12 @@ std::vector<Refusal> refusals()
     return {
         {"MalformedJson", variant(R"("units": "mm",)", R"("units": "mm" "oops",)"), "", "", "malformed JSON at line 4"},
         {"NotAnObject", "[1, 2]", "", "", "JSON object"},
+        // Not JSON at all: said what it is, not "syntax error ... last read: '\x89'".
+        {"APngImage", "\x89PNG\r\n\x1a\n\0\0\0\rIHDR", "", "", "not a Kerf document: a Kerf document is JSON text"},
+        {"APngImageSaysSo", "\x89PNG\r\n", "", "", "this is a PNG image"},
+        {"PlainText", "hello, this is a note", "", "", "this starts with the text 'hello, this is a note'"},
+        {"AnAsciiStl", "solid leg\n facet normal 0 0 1", "", "", "looks like an ASCII STL mesh"},
+        {"BinaryData", std::string("\x01\x02\x03\xFE", 4), "", "", "this holds binary data"},
         {"MissingFormat", variant(R"("format": "kerf",)", ""), "", "format", "missing"},
         {"WrongFormat", variant(R"("format": "kerf")", R"("format": "stl")"), "", "format", "\"kerf\""},
         {"NewerVersion", variant(R"("version": 1)", R"("version": 2)"), "", "version", "newer"},
@@ -145,6 +151,38 @@ TEST_P(DocumentRefusal, NamesFileNodeAndFieldAndChangesNothing)
 
 INSTANTIATE_TEST_SUITE_P(SpecList, DocumentRefusal, ::testing::ValuesIn(refusals()),
                          [](const auto& p) { return p.param.name; });
+
+// A new part saved before its first feature (a newcomer set up a drawer's
+// parameters first, and Save said "an union needs at least 1 child").
+TEST(Document, AnEmptyPartWithItsParametersIsAFile)
+{
+    const std::string text = R"({"format":"kerf","version":1,
+        "parameters":[{"name":"width","expression":"500mm"},{"name":"half","expression":"width / 2"}],
+        "root":{"id":"root","type":"union","name":"Part","children":[]}})";
+    const Document d = Document::parse(text, "drawer.kerf");
+    EXPECT_TRUE(d.root.children.empty());
+    ASSERT_EQ(d.parameters.size(), 2u);
+    EXPECT_DOUBLE_EQ(d.parameters[1].value, 250.0);
+    EXPECT_EQ(Document::parse(d.serialize(), "again.kerf"), d);
+    EXPECT_NO_THROW(d.validate("drawer.kerf"));
+    // Only the root, and only a union: below it, or another operation,
+    // still needs its children.
+    const auto refusal = [](const std::string& t) {
+        try {
+            Document::parse(t, "x.kerf");
+        } catch (const DocumentError& e) {
+            return std::string(e.what());
+        }
+        return std::string("(accepted)");
+    };
+    EXPECT_NE(refusal(R"({"format":"kerf","version":1,"root":{"id":"root","type":"union","children":[
+        {"id":"g","type":"union","children":[]}]}})").find("a union needs at least 1 child"), std::string::npos);
+    EXPECT_NE(refusal(R"({"format":"kerf","version":1,"root":{"id":"root","type":"difference","children":[]}})")
+                  .find("a difference needs at least 1 child"),
+              std::string::npos);
+    // A byte-order mark before the JSON is no "binary data".
+    EXPECT_NO_THROW(Document::parse("\xEF\xBB\xBF" + text, "bom.kerf"));
+}
 
 TEST(Document, LoadsEveryFieldOfTheSpec)
 {

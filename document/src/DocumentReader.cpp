@@ -35,7 +35,9 @@ namespace {
 // "a box", "an array", "an offset": a type's name with its article.
 std::string withArticle(const std::string& typeName)
 {
-    const bool vowel = !typeName.empty() && std::string_view("aeiou").find(typeName[0]) != std::string_view::npos;
+    // By the sound: "an offset", "a union" (a "you" sound).
+    const bool vowel = !typeName.empty() && std::string_view("aeiou").find(typeName[0]) != std::string_view::npos &&
+                       !typeName.starts_with("uni");
     return (vowel ? "an " : "a ") + typeName;
 }
 
@@ -54,6 +56,28 @@ std::string describeKind(const Json& v)
 
 std::string formatNumber(double v) { return formatFieldNumber(v); }
 
+// What a file that is not JSON looks like, from its first bytes: "is a PNG
+// image", "starts with the text 'solid chair'".
+std::string describeContent(std::string_view head)
+{
+    const auto startsWith = [&](std::string_view magic) { return head.starts_with(magic); };
+    if (startsWith("\x89PNG")) return "is a PNG image";
+    if (startsWith("\xFF\xD8\xFF")) return "is a JPEG image";
+    if (startsWith("%PDF")) return "is a PDF document";
+    if (startsWith("PK\x03\x04")) return "is a ZIP archive (a 3MF file is one: Kerf reads meshes as reference meshes)";
+    if (startsWith("solid")) return "looks like an ASCII STL mesh (Kerf reads meshes as reference meshes)";
+    std::string shown;
+    for (const char c : head.substr(0, 24)) {
+        const auto u = static_cast<unsigned char>(c);
+        if (u < 0x20 || u >= 0x7F) {
+            if (c == '\n' || c == '\r' || c == '\t') break;
+            return "holds binary data";
+        }
+        shown += c;
+    }
+    return "starts with the text '" + shown + (head.size() > shown.size() ? "...'" : "'");
+}
+
 class Reader {
 public:
     Reader(std::string file, const ParameterOverrides& overrides) : file_(std::move(file)), overrides_(overrides) {}
@@ -61,6 +85,14 @@ public:
     Document read(std::string_view text)
     {
         if (text.empty()) fail("", "", "the file is empty (a Kerf document is a JSON object)");
+        // Something else altogether (an image, a mesh, a note): said so, not
+        // as the parser's "syntax error ... last read: '\x89'".
+        const std::size_t first = text.find_first_not_of(" \t\r\n", text.starts_with("\xEF\xBB\xBF") ? 3 : 0);
+        if (first != std::string_view::npos && text[first] != '{' && text[first] != '[' && text[first] != '"' &&
+            !(text[first] >= '0' && text[first] <= '9') && text[first] != '-' && !text.substr(first).starts_with("true") &&
+            !text.substr(first).starts_with("false") && !text.substr(first).starts_with("null"))
+            fail("", "", "not a Kerf document: a Kerf document is JSON text, '{ \"format\": \"kerf\", ... }', and this " +
+                             describeContent(text.substr(first)));
         Json j = parseJson(text);
         if (!j.is_object()) fail("", "", "a Kerf document is a JSON object, this is " + describeKind(j));
         if (markedNumbers_) refuseNonFinite(j);
@@ -387,7 +419,12 @@ private:
             if (!children) fail(n.id, "children", "missing (required)");
             if (!children->is_array()) fail(n.id, "children", "must be an array of nodes");
             const bool single = !isBoolean(n.type);
-            if (children->empty()) fail(n.id, "children", withArticle(typeName) + " needs at least 1 child");
+            // A union at the root may be empty: a new part, saved before
+            // its first feature (with its parameters, say). Anywhere else a
+            // feature with nothing to act on is refused.
+            const bool emptyPart = where == "root" && n.type == NodeType::Union;
+            if (children->empty() && !emptyPart)
+                fail(n.id, "children", withArticle(typeName) + " needs at least 1 child");
             if (single && children->size() != 1)
                 fail(n.id, "children",
                      withArticle(typeName) + " takes exactly 1 child, not " + std::to_string(children->size()));

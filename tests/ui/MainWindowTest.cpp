@@ -369,6 +369,8 @@ private slots:
     void aPartThinnerThanAVoxelEverywhereIsSaidNotLeftBlank();
     void aNewBoxStaysOnTheGridWhateverSetsItsHeight();
     void escapeInAFieldTakesBackWhatWasTyped();
+    void aNewPartIsSavedWithItsParametersBeforeItsFirstFeature();
+    void aFileThatIsNoKerfDocumentIsRefusedBeforeAskingToSave();
     void deletingAMirroredLegTakesTheEmptiedMirrorAlong();
     void aMirrorTurnsToAnotherAxisInOneClick();
     void theGizmoLeavesACoordinateSetByAnExpression();
@@ -1256,6 +1258,12 @@ void MainWindowTest::theViewsFeatureSizeIsSetWithNothingSelected()
     QVERIFY2(w->propertyEditor()->errorFor("size.x").contains("limited to 100000000 mm (100 km)"),
              qPrintable(w->propertyEditor()->errorFor("size.x")));
     QVERIFY(w->session()->document() == before);
+    // Far past it, the number typed is the number quoted (it was 1e9, the
+    // field's own limit, whatever was typed).
+    typeInto(field(*w, "size.x"), "1e30");
+    QVERIFY2(w->propertyEditor()->errorFor("size.x").contains("1e+30 mm"),
+             qPrintable(w->propertyEditor()->errorFor("size.x")));
+    QVERIFY(w->session()->document() == before);
 }
 
 void MainWindowTest::theLayoutIsRememberedAndTheViewFollowsThePartsScale()
@@ -1983,6 +1991,59 @@ void MainWindowTest::escapeInAFieldTakesBackWhatWasTyped()
     QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.x, 610.0);
 }
 
+void MainWindowTest::aNewPartIsSavedWithItsParametersBeforeItsFirstFeature()
+{
+    // A newcomer set up a drawer's parameters first: their values showed 0
+    // and Save said "an union needs at least 1 child".
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    auto* panel = w->findChild<ParametersPanel*>("parametersPanel");
+    panel->addParameter();
+    if (auto* open = panel->table()->findChild<QLineEdit*>()) QTest::keyClick(open, Qt::Key_Escape);
+    panel->table()->item(0, ParametersPanel::ExpressionColumn)->setText("500mm");
+    QCOMPARE(w->session()->document().parameters.at(0).value, 500.0);
+    QCOMPARE(panel->table()->item(0, ParametersPanel::ValueColumn)->text(), QString("500"));
+    const QString file = files_.path() + "/drawer.kerf";
+    QVERIFY2(w->saveAs(file.toStdString()), qPrintable(w->lastMessage()));
+    const Document saved = Document::load(file.toStdString());
+    QVERIFY(saved.root.children.empty());
+    QCOMPARE(saved.parameters.at(0).expression, std::string("500mm"));
+    QVERIFY(w->openFile(file.toStdString()));
+    QCOMPARE(w->session()->document().parameters.at(0).value, 500.0);
+}
+
+void MainWindowTest::aFileThatIsNoKerfDocumentIsRefusedBeforeAskingToSave()
+{
+    // A newcomer opened a PNG: asked first whether to save the changes,
+    // then told "malformed JSON ... last read: '\x89'".
+    int asked = 0;
+    MainWindowOptions options;
+    options.askSave = [&](const QString&) {
+        ++asked;
+        return QMessageBox::Cancel;
+    };
+    auto w = makeWindow(recovery_.path(), options);
+    action(w.get(), "action.new")->trigger();
+    action(w.get(), "action.add.box")->trigger();
+    const Document before = w->session()->document();
+    const QString png = files_.path() + "/picture.kerf";
+    {
+        QFile f(png);
+        QVERIFY(f.open(QIODevice::WriteOnly));
+        f.write(QByteArray("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16));
+    }
+    QVERIFY(!w->openFile(png.toStdString()));
+    QCOMPARE(asked, 0);
+    QCOMPARE(w->session()->document(), before);
+    QVERIFY2(w->lastMessage().contains("not a Kerf document") && w->lastMessage().contains("is a PNG image"),
+             qPrintable(w->lastMessage()));
+    // The refusal stays in the status bar until the part is next changed.
+    QCOMPARE(w->statusBar()->currentMessage(), w->lastMessage());
+    typeInto(field(*w, "size.x"), "30");
+    QVERIFY2(!w->statusBar()->currentMessage().contains("not a Kerf document"),
+             qPrintable(w->statusBar()->currentMessage()));
+}
+
 void MainWindowTest::deletingAMirroredLegTakesTheEmptiedMirrorAlong()
 {
     // A newcomer deleted the leg under a mirror and was refused: "a mirror
@@ -2008,6 +2069,31 @@ void MainWindowTest::deletingAMirroredLegTakesTheEmptiedMirrorAlong()
     QCOMPARE(w->session()->undoStack()->undoText(), QString("Delete Leg and the mirror, left empty"));
     w->session()->undoStack()->undo();
     QCOMPARE(w->session()->document(), before);
+
+    // A grooved side under a mirror: deleting the side asks about its
+    // groove's difference; "too" takes the difference, and the mirror it
+    // leaves empty goes with it (the answer was once refused afterwards).
+    const QString grooved = files_.path() + "/grooved.kerf";
+    {
+        QFile f(grooved);
+        QVERIFY(f.open(QIODevice::WriteOnly));
+        f.write(R"({"format":"kerf","version":1,"root":{"id":"root","type":"union","children":[
+            {"id":"front","type":"box","size":[600,18,150]},
+            {"id":"sides","type":"mirror","normal":[1,0,0],"offset":0,"children":[
+                {"id":"side-d","type":"difference","name":"Left side with groove","children":[
+                    {"id":"side","type":"box","name":"Left side","size":[12,450,150],"transform":{"translate":[294,225,75]}},
+                    {"id":"groove","type":"box","size":[6,450,6],"transform":{"translate":[291,225,13]}}]}]}]}})");
+    }
+    QVERIFY(w->openFile(grooved.toStdString()));
+    w->selectNodes({"side"});
+    {
+        MessageBoxAnswerer answer("delete.base.whole");
+        action(w.get(), "action.delete")->trigger();
+        QVERIFY(answer.answered());
+    }
+    QCOMPARE(w->session()->document().root.find("sides"), nullptr);
+    QVERIFY(w->session()->document().root.find("front"));
+    QCOMPARE(w->session()->undoStack()->undoText(), QString("Delete Left side and the mirror, left empty"));
 }
 
 void MainWindowTest::aMirrorTurnsToAnotherAxisInOneClick()
@@ -2312,7 +2398,7 @@ void MainWindowTest::theBoundingBoxOfTheSelectionIsMeasuredAndDrawn()
     QVERIFY(waitForViewport(*w));
     clickRow(*w, "toe-kick");
     action(w.get(), "action.boundingBox")->trigger();
-    QTRY_VERIFY_WITH_TIMEOUT(w->measureText().startsWith("Bounding box of Toe kick notch 60 x 70: 20.00 x 61.00 x 71.00 mm"),
+    QTRY_VERIFY_WITH_TIMEOUT(w->measureText().startsWith("Bounding box of Toe kick notch: 20.00 x 61.00 x 71.00 mm"),
                              30000);
     QCOMPARE(w->viewport()->dimensionText(), QString("20.00 x 61.00 x 71.00 mm"));
     // Nothing selected: the part's.

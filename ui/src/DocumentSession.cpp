@@ -32,14 +32,12 @@ bool DocumentSession::apply(const QString& text, const std::function<void(Docume
     Document after = document_;
     try {
         edit(after);
-        // A document with an empty root is where every new part starts; it
-        // is let through so that the first feature can be added to it.
         // With expressions, the edit is evaluated again: what refers to an
-        // edited field or parameter follows it.
-        if (!after.root.children.empty() || !isBoolean(after.root.type)) {
-            if (after.hasExpressions()) after = after.resolved(path_ ? path_->string() : "");
-            else after.validate(path_ ? path_->string() : "");
-        }
+        // edited field or parameter follows it (and the parameters of a part
+        // with no feature yet get their values). A document with an empty
+        // root union is where every new part starts, and a file holds it.
+        if (after.hasExpressions()) after = after.resolved(path_ ? path_->string() : "");
+        else after.validate(path_ ? path_->string() : "");
     } catch (const DocumentError& e) {
         // Without the file name (the field is right there), and in the
         // panels' words: the feature's name and the field's row label.

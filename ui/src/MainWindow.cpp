@@ -250,6 +250,10 @@ void MainWindow::buildStatusBar() { status_ = new StatusReadout(statusBar()); }
 
 void MainWindow::onDocumentChanged()
 {
+    if (!messageUntilEdit_.isEmpty()) {
+        if (statusBar()->currentMessage() == messageUntilEdit_) statusBar()->clearMessage();
+        messageUntilEdit_.clear();
+    }
     const Document& doc = session_->document();
     std::shared_ptr<const Tape> tape;
     try {
@@ -345,6 +349,12 @@ void MainWindow::showMessage(const QString& text, int timeoutMs)
 {
     lastMessage_ = text;
     statusBar()->showMessage(text, timeoutMs);
+}
+
+void MainWindow::showMessageUntilEdit(const QString& text)
+{
+    showMessage(text, 0);
+    messageUntilEdit_ = text;
 }
 
 bool MainWindow::voxelizingOnGpu() const

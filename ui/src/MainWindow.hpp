@@ -171,6 +171,9 @@ private:
     void updateTitle();
     void updateStatus();
     void showMessage(const QString& text, int timeoutMs = 6000);
+    /// A failure the status bar keeps until the part is next changed (a
+    /// "Not saved: ..." stayed on through later edits).
+    void showMessageUntilEdit(const QString& text);
     bool maybeSave();
     void addMeshFiles(const QStringList& files);
     QString askFile(bool save, const QString& suggested);
@@ -233,6 +236,7 @@ private:
     // again for that document.
     std::optional<std::pair<std::optional<std::filesystem::path>, ExportChoices>> lastExport_;
     QString lastMessage_;
+    QString messageUntilEdit_;
 };
 
 } // namespace kerf::ui

@@ -64,11 +64,16 @@ bool MainWindow::deleteSelection()
     // A mirror, an array or a group whose only child goes acts on nothing:
     // it goes too, and the step says so (a newcomer's deletion of a
     // mirrored leg was refused with "a mirror needs at least 1 child").
-    const std::vector<std::string> emptied = edit::emptiedByRemoving(session_->document(), ids);
-    if (!emptied.empty()) {
-        step += tr(" and %1, left empty").arg(featureName(*session_->document().root.find(emptied.front())));
-        ids.insert(ids.end(), emptied.begin(), emptied.end());
-    }
+    // Asked again after each answer below: a difference deleted whole may
+    // be a mirror's only child.
+    std::vector<std::string> emptied;
+    const auto takeEmptiedAlong = [&] {
+        for (const std::string& id : edit::emptiedByRemoving(session_->document(), ids)) {
+            emptied.push_back(id);
+            ids.push_back(id);
+        }
+    };
+    takeEmptiedAlong();
     // Deleting what a difference cuts from would make its first tool the
     // body: holes would come back as pegs, without a word. Each such
     // difference is asked about first (the whole of it, or only what was
@@ -91,10 +96,15 @@ bool MainWindow::deleteSelection()
         answered.insert(changed);
         switch (askDeletingABase(*session_->document().root.find(changed), trial.root.find(changed))) {
         case BaseDeletion::Cancel: return false;
-        case BaseDeletion::WholeDifference: ids.push_back(changed); break;
+        case BaseDeletion::WholeDifference:
+            ids.push_back(changed);
+            takeEmptiedAlong();
+            break;
         case BaseDeletion::OnlySelection: break;
         }
     }
+    if (!emptied.empty())
+        step += tr(" and %1, left empty").arg(featureName(*session_->document().root.find(emptied.front())));
     QString error;
     const bool ok =
         session_->apply(step, [&](Document& d) { edit::removeNodes(d, ids); }, &error);

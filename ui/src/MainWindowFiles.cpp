@@ -85,9 +85,19 @@ bool MainWindow::isBundledExample(const fs::path& file) const
 
 bool MainWindow::openFile(const fs::path& file)
 {
-    if (!maybeSave()) return false;
+    // The file is read first: one that cannot be opened leaves the part as
+    // it is, without asking about its changes (a newcomer was asked to save
+    // before being told that a PNG was no Kerf document).
+    Document doc;
     try {
-        Document doc = Document::load(file);
+        doc = Document::load(file);
+    } catch (const DocumentError& e) {
+        showMessageUntilEdit(QString::fromUtf8(e.what()));
+        reportError(tr("Cannot open"), QString::fromUtf8(e.what()));
+        return false;
+    }
+    if (!maybeSave()) return false;
+    {
         // A bundled example opens as an untitled copy: Save asks where to
         // keep it instead of overwriting the installed file.
         const bool example = isBundledExample(file);
@@ -101,10 +111,6 @@ bool MainWindow::openFile(const fs::path& file)
         tree_->expandToDepth(1);
         QTimer::singleShot(0, viewport_, [this] { viewport_->setStandardView("iso"); });
         return true;
-    } catch (const DocumentError& e) {
-        showMessage(QString::fromUtf8(e.what()), 0);
-        reportError(tr("Cannot open"), QString::fromUtf8(e.what()));
-        return false;
     }
 }
 
@@ -134,7 +140,7 @@ bool MainWindow::saveAs(const std::optional<fs::path>& file)
         showMessage(tr("Saved %1").arg(QString::fromStdString(target.string())));
         return true;
     } catch (const std::exception& e) {
-        showMessage(tr("Not saved: %1").arg(QString::fromUtf8(e.what())), 0);
+        showMessageUntilEdit(tr("Not saved: %1").arg(QString::fromUtf8(e.what())));
         reportError(tr("Cannot save"), QString::fromUtf8(e.what()));
         return false;
     }

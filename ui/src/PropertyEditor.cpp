@@ -240,6 +240,8 @@ void PropertyEditor::addQuantity(const QString& label, const QString& key, int u
     });
     connect(edit, &QuantityEdit::expressionEntered, this,
             [this, index](const QString& expression) { commitExpression(index, expression); });
+    // Esc took the typed text back: a refusal of it is no longer the field's.
+    connect(edit, &QuantityEdit::reverted, this, [this, index] { showError(fields_[index].error, QString()); });
 }
 
 void PropertyEditor::commitExpression(std::size_t index, const QString& expression)

@@ -17,8 +17,9 @@ namespace kerf::ui {
 QuantityEdit::QuantityEdit(Unit unit, QWidget* parent) : QDoubleSpinBox(parent), unit_(unit)
 {
     // Wide ranges: the document's validation, not the widget, says what is
-    // allowed, and says why.
-    setRange(-1e9, 1e9);
+    // allowed, and says why, quoting what was typed (a range of 1e9 quoted
+    // a typed 1e30 as "is 1000000000 mm").
+    setRange(-1e100, 1e100);
     setDecimals(6);
     setSingleStep(1.0);
     setKeyboardTracking(false); // typed text commits on Enter or leaving the field
@@ -142,8 +143,10 @@ void QuantityEdit::keyPressEvent(QKeyEvent* event)
         lineEdit()->setModified(false);
         lineEdit()->selectAll();
         event->accept();
+        emit reverted();
         return;
     }
+    if (event->key() == Qt::Key_Escape) emit reverted(); // and on: a dialog closes
     if (event->key() == Qt::Key_Return || event->key() == Qt::Key_Enter) {
         // "=thickness + 2": an expression for the document, not a number for the box.
         if (const QString e = typedExpression(); !e.isNull()) {

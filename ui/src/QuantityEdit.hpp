@@ -60,6 +60,8 @@ signals:
     /// (Enter, or leaving the field): the expression, without the '=' and
     /// the field's unit.
     void expressionEntered(const QString& expression);
+    /// Esc took back the text typed: the field shows what was entered last.
+    void reverted();
 
 private:
     bool stepping_ = false;
