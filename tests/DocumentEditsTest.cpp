@@ -467,6 +467,26 @@ TEST(MoveSnap, AlignsWithANeighbourWithinReachElseRoundsToTheGrid)
 namespace kerf {
 namespace {
 
+// kerf export --feature takes an id, or a name only one feature has.
+TEST(DocumentEdits, AFeatureIsFoundByItsIdOrAUniqueName)
+{
+    const Document d = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"root","type":"union",
+        "children":[{"id":"top","type":"box","name":"Top","size":[100,100,18]},
+            {"id":"a","type":"box","name":"Leg","size":[10,10,100]},
+            {"id":"b","type":"box","name":"Leg","size":[10,10,100]}]}})",
+                                       "d.kerf");
+    EXPECT_EQ(edit::featureNamed(d, "top"), "top");
+    EXPECT_EQ(edit::featureNamed(d, "Top"), "top");
+    EXPECT_EQ(edit::featureNamed(d, "a"), "a");
+    try {
+        edit::featureNamed(d, "Leg");
+        ADD_FAILURE() << "a shared name was taken";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_EQ(std::string(e.what()), "2 features are named 'Leg': give one of their ids (a, b)");
+    }
+    EXPECT_THROW(edit::featureNamed(d, "Shelf"), std::invalid_argument);
+}
+
 TEST(DocumentEdits, IdsInSubtreeNameTheNodeAndEverythingBelow)
 {
     const Document d = turnedPanel();

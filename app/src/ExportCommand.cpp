@@ -15,6 +15,7 @@
 #include "kerf/document/AtomicFile.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/NodeBounds.hpp"
+#include "kerf/document/NodePlacement.hpp"
 #include "kerf/document/PrintableText.hpp"
 #include "kerf/mesher/MeshCheck.hpp"
 #include "kerf/mesher/MeshFile.hpp"
@@ -35,7 +36,7 @@ namespace kerf {
 namespace {
 
 const char* kExportHelp = R"(Usage: kerf export FILE.kerf -o OUT.stl|OUT.3mf [--tolerance MM] [--feature-size MM]
-                   [--ascii] [--json] [-D NAME=VALUE]...
+                   [--feature ID|NAME] [--ascii] [--json] [-D NAME=VALUE]...
 
 Meshes the part and writes it for a slicer or CAM program: binary STL for
 .stl (ASCII with --ascii), 3MF for .3mf (indexed triangles, millimetres,
@@ -62,6 +63,11 @@ Options:
                          extent). Walls, pins and gaps thinner than this
                          are found and named in a warning, with the
                          feature size that resolves them.
+  --feature ID|NAME      export only this feature (its id, or a name only it
+                         has) with what it holds, where the part places it
+                         (every copy of an array or mirror above it): one
+                         board of a cabinet, for the CNC; at the part's
+                         feature size unless told
   --ascii                write ASCII STL instead of binary (.stl only)
   --json                 print the figures as one JSON object
   -D NAME=VALUE          set the document's parameter NAME (a number or an
@@ -116,7 +122,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
 {
     std::string file;
     try {
-        const Arguments a(args, {"-o", "--output", "--feature-size", "--tolerance", "-D"},
+        const Arguments a(args, {"-o", "--output", "--feature-size", "--tolerance", "--feature", "-D"},
                           {"--ascii", "--json", "--help", "-h"});
         if (a.has("--help") || a.has("-h")) {
             out << kExportHelp;
@@ -159,7 +165,22 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
                 << " not written\n";
             return 1;
         };
-        const Document doc = Document::load(file, a.defines());
+        const Document whole = Document::load(file, a.defines());
+        // The part's own feature size, also for one feature of it.
+        const Aabb wholeBounds = partBounds(whole);
+        std::string partName = std::filesystem::path(file).stem().string();
+        Document doc = whole;
+        if (const auto feature = a.value("--feature")) {
+            std::string id;
+            try {
+                id = edit::featureNamed(whole, *feature);
+            } catch (const std::invalid_argument& e) {
+                throw RefusedRequest(printable(file) + ": --feature: " + e.what());
+            }
+            doc = edit::documentOfNodeAlone(whole, id);
+            const Node& n = *whole.root.find(id);
+            partName = n.name.value_or(id);
+        }
         const Aabb bounds = partBounds(doc);
         if (bounds.isEmpty()) {
             err << "kerf export: " << printable(file) << ": the part is empty (nothing is visible); nothing to export\n";
@@ -167,7 +188,8 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         }
         const char* source = requested ? "option" : doc.settings.featureSize ? "document" : "default";
         MeshOptions options;
-        options.featureSize = requested.value_or(doc.settings.featureSize.value_or(defaultFeatureSize(bounds)));
+        options.featureSize =
+            requested.value_or(doc.settings.featureSize.value_or(defaultFeatureSize(wholeBounds.isEmpty() ? bounds : wholeBounds)));
         options.tolerance = tolerance;
         // A tolerance asked for that the file cannot hold is refused; the
         // default on a part far from the origin is written with a warning
@@ -192,7 +214,6 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         }
         const Progress progress(showPercent, [] { return interrupted.load(); });
         const auto meshStart = std::chrono::steady_clock::now();
-        const std::string partName = std::filesystem::path(file).stem().string();
         // Meshing, checking the mesh as a reader will see it, and writing;
         // the file is written whole or, if the process is killed, not at all.
         const ExportedPart exported = exportPart(doc, options, target, *format, partName, progress);
@@ -245,6 +266,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         if (json) {
             nlohmann::ordered_json j;
             j["file"] = file;
+            if (const auto feature = a.value("--feature")) j["feature"] = partName;
             j["output"] = target.string();
             j["format"] = describe(*format);
             j["bytes"] = written.bytes;
@@ -306,7 +328,8 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             return 0;
         }
         out << printable(target.string()) << ": " << grouped(report.triangles) << " triangles, " << describe(*format)
-            << " (" << megabytes(written.bytes) << "), from " << printable(file) << "\n";
+            << " (" << megabytes(written.bytes) << "), from " << printable(file)
+            << (a.value("--feature") ? " (" + printable(partName) + " alone)" : std::string()) << "\n";
         if (tolerance == 0.0)
             out << "  tolerance:     none (marching cubes at the feature size)\n";
         else if (fallback.empty())

@@ -80,6 +80,25 @@ glm::dvec3 moveKeepingExpressions(const Document& doc, std::string_view id, cons
     return frame.applyLinear(local);
 }
 
+std::string featureNamed(const Document& doc, std::string_view idOrName)
+{
+    if (doc.root.find(idOrName)) return std::string(idOrName);
+    std::vector<const Node*> named;
+    std::vector<const Node*> stack{&doc.root};
+    while (!stack.empty()) {
+        const Node* n = stack.back();
+        stack.pop_back();
+        if (n->name && *n->name == idOrName) named.push_back(n);
+        for (auto c = n->children.rbegin(); c != n->children.rend(); ++c) stack.push_back(&*c); // tree order
+    }
+    if (named.size() == 1) return named.front()->id;
+    if (named.empty()) throw std::invalid_argument("no feature has the id or the name '" + std::string(idOrName) + "'");
+    std::string ids;
+    for (const Node* n : named) ids += (ids.empty() ? "" : ", ") + n->id;
+    throw std::invalid_argument(std::to_string(named.size()) + " features are named '" + std::string(idOrName) +
+                                "': give one of their ids (" + ids + ")");
+}
+
 bool isSubtracted(const Document& doc, std::string_view id)
 {
     const std::vector<const Node*> path = pathTo(doc, id);

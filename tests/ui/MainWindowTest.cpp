@@ -340,6 +340,7 @@ private slots:
     void exportDialogSaysWhenTheFileDoesNotMatchThePart();
     void exportDialogSaysWhereDetailHidesBetweenTheCells();
     void exportDialogTakesThePartAsItIsWhenExportIsPressed();
+    void exportDialogExportsTheSelectedFeatureAlone();
     void exportDialogAsksBeforeReplacingAFileAndOpensWithTheLastChoices();
     void everyShortcutIsBoundOnceAndRedoAnswersBothKeys();
     void theWheelEditsOnlyTheFieldBeingEdited();
@@ -792,6 +793,47 @@ void MainWindowTest::exportDialogSaysWhereDetailHidesBetweenTheCells()
 // hidden afterwards was still in the file); Export… again stacked a second
 // dialog on the first; "abc" typed in a number field was put back to the
 // old value and the export ran with it, saying nothing.
+void MainWindowTest::exportDialogExportsTheSelectedFeatureAlone()
+{
+    // A newcomer's drawer came out of the 3MF as one fused solid; the CNC
+    // wanted one board. The table top's slab alone has no mortises: more
+    // volume than the whole part.
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "table-top.kerf"));
+    action(w.get(), "action.export")->trigger();
+    auto* dialog = w->findChild<ExportDialog*>("exportDialog");
+    QVERIFY(dialog);
+    auto* only = dialog->findChild<QCheckBox*>("export.onlySelection");
+    QVERIFY(only && only->isEnabled() && !only->isChecked());
+    dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(4.0);
+    QSignalSpy done(dialog, &ExportDialog::finished);
+    const auto exportTo = [&](const QString& name) {
+        dialog->findChild<QLineEdit*>("export.path")->setText(files_.path() + "/" + name);
+        const qsizetype before = done.count();
+        QTest::mouseClick(dialog->findChild<QPushButton*>("export.start"), Qt::LeftButton);
+        return done.count() > before || done.wait(120000); // a refusal finishes at once
+    };
+    QVERIFY(exportTo("whole.3mf"));
+    QVERIFY2(dialog->outcome().written, qPrintable(dialog->outcome().message));
+    const double whole = checkMesh(test::readMeshFile((files_.path() + "/whole.3mf").toStdString())).volume;
+
+    // Nothing selected: refused, saying what to do.
+    only->setChecked(true);
+    w->selectNodes({});
+    QVERIFY(exportTo("nothing.3mf"));
+    QVERIFY(!dialog->outcome().written);
+    QVERIFY2(dialog->outcome().message.contains("select one feature in the tree"), qPrintable(dialog->outcome().message));
+
+    w->selectNodes({"top-slab"});
+    QVERIFY(exportTo("slab.3mf"));
+    QVERIFY2(dialog->outcome().written, qPrintable(dialog->outcome().message));
+    QVERIFY2(dialog->outcome().message.startsWith("Top alone"), qPrintable(dialog->outcome().message));
+    const MeshReport slab = checkMesh(test::readMeshFile((files_.path() + "/slab.3mf").toStdString()));
+    QVERIFY(slab.watertight());
+    QCOMPARE(slab.components, std::size_t(1));
+    QVERIFY2(slab.volume > whole + 1000.0, qPrintable(QString("%1 against %2").arg(slab.volume).arg(whole)));
+}
+
 void MainWindowTest::exportDialogTakesThePartAsItIsWhenExportIsPressed()
 {
     auto w = makeWindow(recovery_.path());

@@ -2,6 +2,7 @@
 
 #include "QuantityEdit.hpp"
 #include "kerf/document/AtomicFile.hpp"
+#include "kerf/document/NodePlacement.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/mesher/MeshFile.hpp"
 #include "kerf/mesher/MeshPart.hpp"
@@ -170,6 +171,14 @@ ExportDialog::ExportDialog(std::function<Document()> document, std::string partN
     th->addWidget(simplify_);
     th->addWidget(tolerance_, 1);
     form->addRow(tr("Tolerance"), toleranceRow);
+    // One board of a cabinet for the CNC, not the cabinet fused into one
+    // solid (a newcomer's drawer).
+    onlySelection_ = new QCheckBox(tr("Only the selected feature"), this);
+    onlySelection_->setObjectName("export.onlySelection");
+    onlySelection_->setToolTip(tr("The feature selected in the tree, with what it holds, where the part places it "
+                                  "(every copy of an array or mirror above it)"));
+    onlySelection_->setEnabled(false); // until the window says what is selected
+    form->addRow(tr("Part"), onlySelection_);
     connect(simplify_, &QCheckBox::toggled, tolerance_, &QWidget::setEnabled);
     layout->addLayout(form);
     progress_ = new QProgressBar(this);
@@ -236,6 +245,12 @@ ExportDialog::ExportDialog(std::function<Document()> document, std::string partN
     connect(timer_, &QTimer::timeout, this, &ExportDialog::poll);
 }
 
+void ExportDialog::setSelection(std::function<std::vector<std::string>()> selection)
+{
+    selection_ = std::move(selection);
+    onlySelection_->setEnabled(bool(selection_));
+}
+
 ExportDialog::~ExportDialog()
 {
     cancel_ = true;
@@ -282,6 +297,7 @@ void ExportDialog::setFieldsEnabled(bool enabled)
     for (QWidget* w : std::initializer_list<QWidget*>{path_, browse_, format_, featureSize_, simplify_})
         w->setEnabled(enabled);
     tolerance_->setEnabled(enabled && simplify_->isChecked());
+    onlySelection_->setEnabled(enabled && bool(selection_));
 }
 
 bool ExportDialog::mayReplace(const std::filesystem::path& file)
@@ -340,8 +356,21 @@ void ExportDialog::start()
         return refuse(tr("Not exported: %1 is kept as it was. Choose another name, or export again and answer "
                          "Replace.")
                           .arg(QString::fromStdString(file.string())));
-    // The part as it is now, not as it was when the dialog opened.
-    doc_ = document_();
+    // The part as it is now, not as it was when the dialog opened; or the
+    // feature selected now, alone.
+    Document part = document_();
+    alone_.clear();
+    if (onlySelection_->isChecked()) {
+        const std::vector<std::string> ids = selection_ ? selection_() : std::vector<std::string>{};
+        const Node* n = ids.size() == 1 ? part.root.find(ids.front()) : nullptr;
+        if (!n || n == &part.root)
+            return refuse(tr("Not exported: select one feature in the tree to export it alone (%n selected), or "
+                             "untick Only the selected feature.",
+                             nullptr, int(ids.size())));
+        alone_ = QString::fromStdString(n->name.value_or(n->id));
+        part = edit::documentOfNodeAlone(part, n->id);
+    }
+    doc_ = std::move(part);
     cancel_ = false;
     done_ = false;
     fraction_ = 0.0;
@@ -352,7 +381,8 @@ void ExportDialog::start()
     result_->setText(tr("Meshing…"));
     progress_->setValue(0);
     timer_->start();
-    const std::string partName = partName_.empty() ? file.stem().string() : partName_;
+    const std::string partName =
+        !alone_.isEmpty() ? alone_.toStdString() : partName_.empty() ? file.stem().string() : partName_;
     writtenTo_ = file;
     worker_ = std::thread([this, file, featureSize, tolerance, format = *format, partName] {
         ExportOutcome o;
@@ -434,6 +464,8 @@ void ExportDialog::poll()
         wroteLast_ = writtenTo_;
     }
     setFieldsEnabled(true);
+    if (!alone_.isEmpty() && outcome_.written)
+        outcome_.message = tr("%1 alone, where the part places it.\n").arg(alone_) + outcome_.message;
     result_->setText(outcome_.message);
     exportButton_->setEnabled(true);
     // Nothing runs any more: the button only closes the dialog (a newcomer

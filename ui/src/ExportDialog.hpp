@@ -66,6 +66,10 @@ public:
                  QWidget* parent = nullptr);
     ~ExportDialog() override;
 
+    /// What is selected (asked when Export is pressed): "Only the selected
+    /// feature" exports that feature alone, as the part places it.
+    void setSelection(std::function<std::vector<std::string>()> selection);
+
     /// Starts the export with the dialog's settings (the Export button).
     void start();
     /// Asks a running export to stop (the Cancel button).
@@ -97,7 +101,9 @@ private:
     void setFieldsEnabled(bool enabled);
 
     std::function<Document()> document_;
+    std::function<std::vector<std::string>()> selection_;
     std::string partName_;
+    QString alone_; // the feature the running export takes alone ("" for the whole part)
     Document doc_; // what the running export meshes (taken when Export is pressed)
     std::filesystem::path folder_; // where a file name typed without a folder goes
     double documentFeatureSize_ = 0.0; // what the feature size field opens with when none was typed
@@ -108,6 +114,7 @@ private:
     QLineEdit* path_;
     QuantityEdit* featureSize_;
     QCheckBox* simplify_;
+    QCheckBox* onlySelection_;
     QuantityEdit* tolerance_;
     QComboBox* format_;
     QPushButton* browse_;

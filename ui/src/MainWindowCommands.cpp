@@ -387,6 +387,7 @@ void MainWindow::showExportDialog()
     if (lastExport_ && lastExport_->first == document) choices = lastExport_->second;
     auto* d = new ExportDialog([this] { return session_->document(); }, partName, choices, this);
     d->setObjectName("exportDialog");
+    d->setSelection([this] { return selectedNodeIds(); });
     d->setAttribute(Qt::WA_DeleteOnClose);
     connect(d, &ExportDialog::finished, this, [this, d, document](const ExportOutcome& outcome) {
         if (outcome.written) lastExport_ = {document, d->choices()};

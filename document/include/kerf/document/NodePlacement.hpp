@@ -57,4 +57,9 @@ bool isSubtracted(const Document& doc, std::string_view id);
 /// For drawing a tool body that the part itself does not show.
 Document documentOfNodeAlone(const Document& doc, std::string_view id);
 
+/// The id of the feature a person names: its id, else its name when one
+/// feature has it. Throws std::invalid_argument saying why not (no such
+/// feature; a name several features share, with their ids).
+std::string featureNamed(const Document& doc, std::string_view idOrName);
+
 } // namespace kerf::edit
