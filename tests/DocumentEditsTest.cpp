@@ -141,10 +141,13 @@ TEST(DocumentEdits, UpdateKeepsIdTypeAndChildren)
     expectRefused(doc, [&](Document& x) { edit::updateNode(x, "d", wrongType); });
 }
 
-TEST(DocumentEdits, EmptyDocumentBecomesValidWithOneFeature)
+// A new document is valid as it is (a file holds an empty part, with its
+// parameters), and with its first feature.
+TEST(DocumentEdits, AnEmptyDocumentIsValidAndSoIsItWithOneFeature)
 {
     Document doc = edit::emptyDocument();
-    EXPECT_THROW(doc.validate(), DocumentError);
+    EXPECT_NO_THROW(doc.validate());
+    EXPECT_EQ(Document::parse(doc.serialize(), "new.kerf"), doc);
     edit::insertNode(doc, doc.root.id, 0, makeNode(NodeType::Box, "box"));
     EXPECT_NO_THROW(doc.validate());
 }

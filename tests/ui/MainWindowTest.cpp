@@ -156,6 +156,21 @@ void clickRow(MainWindow& w, const std::string& id, Qt::KeyboardModifiers mods =
     QTest::mouseClick(w.featureTree()->viewport(), Qt::LeftButton, mods, QPoint(r.right() - 8, r.center().y()));
 }
 
+// Writes `bytes` to `path` (a document, a file that is none); false if it cannot.
+bool writeTestFile(const QString& path, const QByteArray& bytes)
+{
+    QFile f(path);
+    return f.open(QIODevice::WriteOnly) && f.write(bytes) == bytes.size();
+}
+
+// Opens a bundled example and its export dialog, as File > Export does; null if either fails.
+ExportDialog* openExportDialog(MainWindow& w, const char* example)
+{
+    if (!w.openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / example)) return nullptr;
+    action(&w, "action.export")->trigger();
+    return w.findChild<ExportDialog*>("exportDialog");
+}
+
 // Waits until the voxelizer has published, at full depth, the document as it is now.
 bool waitForVoxels(MainWindow& w)
 {
@@ -294,6 +309,19 @@ void lookAtTheFirstHoles(qt::ViewportWidget& v)
     // About 60 mm tall: a millimetre is ten pixels or so.
     close.fit(Aabb{glm::dvec3(8, 22, 152), glm::dvec3(10, 52, 200)}, double(v.width()) / v.height());
     v.setView(close);
+}
+
+// The bookshelf side open and in view, close up on its first holes, with
+// the shelf-pin hole selected (its gizmo on the first copy); null if the
+// file or its voxels fail.
+qt::ViewportWidget* selectTheFirstShelfPinHole(MainWindow& w)
+{
+    if (!w.openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side.kerf") || !waitForViewport(w))
+        return nullptr;
+    qt::ViewportWidget* v = w.viewport();
+    lookAtTheFirstHoles(*v);
+    clickRow(w, "shelf-pin-hole");
+    return v;
 }
 
 void saveScreenshot(MainWindow& w, const QString& name)
@@ -738,9 +766,7 @@ void MainWindowTest::exportDialogNamesWhatTheToleranceMissed()
 void MainWindowTest::exportDialogSaysWhenTheFileDoesNotMatchThePart()
 {
     auto w = makeWindow(recovery_.path());
-    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "table-top.kerf"));
-    action(w.get(), "action.export")->trigger();
-    auto* dialog = w->findChild<ExportDialog*>("exportDialog");
+    ExportDialog* dialog = openExportDialog(*w, "table-top.kerf");
     QVERIFY(dialog);
     dialog->findChild<QLineEdit*>("export.path")->setText(files_.path() + "/table-top-coarse.stl");
     dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(8.0);
@@ -771,9 +797,7 @@ void MainWindowTest::exportDialogSaysWhereDetailHidesBetweenTheCells()
     // The bookshelf side at 4 mm cells: the 1 mm of panel between the toe
     // kick and the bottom dado lies between lattice points.
     auto w = makeWindow(recovery_.path());
-    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side.kerf"));
-    action(w.get(), "action.export")->trigger();
-    auto* dialog = w->findChild<ExportDialog*>("exportDialog");
+    ExportDialog* dialog = openExportDialog(*w, "bookshelf-side.kerf");
     QVERIFY(dialog);
     dialog->findChild<QLineEdit*>("export.path")->setText(files_.path() + "/side.stl");
     dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(4.0);
@@ -788,20 +812,13 @@ void MainWindowTest::exportDialogSaysWhereDetailHidesBetweenTheCells()
              qPrintable(message));
 }
 
-// What a newcomer met (2026-11-28): the dialog does not block the main
-// window, and it exported the part as it was when it opened (a feature
-// hidden afterwards was still in the file); Export… again stacked a second
-// dialog on the first; "abc" typed in a number field was put back to the
-// old value and the export ran with it, saying nothing.
 void MainWindowTest::exportDialogExportsTheSelectedFeatureAlone()
 {
     // A newcomer's drawer came out of the 3MF as one fused solid; the CNC
     // wanted one board. The table top's slab alone has no mortises: more
     // volume than the whole part.
     auto w = makeWindow(recovery_.path());
-    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "table-top.kerf"));
-    action(w.get(), "action.export")->trigger();
-    auto* dialog = w->findChild<ExportDialog*>("exportDialog");
+    ExportDialog* dialog = openExportDialog(*w, "table-top.kerf");
     QVERIFY(dialog);
     auto* only = dialog->findChild<QCheckBox*>("export.onlySelection");
     QVERIFY(only && only->isEnabled() && !only->isChecked());
@@ -834,6 +851,11 @@ void MainWindowTest::exportDialogExportsTheSelectedFeatureAlone()
     QVERIFY2(slab.volume > whole + 1000.0, qPrintable(QString("%1 against %2").arg(slab.volume).arg(whole)));
 }
 
+// What a newcomer met (2026-11-28): the dialog does not block the main
+// window, and it exported the part as it was when it opened (a feature
+// hidden afterwards was still in the file); Export… again stacked a second
+// dialog on the first; "abc" typed in a number field was put back to the
+// old value and the export ran with it, saying nothing.
 void MainWindowTest::exportDialogTakesThePartAsItIsWhenExportIsPressed()
 {
     auto w = makeWindow(recovery_.path());
@@ -1538,9 +1560,7 @@ void MainWindowTest::deletingWhatADifferenceCutsFromAsksFirst()
 void MainWindowTest::exportDialogWritesAClosedMesh()
 {
     auto w = makeWindow(recovery_.path());
-    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "stool.kerf"));
-    action(w.get(), "action.export")->trigger();
-    auto* dialog = w->findChild<ExportDialog*>("exportDialog");
+    ExportDialog* dialog = openExportDialog(*w, "stool.kerf");
     QVERIFY(dialog);
     auto* dismiss = dialog->findChild<QPushButton*>("export.dismiss");
     QVERIFY(dismiss);
@@ -2069,11 +2089,7 @@ void MainWindowTest::aFileThatIsNoKerfDocumentIsRefusedBeforeAskingToSave()
     action(w.get(), "action.add.box")->trigger();
     const Document before = w->session()->document();
     const QString png = files_.path() + "/picture.kerf";
-    {
-        QFile f(png);
-        QVERIFY(f.open(QIODevice::WriteOnly));
-        f.write(QByteArray("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16));
-    }
+    QVERIFY(writeTestFile(png, QByteArray("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16)));
     QVERIFY(!w->openFile(png.toStdString()));
     QCOMPARE(asked, 0);
     QCOMPARE(w->session()->document(), before);
@@ -2091,14 +2107,10 @@ void MainWindowTest::deletingAMirroredLegTakesTheEmptiedMirrorAlong()
     // A newcomer deleted the leg under a mirror and was refused: "a mirror
     // needs at least 1 child", with no way on but finding the mirror.
     const QString doc = files_.path() + "/mirrored.kerf";
-    {
-        QFile f(doc);
-        QVERIFY(f.open(QIODevice::WriteOnly));
-        f.write(R"({"format":"kerf","version":1,"root":{"id":"root","type":"union","children":[
+    QVERIFY(writeTestFile(doc, R"({"format":"kerf","version":1,"root":{"id":"root","type":"union","children":[
             {"id":"top","type":"box","size":[100,100,18]},
             {"id":"m","type":"mirror","normal":[1,0,0],"offset":0,"children":[
-                {"id":"leg","type":"box","name":"Leg","size":[10,10,100],"transform":{"translate":[40,0,50]}}]}]}})");
-    }
+                {"id":"leg","type":"box","name":"Leg","size":[10,10,100],"transform":{"translate":[40,0,50]}}]}]}})"));
     auto w = makeWindow(recovery_.path());
     QVERIFY(w->openFile(doc.toStdString()));
     const Document before = w->session()->document();
@@ -2116,16 +2128,12 @@ void MainWindowTest::deletingAMirroredLegTakesTheEmptiedMirrorAlong()
     // groove's difference; "too" takes the difference, and the mirror it
     // leaves empty goes with it (the answer was once refused afterwards).
     const QString grooved = files_.path() + "/grooved.kerf";
-    {
-        QFile f(grooved);
-        QVERIFY(f.open(QIODevice::WriteOnly));
-        f.write(R"({"format":"kerf","version":1,"root":{"id":"root","type":"union","children":[
+    QVERIFY(writeTestFile(grooved, R"({"format":"kerf","version":1,"root":{"id":"root","type":"union","children":[
             {"id":"front","type":"box","size":[600,18,150]},
             {"id":"sides","type":"mirror","normal":[1,0,0],"offset":0,"children":[
                 {"id":"side-d","type":"difference","name":"Left side with groove","children":[
                     {"id":"side","type":"box","name":"Left side","size":[12,450,150],"transform":{"translate":[294,225,75]}},
-                    {"id":"groove","type":"box","size":[6,450,6],"transform":{"translate":[291,225,13]}}]}]}]}})");
-    }
+                    {"id":"groove","type":"box","size":[6,450,6],"transform":{"translate":[291,225,13]}}]}]}]}})"));
     QVERIFY(w->openFile(grooved.toStdString()));
     w->selectNodes({"side"});
     {
@@ -2168,11 +2176,8 @@ void MainWindowTest::theGizmoLeavesACoordinateSetByAnExpression()
     // the drag replaced it with a number without a word. A coordinate set
     // by an expression now stays, and the status bar says why.
     auto w = makeWindow(recovery_.path());
-    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side.kerf"));
-    QVERIFY(waitForViewport(*w));
-    qt::ViewportWidget* v = w->viewport();
-    lookAtTheFirstHoles(*v);
-    clickRow(*w, "shelf-pin-hole");
+    qt::ViewportWidget* v = selectTheFirstShelfPinHole(*w);
+    QVERIFY(v);
     typeInto(field(*w, "translate.z"), "=150 + 10");
     const auto find = [&] { return w->session()->document().root.find("shelf-pin-hole"); };
     QCOMPARE(find()->transform.translate.z, 160.0);
@@ -2314,11 +2319,8 @@ void MainWindowTest::measuringSnapsToHoleCentresAndDrawsTheDimension()
 void MainWindowTest::theGizmoMovesAHoleBySnappedOrTypedDistancesInOneUndoStep()
 {
     auto w = makeWindow(recovery_.path());
-    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side.kerf"));
-    QVERIFY(waitForViewport(*w));
-    qt::ViewportWidget* v = w->viewport();
-    lookAtTheFirstHoles(*v);
-    clickRow(*w, "shelf-pin-hole");
+    qt::ViewportWidget* v = selectTheFirstShelfPinHole(*w);
+    QVERIFY(v);
     QTRY_VERIFY(v->moveGizmo().has_value());
     // On the hole's first copy: x from -3 to 10, centred on y 37, z 160.
     QCOMPARE(v->moveGizmoOrigin()->z, 160.0);
