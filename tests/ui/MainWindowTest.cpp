@@ -2274,6 +2274,21 @@ void MainWindowTest::theViewKeysAnswerWithTheFeatureTreeInFocus()
     QCOMPARE(editor->text(), QString("1"));
     QVERIFY(v->view().yawDegrees() != frontYaw || v->view().pitchDegrees() != frontPitch);
     if (auto* open = table->findChild<QLineEdit*>()) QTest::keyClick(open, Qt::Key_Escape);
+
+    // So in a turned profile's point table.
+    action(w.get(), "action.add.revolve")->trigger();
+    auto* points = w->propertyEditor()->findChild<QTableWidget*>("field.profile");
+    QVERIFY(points);
+    QTRY_VERIFY(points->isVisible());
+    points->setFocus();
+    QTRY_VERIFY(points->hasFocus());
+    points->setCurrentCell(0, 0);
+    QTest::keyClick(points, Qt::Key_1);
+    auto* pointEditor = points->findChild<QLineEdit*>();
+    QVERIFY(pointEditor && pointEditor->isVisible());
+    QCOMPARE(pointEditor->text(), QString("1"));
+    QVERIFY(v->view().yawDegrees() != frontYaw || v->view().pitchDegrees() != frontPitch);
+    QTest::keyClick(pointEditor, Qt::Key_Escape);
 }
 
 void MainWindowTest::measuringSnapsToHoleCentresAndDrawsTheDimension()

@@ -4,6 +4,7 @@
 #include "LengthDisplay.hpp"
 #include "NameCompleter.hpp"
 #include "NodeText.hpp"
+#include "TypingStaysInTable.hpp"
 #include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/NodeTypes.hpp"
 
@@ -54,6 +55,7 @@ ParametersPanel::ParametersPanel(DocumentSession* session, QWidget* parent) : QW
     auto* layout = new QVBoxLayout(this);
     table_ = new QTableWidget(0, 4, this);
     table_->installEventFilter(this);
+    TypingStaysInTable::install(table_);
     table_->setObjectName("parameters.table");
     table_->setHorizontalHeaderLabels({tr("Name"), tr("Expression"), tr("Value"), tr("Comment")});
     table_->verticalHeader()->hide();
@@ -205,13 +207,6 @@ bool ParametersPanel::eventFilter(QObject* watched, QEvent* event)
                 return true;
             }
             removeSelected();
-            return true;
-        }
-        // A printable key starts editing the cell (AnyKeyPressed), never the
-        // window's one-key shortcuts: "1" is the front view, "f" Fit All.
-        const bool plain = !(key->modifiers() & (Qt::ControlModifier | Qt::AltModifier | Qt::MetaModifier));
-        if (event->type() == QEvent::ShortcutOverride && plain && !key->text().isEmpty() && key->text()[0].isPrint()) {
-            event->accept();
             return true;
         }
     }

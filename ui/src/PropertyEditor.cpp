@@ -5,6 +5,7 @@
 #include "LengthDisplay.hpp"
 #include "NameCompleter.hpp"
 #include "QuantityEdit.hpp"
+#include "TypingStaysInTable.hpp"
 #include "kerf/document/Expression.hpp"
 #include "kerf/document/AddFeature.hpp"
 #include "kerf/document/DocumentEdits.hpp"
@@ -453,6 +454,10 @@ void PropertyEditor::addProfileTable(const FieldSpec& field)
     profile_->setHorizontalHeaderLabels({tr("%1 (%2)").arg(a, unit), tr("%1 (%2)").arg(b, unit)});
     profile_->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
     profile_->setMinimumHeight(140);
+    // Typing over a point's cell edits it, as in the Parameters table.
+    profile_->setEditTriggers(QAbstractItemView::DoubleClicked | QAbstractItemView::EditKeyPressed |
+                              QAbstractItemView::AnyKeyPressed);
+    TypingStaysInTable::install(profile_);
     form_->addRow(QCoreApplication::translate("NodeTypes", std::string(field.label).c_str()), profile_);
     auto* buttons = new QWidget(this);
     auto* h = new QHBoxLayout(buttons);
