@@ -490,6 +490,27 @@ TEST(DocumentEdits, AFeatureIsFoundByItsIdOrAUniqueName)
     EXPECT_THROW(edit::featureNamed(d, "Shelf"), std::invalid_argument);
 }
 
+// An export of one feature says what the file holds: the copies a mirror
+// above it makes, and a cutter's shape as a solid (a newcomer's "Pin hole
+// alone" was forty solid pins, without a word).
+TEST(DocumentEdits, AFeatureAloneIsDescribedWithItsCopiesAndWhatItIs)
+{
+    const Document d = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"root","type":"union",
+        "children":[{"id":"top","type":"box","name":"Top","size":[100,100,18]},
+            {"id":"sides","type":"mirror","normal":[1,0,0],"offset":0,"children":[
+                {"id":"side","type":"difference","name":"Side","children":[
+                    {"id":"board","type":"box","size":[18,100,300],"transform":{"translate":[60,0,150]}},
+                    {"id":"holes","type":"array","count":[1,1,5],"step":[0,0,32],"children":[
+                        {"id":"pin","type":"cylinder","name":"Pin hole","radius":2.5,"height":12,
+                         "transform":{"translate":[52,0,60],"rotate":[0,90,0]}}]}]}]}]}})",
+                                       "d.kerf");
+    EXPECT_EQ(edit::describeFeatureAlone(d, "top"), "Top alone");
+    EXPECT_EQ(edit::describeFeatureAlone(d, "side"), "Side alone, with every copy of the mirror above it");
+    EXPECT_EQ(edit::describeFeatureAlone(d, "pin"),
+              "Pin hole alone, with every copy of the mirror and array above it, as a solid: it is a cutter (the part "
+              "has its shape cut away)");
+}
+
 TEST(DocumentEdits, IdsInSubtreeNameTheNodeAndEverythingBelow)
 {
     const Document d = turnedPanel();

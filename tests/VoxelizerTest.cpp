@@ -721,11 +721,30 @@ TEST(Voxelizer, APlateBetweenTheCoarseVoxelsCornersIsFoundByTheFinePass)
         {"id":"back","type":"box","size":[576,12,144],"transform":{"translate":[0,444,88]}},
         {"id":"bottom","type":"box","size":[587,432,6],"transform":{"translate":[0,234,13]}}]})",
                          0.5);
-    Voxelizer vox({.limits = {}, .coarseLevelDrop = 2, .threads = 2, .featureSize = 0.0, .onPublish = {}});
+    std::mutex m;
+    std::shared_ptr<const VoxelSnapshot> preview; // the first publication: the coarse pass's
+    Voxelizer vox({.limits = {}, .coarseLevelDrop = 2, .threads = 2, .featureSize = 0.0,
+                   .onPublish = [&](std::shared_ptr<const VoxelSnapshot> s) {
+                       std::lock_guard lock(m);
+                       if (!preview) preview = std::move(s);
+                   }});
     const std::uint64_t rev = vox.setDocument(doc);
     ASSERT_TRUE(vox.waitFor(rev, true, std::chrono::seconds(60)));
     const auto snap = vox.snapshot();
     ASSERT_TRUE(snap->complete);
+    // Already in the preview: the tile under the bottom's middle has its
+    // surface (built a level deeper than the coarse pass's), so the board
+    // does not vanish from the view while the fine pass runs.
+    {
+        std::lock_guard lock(m);
+        ASSERT_TRUE(preview && !preview->complete);
+        const glm::ivec3 under = glm::ivec3(glm::floor((glm::dvec3(0, 234, 13) - preview->layout.origin) /
+                                                       preview->layout.tileSize));
+        const auto& tile = preview->tiles[std::size_t(preview->layout.tileIndex(under))];
+        ASSERT_TRUE(tile);
+        EXPECT_EQ(tile->state, TileState::Surface);
+        EXPECT_LT(tile->levels, preview->layout.levels);
+    }
     // The scenario: the coarse voxels' corners step over the bottom.
     ASSERT_EQ(snap->layout.levels, 3);
     const double coarseVoxel = snap->layout.voxelSizeAt(1);

@@ -170,6 +170,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const Aabb wholeBounds = partBounds(whole);
         std::string partName = std::filesystem::path(file).stem().string();
         Document doc = whole;
+        std::string alone; // "Side L alone, with every copy of the mirror above it"
         if (const auto feature = a.value("--feature")) {
             std::string id;
             try {
@@ -180,6 +181,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             doc = edit::documentOfNodeAlone(whole, id);
             const Node& n = *whole.root.find(id);
             partName = n.name.value_or(id);
+            alone = edit::describeFeatureAlone(whole, id);
         }
         const Aabb bounds = partBounds(doc);
         if (bounds.isEmpty()) {
@@ -329,7 +331,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         }
         out << printable(target.string()) << ": " << grouped(report.triangles) << " triangles, " << describe(*format)
             << " (" << megabytes(written.bytes) << "), from " << printable(file)
-            << (a.value("--feature") ? " (" + printable(partName) + " alone)" : std::string()) << "\n";
+            << (alone.empty() ? std::string() : " (" + printable(alone) + ")") << "\n";
         if (tolerance == 0.0)
             out << "  tolerance:     none (marching cubes at the feature size)\n";
         else if (fallback.empty())

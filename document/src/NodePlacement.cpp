@@ -80,6 +80,23 @@ glm::dvec3 moveKeepingExpressions(const Document& doc, std::string_view id, cons
     return frame.applyLinear(local);
 }
 
+std::string describeFeatureAlone(const Document& doc, std::string_view id)
+{
+    const std::vector<const Node*> path = existingPath(doc, id);
+    const Node& n = *path.back();
+    std::string s = n.name.value_or(n.id) + " alone";
+    bool mirror = false, array = false;
+    for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+        mirror = mirror || path[i]->type == NodeType::Mirror;
+        array = array || path[i]->type == NodeType::Array;
+    }
+    if (mirror || array)
+        s += std::string(", with every copy of the ") + (mirror && array ? "mirror and array" : mirror ? "mirror" : "array") +
+             " above it";
+    if (isSubtracted(doc, id)) s += ", as a solid: it is a cutter (the part has its shape cut away)";
+    return s;
+}
+
 std::string featureNamed(const Document& doc, std::string_view idOrName)
 {
     if (doc.root.find(idOrName)) return std::string(idOrName);

@@ -2051,6 +2051,20 @@ void MainWindowTest::escapeInAFieldTakesBackWhatWasTyped()
     field(*w, "size.y")->setFocus();
     QCOMPARE(w->session()->document().root.find("box")->expressions.at("size[0]"), std::string("300 * 2 + 10"));
     QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.x, 610.0);
+
+    // So in the Name field: nothing renamed on leaving it.
+    w->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(w.get())); // focus and shortcuts live in the active window
+    auto* name = w->propertyEditor()->findChild<QLineEdit*>("field.name");
+    QVERIFY(name);
+    name->setFocus();
+    QTRY_VERIFY(name->hasFocus());
+    name->selectAll();
+    QTest::keyClicks(name, "Side XYZ");
+    QTest::keyClick(name, Qt::Key_Escape);
+    QCOMPARE(name->text(), QString());
+    field(*w, "size.y")->setFocus();
+    QVERIFY(!w->session()->document().root.find("box")->name);
 }
 
 void MainWindowTest::aNewPartIsSavedWithItsParametersBeforeItsFirstFeature()

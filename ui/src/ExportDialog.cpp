@@ -367,7 +367,8 @@ void ExportDialog::start()
             return refuse(tr("Not exported: select one feature in the tree to export it alone (%n selected), or "
                              "untick Only the selected feature.",
                              nullptr, int(ids.size())));
-        alone_ = QString::fromStdString(n->name.value_or(n->id));
+        alone_ = QString::fromStdString(edit::describeFeatureAlone(part, n->id));
+        aloneName_ = n->name.value_or(n->id);
         part = edit::documentOfNodeAlone(part, n->id);
     }
     doc_ = std::move(part);
@@ -381,8 +382,7 @@ void ExportDialog::start()
     result_->setText(tr("Meshing…"));
     progress_->setValue(0);
     timer_->start();
-    const std::string partName =
-        !alone_.isEmpty() ? alone_.toStdString() : partName_.empty() ? file.stem().string() : partName_;
+    const std::string partName = !alone_.isEmpty() ? aloneName_ : partName_.empty() ? file.stem().string() : partName_;
     writtenTo_ = file;
     worker_ = std::thread([this, file, featureSize, tolerance, format = *format, partName] {
         ExportOutcome o;
@@ -465,7 +465,7 @@ void ExportDialog::poll()
     }
     setFieldsEnabled(true);
     if (!alone_.isEmpty() && outcome_.written)
-        outcome_.message = tr("%1 alone, where the part places it.\n").arg(alone_) + outcome_.message;
+        outcome_.message = tr("%1, where the part places it.\n").arg(alone_) + outcome_.message;
     result_->setText(outcome_.message);
     exportButton_->setEnabled(true);
     // Nothing runs any more: the button only closes the dialog (a newcomer

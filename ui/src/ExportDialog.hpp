@@ -103,7 +103,8 @@ private:
     std::function<Document()> document_;
     std::function<std::vector<std::string>()> selection_;
     std::string partName_;
-    QString alone_; // the feature the running export takes alone ("" for the whole part)
+    QString alone_; // what the running export takes alone, said ("" for the whole part)
+    std::string aloneName_; // that feature's name, the 3MF object's
     Document doc_; // what the running export meshes (taken when Export is pressed)
     std::filesystem::path folder_; // where a file name typed without a folder goes
     double documentFeatureSize_ = 0.0; // what the feature size field opens with when none was typed

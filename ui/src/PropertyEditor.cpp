@@ -16,6 +16,7 @@
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/voxelizer/GridLayout.hpp"
 
+#include <QAction>
 #include <QCheckBox>
 #include <QCoreApplication>
 #include <QColorDialog>
@@ -317,6 +318,18 @@ void PropertyEditor::rebuild()
     name_->setObjectName("field.name");
     name_->setPlaceholderText(QString::fromStdString(n->id));
     UndoKeysToWindow::install(name_);
+    // Esc takes back a name typed and not entered, as in the number fields
+    // (a newcomer's Esc kept "Pin hole XYZ", renamed on leaving the field).
+    auto* revertName = new QAction(name_);
+    revertName->setShortcut(Qt::Key_Escape);
+    revertName->setShortcutContext(Qt::WidgetShortcut);
+    name_->addAction(revertName);
+    connect(revertName, &QAction::triggered, this, [this] {
+        const Node* shown = session_->document().root.find(nodeId_);
+        name_->setText(shown && shown->name ? QString::fromStdString(*shown->name) : QString());
+        name_->setModified(false);
+        name_->selectAll();
+    });
     form_->addRow(tr("Name"), name_);
     generalError_ = errorLabel(this);
     form_->addRow(QString(), generalError_);

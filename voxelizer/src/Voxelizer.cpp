@@ -291,6 +291,12 @@ void Voxelizer::process(Request request)
                 TileBuildScratch& s = scratch.local();
                 s.helper = [&scratch]() -> TileBuildScratch& { return scratch.local(); };
                 auto t = buildTile(blocks.forTile(tc), layout, tc, levelsOf(tiles[k]), s, superseded);
+                // Empty only at this depth: a level deeper at once, until a
+                // surface shows or the depth is the grid's. A board thinner
+                // than the coarse voxels (a 6.5 mm cabinet back under 8 mm
+                // voxels) vanished from the coarse preview for seconds.
+                while (t && t->unresolved && t->levels < layout.levels)
+                    t = buildTile(blocks.forTile(tc), layout, tc, t->levels + 1, s, superseded);
                 if (!t) {
                     aborted = true;
                     return;

@@ -57,6 +57,12 @@ bool isSubtracted(const Document& doc, std::string_view id);
 /// For drawing a tool body that the part itself does not show.
 Document documentOfNodeAlone(const Document& doc, std::string_view id);
 
+/// What an export of documentOfNodeAlone holds, said to the person:
+/// "Side L alone", "Side L alone, with every copy of the mirror above it",
+/// "Pin hole alone, as a solid: it is a cutter (the part has its shape cut
+/// away)". For the export's report.
+std::string describeFeatureAlone(const Document& doc, std::string_view id);
+
 /// The id of the feature a person names: its id, else its name when one
 /// feature has it. Throws std::invalid_argument saying why not (no such
 /// feature; a name several features share, with their ids).
