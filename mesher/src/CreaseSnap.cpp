@@ -7,6 +7,32 @@
 
 namespace kerf::mesher {
 
+namespace {
+
+// Whether the field changes sign across p along n: a zero of the field with
+// solid on both sides (two bodies touching face to face inside the part) or
+// on neither (a difference's tool face on the body's face) is no surface,
+// and a vertex put there digs a pit into the part along the contact, round
+// after round of the refinement (a drawer's front against its side, where
+// both meet the bottom face). 10 times `settled` off p is past what is left
+// of the field there and far inside any feature the export resolves; a side
+// where the field is 0 (p on a concave or convex crease, the step along the
+// face of the other sheet) counts as crossing.
+bool crossesHere(const Tape& tape, GradientEvaluator<double>& gradients, const glm::dvec3& p, const glm::dvec3& n,
+                 double settled)
+{
+    const double h = 10.0 * settled;
+    const glm::dvec3 q = p - tape.origin();
+    const glm::dvec3 out = q + h * n, in = q - h * n;
+    const double fOut = gradients.evaluate(tape, out.x, out.y, out.z).v;
+    const double fIn = gradients.evaluate(tape, in.x, in.y, in.z).v;
+    const bool buried = fOut < -0.5 * h && fIn < -0.5 * h;
+    const bool film = fOut > 0.5 * h && fIn > 0.5 * h;
+    return !buried && !film;
+}
+
+} // namespace
+
 std::optional<SurfacePoint> projectOntoSurface(const Tape& tape, GradientEvaluator<double>& gradients, glm::dvec3 p,
                                                double reach, double settled, const glm::dvec3& expected)
 {
@@ -31,6 +57,7 @@ std::optional<SurfacePoint> projectOntoSurface(const Tape& tape, GradientEvaluat
                 if (!(glm::dot(ge, ge) > 1e-12)) return std::nullopt;
                 normal = glm::normalize(ge);
             }
+            if (!crossesHere(tape, gradients, p, normal, settled)) return std::nullopt;
             return SurfacePoint{p, normal};
         }
         if (!(g2 > 1e-12)) return std::nullopt;

@@ -28,7 +28,8 @@ struct SurfacePoint {
 
 /// Newton steps along the gradient from `p` onto the surface, until
 /// |f| <= `settled`; nothing when they wander further than `reach` from p
-/// or meet a zero gradient. The normal is the gradient of the step before
+/// or meet a zero gradient, and nothing when they settle on a zero the
+/// field does not cross (two bodies touching inside the part). The normal is the gradient of the step before
 /// the last (at the surface itself the gradient can be rounding noise, or 0
 /// where the field is exactly 0); a start already on the surface takes it a
 /// hair off, on the side of `expected`.
