@@ -128,6 +128,13 @@ TEST(Expression, NamesAndReferencesToOtherNodesFields)
     EXPECT_DOUBLE_EQ(value("t + a"), 20.0);
     EXPECT_DOUBLE_EQ(value("seat.size[0] - 70"), 380.0);
     EXPECT_DOUBLE_EQ(value("leg-3.height / 2"), 200.0); // an id with '-' before a '.'
+    // A number with decimals after a name and '-' is a subtraction: no field
+    // name starts with a digit (a newcomer's `depth-6.5` was refused as a
+    // reference to a node `depth-6`).
+    EXPECT_DOUBLE_EQ(value("t-6.5"), 11.5);
+    EXPECT_DOUBLE_EQ(value("t-a-0.5mm"), 15.5);
+    EXPECT_EQ(expr::uses("t-6.5").names, (std::vector<std::string>{"t"}));
+    EXPECT_TRUE(expr::uses("t-6.5").references.empty());
     EXPECT_EQ(expr::uses("seat.size[0] - t * a + leg-3.height").names, (std::vector<std::string>{"t", "a"}));
     EXPECT_EQ(expr::uses("seat.size[0] - t * a + leg-3.height").references,
               (std::vector<std::string>{"seat.size[0]", "leg-3.height"}));

@@ -275,10 +275,13 @@ private:
         }
         if (const std::optional<double> v = numberHere()) return literal(*v);
         if (!isNameStart(s_[at_])) fail("has '" + std::string(s_.substr(at_, 1)) + "' where a number or a name was expected");
-        // A node id (which may hold '-') when a '.' follows it, else a name.
+        // A node id (which may hold '-') when a '.' and a field name follow
+        // it, else a name: `leg-3.height` is a reference, `depth-6.5` is
+        // depth minus 6.5 (a field name never starts with a digit; it was
+        // read as the node `depth-6` and refused).
         std::size_t idEnd = at_;
         while (idEnd < s_.size() && isIdChar(s_[idEnd])) ++idEnd;
-        if (idEnd < s_.size() && s_[idEnd] == '.') return reference(idEnd);
+        if (idEnd + 1 < s_.size() && s_[idEnd] == '.' && isNameStart(s_[idEnd + 1])) return reference(idEnd);
         const std::size_t start = at_;
         while (at_ < s_.size() && isNameChar(s_[at_])) ++at_;
         const std::string name(s_.substr(start, at_ - start));

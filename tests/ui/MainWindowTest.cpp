@@ -12,6 +12,7 @@
 #include "ParametersPanel.hpp"
 #include "PropertyEditor.hpp"
 #include "QuantityEdit.hpp"
+#include "SelectionGhosts.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/NodeBounds.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
@@ -1328,6 +1329,12 @@ void MainWindowTest::theViewsFeatureSizeIsSetWithNothingSelected()
     QVERIFY2(w->propertyEditor()->errorFor("size.x").contains("1e+30 mm"),
              qPrintable(w->propertyEditor()->errorFor("size.x")));
     QVERIFY(w->session()->document() == before);
+    // A position's refusal names the field as its row does (it said "Box: is
+    // 1e+30 mm", the reader's "transform.translate[2]" unknown to the labels).
+    typeInto(field(*w, "translate.z"), "1e30");
+    QVERIFY2(w->propertyEditor()->errorFor("translate.z").startsWith("Position Z of "),
+             qPrintable(w->propertyEditor()->errorFor("translate.z")));
+    QVERIFY(w->session()->document() == before);
 }
 
 void MainWindowTest::theLayoutIsRememberedAndTheViewFollowsThePartsScale()
@@ -1530,7 +1537,7 @@ void MainWindowTest::deletingWhatADifferenceCutsFromAsksFirst()
     QVERIFY(asked);
     QVERIFY(!w->session()->document().root.find("d"));
     QVERIFY(w->session()->document().root.find("leg"));
-    QCOMPARE(w->session()->undoStack()->undoText(), QString("Delete Board"));
+    QCOMPARE(w->session()->undoStack()->undoText(), QString("Delete Shelf side")); // what goes, not what was selected
     action(w.get(), "action.undo")->trigger();
     QVERIFY(w->session()->document() == before);
 
@@ -2137,6 +2144,9 @@ void MainWindowTest::deletingAMirroredLegTakesTheEmptiedMirrorAlong()
     QCOMPARE(w->session()->undoStack()->undoText(), QString("Delete Leg and the mirror, left empty"));
     w->session()->undoStack()->undo();
     QCOMPARE(w->session()->document(), before);
+    // The deletion undone comes back open in the tree, the leg in sight
+    // (it came back closed, as a feature never opened).
+    QVERIFY(w->featureTree()->isExpanded(w->featureModel()->indexOf("m")));
 
     // A grooved side under a mirror: deleting the side asks about its
     // groove's difference; "too" takes the difference, and the mirror it
@@ -2157,7 +2167,7 @@ void MainWindowTest::deletingAMirroredLegTakesTheEmptiedMirrorAlong()
     }
     QCOMPARE(w->session()->document().root.find("sides"), nullptr);
     QVERIFY(w->session()->document().root.find("front"));
-    QCOMPARE(w->session()->undoStack()->undoText(), QString("Delete Left side and the mirror, left empty"));
+    QCOMPARE(w->session()->undoStack()->undoText(), QString("Delete Left side with groove and the mirror, left empty"));
 }
 
 void MainWindowTest::aMirrorTurnsToAnotherAxisInOneClick()
@@ -2456,6 +2466,23 @@ void MainWindowTest::aSelectedHoleShowsItsToolBodyAsAGhost()
                                 [](Document& d) { d.root.find("shelf-pin-hole")->transform.translate.z += 5; }));
     QVERIFY(w->ghostsBusy());
     QTRY_VERIFY_WITH_TIMEOUT(!w->ghostsBusy() && v->hasGhosts(), 60000);
+    // A gizmo drag moves the hole at every mouse move, each while the last
+    // is still being meshed. The ghost follows during the drag: each move
+    // once cancelled the mesh under way, and the ghost stayed where the
+    // drag began until the button was let go.
+    auto* ghosts = w->findChild<SelectionGhosts*>();
+    QVERIFY(ghosts);
+    const double startZ = v->ghostBounds().min.z;
+    QSignalSpy shown(ghosts, &SelectionGhosts::shown);
+    auto moveUp = [](Document& d) { d.root.find("shelf-pin-hole")->transform.translate.z += 2; };
+    QVERIFY(w->session()->apply("Move the hole", moveUp));
+    QVERIFY(w->session()->apply("Move the hole", moveUp));
+    QTRY_VERIFY_WITH_TIMEOUT(shown.count() >= 1, 60000);
+    QVERIFY2(std::abs(v->ghostBounds().min.z - (startZ + 2)) < 0.5, qPrintable(QString::number(v->ghostBounds().min.z - startZ)));
+    QVERIFY(w->ghostsBusy()); // the second move's ghost, under way
+    QTRY_VERIFY_WITH_TIMEOUT(!w->ghostsBusy(), 60000);
+    QCOMPARE(shown.count(), 2);
+    QVERIFY2(std::abs(v->ghostBounds().min.z - (startZ + 4)) < 0.5, qPrintable(QString::number(v->ghostBounds().min.z - startZ)));
     // The panel is not a tool: no ghost.
     clickRow(*w, "panel");
     QTRY_VERIFY_WITH_TIMEOUT(!w->ghostsBusy() && !v->hasGhosts(), 60000);

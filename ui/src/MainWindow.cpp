@@ -89,10 +89,12 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
     connect(session_, &DocumentSession::stateChanged, this, &MainWindow::updateTitle);
     connect(model_, &QAbstractItemModel::modelAboutToBeReset, this, [this] {
         expanded_.clear();
+        inTreeBeforeReset_.clear();
         // Remember which rows are open and selected, by node id.
         std::function<void(const QModelIndex&)> walk = [&](const QModelIndex& parent) {
             for (int r = 0; r < model_->rowCount(parent); ++r) {
                 const QModelIndex i = model_->index(r, 0, parent);
+                inTreeBeforeReset_.insert(model_->nodeIdAt(i));
                 if (tree_->isExpanded(i)) expanded_.push_back(model_->nodeIdAt(i));
                 walk(i);
             }
@@ -105,6 +107,17 @@ MainWindow::MainWindow(MainWindowOptions options) : options_(std::move(options))
         resettingTree_ = false;
         for (const auto& id : expanded_) tree_->setExpanded(model_->indexOf(id), true);
         tree_->setExpanded(model_->index(0, 0), true);
+        // A feature new to the tree opens, with what it holds in sight: a
+        // deletion undone came back closed, a mirror just made hid the part
+        // it mirrors. (Opening a file closes the tree to its first level.)
+        std::function<void(const QModelIndex&)> openNew = [&](const QModelIndex& parent) {
+            for (int r = 0; r < model_->rowCount(parent); ++r) {
+                const QModelIndex i = model_->index(r, 0, parent);
+                if (!inTreeBeforeReset_.contains(model_->nodeIdAt(i))) tree_->setExpanded(i, true);
+                openNew(i);
+            }
+        };
+        if (!inTreeBeforeReset_.empty()) openNew({});
         std::vector<std::string> keep;
         for (const auto& id : selectionBeforeReset_)
             if (session_->document().root.find(id)) keep.push_back(id);

@@ -213,6 +213,7 @@ private:
     std::uint64_t autosavedRevision_ = 0;
     std::vector<MeshReference> loadedMeshes_;
     std::vector<std::string> expanded_;
+    std::unordered_set<std::string> inTreeBeforeReset_;
     std::vector<std::string> selectionBeforeReset_;
     bool resettingTree_ = false;
 

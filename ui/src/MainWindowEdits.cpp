@@ -99,6 +99,10 @@ bool MainWindow::deleteSelection()
         case BaseDeletion::WholeDifference:
             ids.push_back(changed);
             takeEmptiedAlong();
+            // One feature selected and its difference taken whole: the step
+            // names what goes, the difference ("Delete Left side with
+            // groove", not "Delete Left side").
+            if (only) step = tr("Delete %1").arg(featureName(*session_->document().root.find(changed)));
             break;
         case BaseDeletion::OnlySelection: break;
         }

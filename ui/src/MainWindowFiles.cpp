@@ -108,6 +108,7 @@ bool MainWindow::openFile(const fs::path& file)
         showMessage(example ? tr("Opened a copy of the example %1: Save asks where to keep it.")
                                   .arg(QString::fromStdString(file.filename().string()))
                             : tr("Opened %1").arg(QString::fromStdString(file.string())));
+        tree_->collapseAll();
         tree_->expandToDepth(1);
         QTimer::singleShot(0, viewport_, [this] { viewport_->setStandardView("iso"); });
         return true;

@@ -22,8 +22,10 @@ QString featureName(const Node& n)
 
 QString fieldLabel(const Node& n, const std::string& field)
 {
-    // "key" or "key[i]".
+    // "key" or "key[i]"; the reader names a placement "transform.translate[2]".
     std::string key = field;
+    constexpr std::string_view kTransform = "transform.";
+    if (key.starts_with(kTransform)) key.erase(0, kTransform.size());
     int index = -1;
     if (const auto open = key.find('['); open != std::string::npos && key.back() == ']') {
         try {
@@ -79,10 +81,7 @@ QString describeExpressionUse(const Node& root, const std::string& use)
     const auto dot = use.find('.');
     const Node* n = dot == std::string::npos ? nullptr : root.find(use.substr(0, dot));
     if (!n) return QString::fromStdString(use);
-    std::string field = use.substr(dot + 1);
-    constexpr std::string_view kTransform = "transform.";
-    if (field.starts_with(kTransform)) field.erase(0, kTransform.size());
-    return QCoreApplication::translate("kerf", "%1 of %2").arg(fieldLabel(*n, field), featureName(*n));
+    return QCoreApplication::translate("kerf", "%1 of %2").arg(fieldLabel(*n, use.substr(dot + 1)), featureName(*n));
 }
 
 } // namespace kerf::ui

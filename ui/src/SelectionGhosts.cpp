@@ -76,12 +76,25 @@ void SelectionGhosts::show(const Document& doc, const std::vector<std::string>& 
         if (doc.root.find(id) && edit::isSubtracted(doc, id)) tools.push_back(edit::documentOfNodeAlone(doc, id));
     if (tools == shownTools_) return; // shown, or being meshed
     shownTools_ = tools;
-    const std::uint64_t generation = ++*generation_;
+    if (!tools.empty() && meshingIds_ == ids) {
+        queued_ = std::move(tools); // meshed once the ghosts under way are shown
+        return;
+    }
+    ++*generation_; // what is meshed for another selection is of no use
+    queued_.reset();
+    meshingIds_.reset();
     if (tools.empty()) {
         if (viewport_->hasGhosts()) viewport_->setGhosts({});
         emit ready();
         return;
     }
+    meshingIds_ = ids;
+    mesh(std::move(tools));
+}
+
+void SelectionGhosts::mesh(std::vector<Document> tools)
+{
+    const std::uint64_t generation = *generation_;
     ++pending_;
     auto* watcher = new QFutureWatcher<std::vector<PlacedMesh>>(this);
     connect(watcher, &QFutureWatcher<std::vector<PlacedMesh>>::finished, this, [this, watcher, generation] {
@@ -89,6 +102,14 @@ void SelectionGhosts::show(const Document& doc, const std::vector<std::string>& 
         watcher->deleteLater();
         if (generation != *generation_) return; // a newer selection asked since
         viewport_->setGhosts(watcher->result());
+        emit shown();
+        if (queued_) {
+            std::vector<Document> next = std::move(*queued_);
+            queued_.reset();
+            mesh(std::move(next));
+            return;
+        }
+        meshingIds_.reset();
         emit ready();
     });
     const auto current = generation_;

@@ -306,6 +306,14 @@ void ViewportWidget::setGhosts(std::vector<PlacedMesh> ghosts)
     sceneChanged();
 }
 
+Aabb ViewportWidget::ghostBounds() const
+{
+    Aabb bounds;
+    if (ghosts_)
+        for (const PlacedMesh& g : *ghosts_) bounds = bounds.merged(g.worldBounds());
+    return bounds;
+}
+
 void ViewportWidget::setMoveGizmo(std::optional<glm::dvec3> origin)
 {
     if (origin == gizmoOrigin_) return;

@@ -149,6 +149,8 @@ public:
     /// Translucent meshes over everything (a selected tool body).
     void setGhosts(std::vector<PlacedMesh> ghosts);
     bool hasGhosts() const { return ghosts_ && !ghosts_->empty(); }
+    /// Where the ghosts are (empty: none).
+    Aabb ghostBounds() const;
     /// Ends a gizmo drag under way as if Esc had been pressed in the view.
     void cancelGizmoDrag();
     /// The move gizmo at this world point (none: no gizmo).
