@@ -542,6 +542,39 @@ TEST(ExportMessages, AFileFarFromThePartSaysSoAndNamesTheFeatureSizeToUse)
     EXPECT_EQ(describeVisibleMiss(stats, 0.05, 1.0), "");
 }
 
+// A report names one feature size to try. The door frame at 8 mm cells
+// said "a gap 0.5 mm wide … a feature size of 0.2 mm resolves it" and then
+// "export it at a feature size of 0.5 mm (the part's own)": both true (half
+// the gap for certain; a gap as wide as a cell holds a lattice plane), and a
+// newcomer did not know which to use. The part's own, where it is no
+// coarser than the hidden detail is thin; else the finer size, everywhere.
+TEST(ExportMessages, TheReportAdvisesOneFeatureSize)
+{
+    MeshStats stats;
+    stats.cellSize = 8.0;
+    stats.trianglesOverTolerance = 4250;
+    stats.worstSample = 3.05;
+    stats.hiddenDetailCells = 398;
+    stats.hiddenDetailThickness = 0.5;
+    auto advised = [&](double own) {
+        return std::vector<std::string>{describeHiddenDetail(stats, own), describeTrianglesOverTolerance(stats, 0.05, own),
+                                        describeVisibleMiss(stats, 0.05, own)};
+    };
+    for (const std::string& said : advised(0.5)) {
+        EXPECT_NE(said.find("a feature size of 0.5 mm (the part's own)"), std::string::npos) << said;
+        EXPECT_EQ(said.find("0.2 mm"), std::string::npos) << said;
+    }
+    // A part whose own size is coarser than the gap: the size that resolves it.
+    for (const std::string& said : advised(1.0)) {
+        EXPECT_NE(said.find("a feature size of 0.2 mm"), std::string::npos) << said;
+        EXPECT_EQ(said.find("part's own"), std::string::npos) << said;
+    }
+    EXPECT_EQ(advisedFeatureSize(stats, 0.5), 0.5);
+    EXPECT_EQ(advisedFeatureSize(stats, 1.0), 0.2);
+    EXPECT_EQ(advisedFeatureSize(stats, 0.0), 0.2);  // own unknown
+    EXPECT_EQ(advisedFeatureSize(stats, 10.0), 0.2); // own coarser than the cells asked for
+}
+
 TEST(ExportMessages, ATolerancePastTheFeatureSizeIsWarnedOf)
 {
     MeshStats stats;

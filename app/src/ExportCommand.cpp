@@ -256,13 +256,14 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
                 << " mm (the tolerance is " << mm(tolerance) << " mm); "
                 << (*format == MeshFileFormat::ThreeMf ? "" : "a .3mf file keeps the detail, or ")
                 << "move the part nearer the origin\n";
-        if (stats.hiddenDetailCells > 0) err << "kerf export: warning: " << describeHiddenDetail(stats) << "\n";
+        const double ownFeatureSize = doc.settings.featureSize.value_or(defaultFeatureSize(bounds));
+        if (stats.hiddenDetailCells > 0)
+            err << "kerf export: warning: " << describeHiddenDetail(stats, ownFeatureSize) << "\n";
         if (stats.trianglesOverTolerance > 0)
-            err << "kerf export: warning: " << describeTrianglesOverTolerance(stats, tolerance) << "\n";
+            err << "kerf export: warning: " << describeTrianglesOverTolerance(stats, tolerance, ownFeatureSize) << "\n";
         if (const std::string coarse = describeCoarseTolerance(stats, tolerance); !coarse.empty())
             err << "kerf export: warning: " << coarse << "\n";
-        if (const std::string miss = describeVisibleMiss(stats, tolerance, doc.settings.featureSize.value_or(defaultFeatureSize(bounds)));
-            !miss.empty())
+        if (const std::string miss = describeVisibleMiss(stats, tolerance, ownFeatureSize); !miss.empty())
             err << "kerf export: warning: " << printable(target.string()) << ": " << miss << "\n";
 
         if (json) {

@@ -407,6 +407,14 @@ double finerFeatureSize(const MeshStats& stats)
     return size;
 }
 
+double advisedFeatureSize(const MeshStats& stats, double ownFeatureSize)
+{
+    const double finer = finerFeatureSize(stats);
+    const bool ownResolves = stats.hiddenDetailCells == 0 || ownFeatureSize <= stats.hiddenDetailThickness;
+    if (ownFeatureSize > 0.0 && ownFeatureSize < stats.cellSize && ownResolves && finer > 0.0) return ownFeatureSize;
+    return finer;
+}
+
 namespace {
 // A length or a coordinate as people read it: 0.05, 1, 139.9.
 std::string shortNumber(double v)
@@ -417,7 +425,16 @@ std::string shortNumber(double v)
 }
 } // namespace
 
-std::string describeHiddenDetail(const MeshStats& stats)
+namespace {
+// "a feature size of 0.5 mm (the part's own)".
+std::string featureSizeToTry(const MeshStats& stats, double ownFeatureSize)
+{
+    const double size = advisedFeatureSize(stats, ownFeatureSize);
+    return "a feature size of " + shortNumber(size) + " mm" + (size == ownFeatureSize ? " (the part's own)" : "");
+}
+} // namespace
+
+std::string describeHiddenDetail(const MeshStats& stats, double ownFeatureSize)
 {
     if (stats.hiddenDetailCells == 0) return {};
     const glm::dvec3& p = stats.hiddenDetailAt;
@@ -427,7 +444,7 @@ std::string describeHiddenDetail(const MeshStats& stats)
            shortNumber(p.z) + ") mm lies between the corners of the " + shortNumber(stats.cellSize) + " mm cells (" +
            grouped(stats.hiddenDetailCells) + (stats.hiddenDetailCells == 1 ? " cell hides" : " cells hide") +
            " detail like it): " + (material ? "it is missing from the mesh or in pieces" : "it is closed in the mesh") +
-           "; a feature size of " + shortNumber(finerFeatureSize(stats)) + " mm resolves it";
+           "; " + featureSizeToTry(stats, ownFeatureSize) + " resolves it";
 }
 
 std::string describeEmptyPart(const MeshStats& stats, const Aabb& bounds)
@@ -444,7 +461,7 @@ std::string describeEmptyPart(const MeshStats& stats, const Aabb& bounds)
     return s + "; a feature size of " + shortNumber(tryThis) + " mm (a quarter of its smallest extent or less) meshes it)";
 }
 
-std::string describeTrianglesOverTolerance(const MeshStats& stats, double tolerance)
+std::string describeTrianglesOverTolerance(const MeshStats& stats, double tolerance, double ownFeatureSize)
 {
     if (stats.trianglesOverTolerance == 0) return {};
     const glm::dvec3& p = stats.worstSampleAt;
@@ -457,28 +474,23 @@ std::string describeTrianglesOverTolerance(const MeshStats& stats, double tolera
                     ", " + shortNumber(p.z) + ") mm): ";
     if (stats.hiddenDetailCells > 0)
         return s + "detail finer than the " + shortNumber(stats.cellSize) +
-               " mm cells is not resolved; a feature size of " + shortNumber(finerFeatureSize(stats)) +
-               " mm resolves more of it";
+               " mm cells is not resolved; " + featureSizeToTry(stats, ownFeatureSize) + " resolves more of it";
     return s + "no split of the thin triangles there keeps their neighbours from folding (a sharp or rounded edge "
-               "that the cells' triangles cut across); a feature size of " +
-           shortNumber(finerFeatureSize(stats)) + " mm often leaves fewer";
+               "that the cells' triangles cut across); " +
+           featureSizeToTry(stats, ownFeatureSize) + " often leaves fewer";
 }
 
 std::string describeVisibleMiss(const MeshStats& stats, double tolerance, double ownFeatureSize)
 {
     if (stats.trianglesOverTolerance == 0 || !(stats.worstSample > std::max(kVisibleMiss, 2.0 * tolerance)))
         return {};
-    const double finer = finerFeatureSize(stats);
-    const double tryThis =
-        ownFeatureSize > 0.0 && ownFeatureSize < stats.cellSize ? ownFeatureSize : finer;
+    const double tryThis = advisedFeatureSize(stats, ownFeatureSize);
     std::string s = "the file does not match the part: in places it is up to " + shortNumber(stats.worstSample) +
                     " mm from the exact surface, far beyond the tolerance of " + shortNumber(tolerance) +
                     " mm (at " + shortNumber(stats.cellSize) +
                     " mm cells, holes, grooves and walls thinner than a cell can come out missing, joined or "
                     "through a face)";
-    if (tryThis > 0.0 && tryThis < stats.cellSize)
-        s += "; export it at a feature size of " + shortNumber(tryThis) + " mm" +
-             (tryThis == ownFeatureSize ? " (the part's own)" : "");
+    if (tryThis > 0.0 && tryThis < stats.cellSize) s += "; export it at " + featureSizeToTry(stats, ownFeatureSize);
     return s;
 }
 

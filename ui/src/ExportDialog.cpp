@@ -98,16 +98,16 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
                         .arg(QString::fromStdString(exported.simplificationDefects))
                         .arg(exported.stats.cellSize);
     if (exported.stats.hiddenDetailCells > 0) {
-        s += "\n" + QObject::tr("Warning: %1.").arg(QString::fromStdString(describeHiddenDetail(exported.stats)));
+        s += "\n" + QObject::tr("Warning: %1.").arg(QString::fromStdString(describeHiddenDetail(exported.stats, ownFeatureSize)));
     }
     if (exported.stats.trianglesOverTolerance > 0 && miss.empty()) {
         s += "\n" + QObject::tr("Warning: %1. The file is a closed solid all the same, within %2 mm of the part "
                                 "(finer than a router or printer reproduces).")
-                        .arg(QString::fromStdString(describeTrianglesOverTolerance(exported.stats, tolerance)))
+                        .arg(QString::fromStdString(describeTrianglesOverTolerance(exported.stats, tolerance, ownFeatureSize)))
                         .arg(kVisibleMiss);
     } else if (exported.stats.trianglesOverTolerance > 0) {
         s += "\n" + QObject::tr("Warning: %1.")
-                        .arg(QString::fromStdString(describeTrianglesOverTolerance(exported.stats, tolerance)));
+                        .arg(QString::fromStdString(describeTrianglesOverTolerance(exported.stats, tolerance, ownFeatureSize)));
     }
     if (const std::string coarse = describeCoarseTolerance(exported.stats, tolerance); !coarse.empty())
         s += "\n" + QObject::tr("Warning: %1.").arg(QString::fromStdString(coarse));

@@ -74,6 +74,11 @@ ParametersPanel::ParametersPanel(DocumentSession* session, QWidget* parent) : QW
     table_->setEditTriggers(QAbstractItemView::DoubleClicked | QAbstractItemView::EditKeyPressed |
                             QAbstractItemView::AnyKeyPressed);
     table_->setItemDelegateForColumn(ExpressionColumn, new ExpressionDelegate(session_, table_));
+    // An edit given up with Esc takes the last refusal's message with it.
+    for (QAbstractItemDelegate* d : {table_->itemDelegate(), table_->itemDelegateForColumn(ExpressionColumn)})
+        connect(d, &QAbstractItemDelegate::closeEditor, this, [this](QWidget*, QAbstractItemDelegate::EndEditHint hint) {
+            if (hint == QAbstractItemDelegate::RevertModelCache) error_->hide();
+        });
     layout->addWidget(table_, 1);
     auto* buttons = new QHBoxLayout;
     add_ = new QPushButton(tr("Add"), this);
@@ -207,6 +212,15 @@ bool ParametersPanel::eventFilter(QObject* watched, QEvent* event)
                 return true;
             }
             removeSelected();
+            return true;
+        }
+        // Esc takes back a refusal's message with the edit it was about:
+        // the table already shows the document as it stays, and a newcomer
+        // saw "mm is a unit…" stay under it after Esc. Claimed only while
+        // a message shows (else Esc is the window's: clearing a measurement).
+        if (key->key() == Qt::Key_Escape && error_->isVisible()) {
+            if (event->type() == QEvent::KeyPress) error_->hide();
+            event->accept();
             return true;
         }
     }

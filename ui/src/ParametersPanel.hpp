@@ -37,7 +37,8 @@ public:
 protected:
     /// Delete (or Backspace) with the table in focus removes the selected
     /// parameter: the window's Delete, which deletes the selected feature,
-    /// does not fire there (a newcomer lost the table top that way).
+    /// does not fire there (a newcomer lost the table top that way). Esc
+    /// there takes a refusal's message away.
     bool eventFilter(QObject* watched, QEvent* event) override;
 
 public:

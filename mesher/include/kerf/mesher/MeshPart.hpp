@@ -180,11 +180,20 @@ struct MeshStats {
 /// (each halving did on the bundled examples: docs/benchmarks.md).
 double finerFeatureSize(const MeshStats& stats);
 
+/// The one feature size the export's sentences advise (the hidden detail,
+/// the triangles over the tolerance, the file that misses the part), so
+/// that a report does not name two: the part's own (`ownFeatureSize`, the
+/// document's; 0 when unknown) where coarser cells were asked for and it is
+/// no coarser than the hidden detail is thin (a gap as wide as a cell has a
+/// lattice plane inside it: the door frame's 0.5 mm gap at its own 0.5 mm),
+/// else finerFeatureSize. 0 when there is nothing to advise.
+double advisedFeatureSize(const MeshStats& stats, double ownFeatureSize);
+
 /// The hidden detail (stats.hiddenDetailCells) in one sentence for people:
 /// what, how thin, where, what it does to the mesh and the feature size that
-/// resolves it; empty when there is none. For `kerf export` and the export
-/// dialog alike.
-std::string describeHiddenDetail(const MeshStats& stats);
+/// resolves it (advisedFeatureSize); empty when there is none. For `kerf
+/// export` and the export dialog alike.
+std::string describeHiddenDetail(const MeshStats& stats, double ownFeatureSize = 0.0);
 
 /// A mesh that came out empty at stats.cellSize, in one sentence for people:
 /// "the part is empty at a feature size of X mm (thinner than a cell
@@ -203,7 +212,8 @@ std::string describeEmptyPart(const MeshStats& stats, const Aabb& bounds);
 /// fewer (rounded edges), but not always (on a plain panel's shelf-pin
 /// holes, whose rims touch lattice planes, 0.5 mm cells left more than
 /// 1 mm cells). Empty when none. For `kerf export` and the export dialog.
-std::string describeTrianglesOverTolerance(const MeshStats& stats, double tolerance);
+/// The feature size to try: advisedFeatureSize.
+std::string describeTrianglesOverTolerance(const MeshStats& stats, double tolerance, double ownFeatureSize = 0.0);
 
 /// How far a mesh may miss the exact surface before a woodworker would see
 /// it in the workshop (more than a router or a printer hides, mm).
@@ -213,8 +223,7 @@ inline constexpr double kVisibleMiss = 0.1;
 /// twice the tolerance (stats.worstSample, with triangles left over the
 /// tolerance): one sentence that the file does not match the part, how far
 /// off it is, what that does, and the feature size to export at
-/// (`ownFeatureSize`, the document's, where coarser cells were asked for,
-/// else finerFeatureSize); empty when the miss is within that. A newcomer
+/// (advisedFeatureSize); empty when the miss is within that. A newcomer
 /// exported a shelf side at 10 mm cells: 12 mm pin holes came out through
 /// its show face, 3.4 mm off, and the result called it "a closed solid all
 /// the same".
