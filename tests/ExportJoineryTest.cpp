@@ -1,13 +1,17 @@
 // The export as a property (issue 13): random joinery, boards glued face to
 // face and flush at their edges, grooves and rebates cut flush with their
-// faces, on round millimetres that fall on the lattice's planes at some
-// cell sizes. Each part is exported as the woodworker gets it (simplified
+// faces, dowel and shelf-pin holes whose ends lie on a face, on round
+// millimetres that fall on the lattice's planes at some cell sizes. Each part is exported as the woodworker gets it (simplified
 // to a tolerance, binary STL) and the file read back by the suite's own
 // reader, welded by the coordinates written: a closed, consistently
 // oriented 2-manifold, no crossing triangles, the volume of the exact part
-// (computed here from the boxes, not from the field) within the tolerance
-// times its area, the distance to the exact surface no more than the
-// exporter reports, and the report the file's.
+// (computed here from the boxes, not from the field; parts without holes)
+// within the tolerance times its area, the distance to the exact surface
+// within the tolerance wherever the exporter says so, and the report the
+// file's. Run over 600 parts while it was written: it found an export
+// refused as crossing itself (two boards touching along an edge:
+// WrittenCoordinates' nudge) and a report of 0.049 mm where a hole's end
+// flush with a face let a triangle cut its rim by 0.08 mm (SampleDistance).
 
 #include "kerf/accuracy/SurfaceDistance.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
@@ -36,8 +40,15 @@ struct Board {
 };
 
 // A part: boards glued together, tools cut from them.
+// A drilled hole: a cylinder along `axis`.
+struct Hole {
+    glm::dvec3 centre;
+    int axis;
+    double radius, depth;
+};
 struct Joinery {
     std::vector<Board> boards, tools;
+    std::vector<Hole> holes;
 
     std::string json() const
     {
@@ -52,9 +63,17 @@ struct Joinery {
         std::string u = R"({"id":"glued","type":"union","children":[)";
         for (std::size_t i = 0; i < boards.size(); ++i) u += (i ? "," : "") + box(boards[i], "board" + std::to_string(i));
         u += "]}";
-        if (tools.empty()) return u;
+        if (tools.empty() && holes.empty()) return u;
         std::string d = R"({"id":"cut","type":"difference","children":[)" + u;
         for (std::size_t i = 0; i < tools.size(); ++i) d += "," + box(tools[i], "tool" + std::to_string(i));
+        for (std::size_t i = 0; i < holes.size(); ++i) {
+            const Hole& h = holes[i];
+            const char* rot = h.axis == 0 ? "[0,90,0]" : h.axis == 1 ? "[90,0,0]" : "[0,0,0]";
+            char buf[300];
+            std::snprintf(buf, sizeof buf, R"(,{"id":"hole%zu","type":"cylinder","radius":%g,"height":%g,"transform":{"translate":[%g,%g,%g],"rotate":%s}})",
+                          i, h.radius, h.depth, h.centre.x, h.centre.y, h.centre.z, rot);
+            d += buf;
+        }
         return d + "]}";
     }
 
@@ -141,6 +160,27 @@ Joinery randomJoinery(std::mt19937_64& rng)
         }
         j.tools.push_back(t);
     }
+    // Holes drilled into a board's face along its thickness (5, 8 and 10 mm
+    // bits), their mouths 1 mm proud of the face: a 13 mm hole from the
+    // top of a 12 mm board ends flush with its underside, a 30 mm one goes
+    // on into whatever is glued below. Centres on whole or half millimetres.
+    const int holes = int(rng() % 4);
+    for (int i = 0; i < holes; ++i) {
+        const Board& in = j.boards[rng() % j.boards.size()];
+        const glm::dvec3 size = in.hi - in.lo;
+        int axis = 0;
+        for (int a = 1; a < 3; ++a)
+            if (size[a] < size[axis]) axis = a;
+        Hole h{glm::dvec3(0.0), axis, pick({2.5, 4.0, 5.0}), pick({10.0, 13.0, 30.0})};
+        for (int a = 0; a < 3; ++a) {
+            if (a == axis) continue;
+            const int margin = int(h.radius) + 1;
+            h.centre[a] = in.lo[a] + whole(margin, std::max(margin, int(size[a] - h.radius) - 1));
+            if (rng() % 4 == 0) h.centre[a] += 0.5;
+        }
+        h.centre[axis] = rng() % 2 ? in.hi[axis] + 1.0 - 0.5 * h.depth : in.lo[axis] - 1.0 + 0.5 * h.depth;
+        j.holes.push_back(h);
+    }
     return j;
 }
 
@@ -174,18 +214,22 @@ TEST(ExportedJoinery, EveryRandomPartReadsBackAsTheClosedPartAsReported)
         EXPECT_EQ(findSelfIntersections(read, 0).pairs, 0u);
         // The volume of the boxes: a membrane, a pit or a missing board shows here.
         const double exact = j.volume();
-        EXPECT_NEAR(r.volume, exact, kTolerance * r.area) << "exact " << exact;
-        // The distance to the exact surface: within the tolerance, or as far
-        // as the exporter says. Beyond the tolerance its figure is |f|, a
-        // lower bound (300 parts of this generator: one at 2 mm cells said
-        // 0.5 mm where the walk's upper bound is 0.58), so |f| is held to it
-        // here, and the walk's figure to a tenth more.
+        if (j.holes.empty()) {
+            EXPECT_NEAR(r.volume, exact, kTolerance * r.area) << "exact " << exact;
+        }
+        // The distance to the exact surface: within the tolerance where the
+        // exporter says so (measured by the accuracy library's walk, an upper
+        // bound). Where it reports triangles beyond, its figure is |f| there,
+        // a lower bound of the distance, and |f| is held to it.
         const SurfaceDistance measured = measureSurfaceDistance(read, compileTape(doc), 1);
         EXPECT_EQ(measured.unresolved, 0u);
-        const double reported = std::max(kTolerance, exported.stats.worstSample) + 2.0 * exported.report.spacing;
-        EXPECT_LE(measured.maxLowerBound, reported);
-        EXPECT_LE(measured.max, exported.stats.trianglesOverTolerance > 0 ? 1.2 * reported : reported)
-            << "at " << measured.maxAt.x << ", " << measured.maxAt.y << ", " << measured.maxAt.z;
+        const double slack = 2.0 * exported.report.spacing;
+        if (exported.stats.trianglesOverTolerance == 0) {
+            EXPECT_LE(measured.max, kTolerance + slack)
+                << "at " << measured.maxAt.x << ", " << measured.maxAt.y << ", " << measured.maxAt.z;
+        } else {
+            EXPECT_LE(measured.maxLowerBound, exported.stats.worstSample + slack);
+        }
         if (exported.stats.trianglesOverTolerance > 0) ++touchingOver;
         std::printf("part %d (%zu boards, %zu tools) at %g mm: %zu triangles, %llu over (worst %.3f mm), "
                     "volume %.1f of %.1f mm^3\n",

@@ -372,6 +372,27 @@ TEST(ExportedFileSimplified, TheGlueLineOfADrawerCornerIsNotDugInto)
         << "at " << measured.maxAt.x << ", " << measured.maxAt.y << ", " << measured.maxAt.z;
 }
 
+// Three boards glued together, a 10 mm dowel hole drilled 13 mm into the
+// 12 mm bottom board from its top face: it ends flush with the underside,
+// where the field is 0 across its mouth (the tool's end on the board's
+// face: a film). Samples of triangles there read |f| = 0, and a triangle
+// cutting the hole's rim by 0.08 mm was reported 0.049 mm off at 0.5 mm
+// cells (found by ExportedJoinery). The final judgement now trusts |f|
+// only where the field changes sign across the sample; the file, read back
+// and measured by the accuracy library's walk, keeps to the tolerance.
+TEST(ExportedFileSimplified, AHoleEndingFlushWithAFaceIsNotCutAcrossItsRim)
+{
+    const Document doc = parse(R"({"id":"cut","type":"difference","children":[{"id":"glued","type":"union","children":[{"id":"board0","type":"box","size":[60,30,12],"transform":{"translate":[30,15,6]}},{"id":"board1","type":"box","size":[12,30,40],"transform":{"translate":[-6,15,20]}},{"id":"board2","type":"box","size":[50,20,40],"transform":{"translate":[25,-10,20]}}]},{"id":"hole0","type":"cylinder","radius":2.5,"height":10,"transform":{"translate":[39.5,25,8],"rotate":[0,0,0]}},{"id":"hole1","type":"cylinder","radius":5,"height":13,"transform":{"translate":[21.5,24,6.5],"rotate":[0,0,0]}},{"id":"hole2","type":"cylinder","radius":2.5,"height":10,"transform":{"translate":[24,22,4],"rotate":[0,0,0]}}]})");
+    constexpr double kTolerance = 0.05;
+    const auto [exported, read] = exportAndReadBack(doc, 0.5, kTolerance, "flush-hole");
+    EXPECT_TRUE(checkMesh(read).watertight());
+    EXPECT_EQ(exported.stats.trianglesOverTolerance, 0u) << "up to " << exported.stats.worstSample << " mm";
+    const SurfaceDistance measured = measureSurfaceDistance(read, compileTape(doc));
+    EXPECT_EQ(measured.unresolved, 0u);
+    EXPECT_LE(measured.max, kTolerance + 2.0 * exported.report.spacing)
+        << "at " << measured.maxAt.x << ", " << measured.maxAt.y << ", " << measured.maxAt.z;
+}
+
 // A board with rounded edges and two square pockets through its underside
 // (the table top's mortises, small): at 4 mm cells and 0.1 mm the
 // simplification once left a sliver at a pocket's corner touching a face

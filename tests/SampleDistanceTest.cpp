@@ -99,6 +99,36 @@ TEST(SampleDistance, AGlueLineInsideThePartIsNoSurface)
 // tolerance) the judgement agrees with the accuracy library's walk (an upper
 // bound of the distance) to a hundredth of itself; elsewhere it is |f|, and
 // it says "within the tolerance" only of points that are.
+// A hole drilled 13 mm into a 12 mm board ends flush with its underside:
+// the field is 0 across the hole's mouth (its end on the board's face), and
+// |f| put a triangle cutting the rim there on the surface. Given the
+// triangle's normal, the final judgement asks whether the field changes sign
+// across the sample: there it does not, and the sample counts as far as the
+// nearest crossing of straight marches, into the board past the rim
+// diagonally: at most 0.1 * sqrt(2) mm for the rim 0.1 mm away. On the
+// underside beside the mouth, the face is the surface.
+TEST(SampleDistance, AFilmAcrossAHolesMouthIsNoSurfaceToTheFinalJudgement)
+{
+    const Tape tape = tapeOf(R"({"id":"d","type":"difference","children":[
+        {"id":"b","type":"box","size":[60,30,12],"transform":{"translate":[30,15,6]}},
+        {"id":"h","type":"cylinder","radius":5,"height":13,"transform":{"translate":[30,15,6.5]}}]})");
+    auto judgeOnFace = [&](const glm::dvec3& world) {
+        const glm::dvec3 p = world - tape.origin();
+        const glm::dvec3 down(0, 0, -1);
+        SampleDistance samples(true);
+        double d = 0.0;
+        samples.measure(tape, &p.x, &p.y, &p.z, 1, 0.05, &d, &down);
+        return d;
+    };
+    const glm::dvec3 inMouth(34.9, 15.0, 0.0), beside(35.1, 15.0, 0.0);
+    EXPECT_NEAR(field(tape, inMouth), 0.0, 1e-12); // what |f| says
+    EXPECT_EQ(judge(tape, inMouth, 0.05, true), 0.0); // without the normal
+    const double d = judgeOnFace(inMouth);
+    EXPECT_GE(d, 0.1 - 1e-9);
+    EXPECT_LE(d, 0.1 * std::sqrt(2.0) + 0.2 / 64.0); // a march's last step: a 64th of its reach
+    EXPECT_LE(judgeOnFace(beside), 1e-9);
+}
+
 TEST(SampleDistance, AgreesWithTheMeasuredDistanceAroundABlend)
 {
     const Tape tape = tapeOf(R"({"id":"u","type":"union","blend":6,"children":[

@@ -33,7 +33,7 @@ double firstOrderDistance(const Dual<double>& field)
 }
 
 void SampleDistance::measure(const Tape& tape, const double* x, const double* y, const double* z, std::size_t n,
-                             double tolerance, double* out)
+                             double tolerance, double* out, const glm::dvec3* normals)
 {
     if (n == 0) return;
     // |f| first, with the plain evaluator (a fraction of the dual numbers'
@@ -45,11 +45,15 @@ void SampleDistance::measure(const Tape& tape, const double* x, const double* y,
     plain_.evaluate(tape, x, y, z, n, fields_.data());
     walking_.clear();
     settled_.clear();
+    trusted_.clear();
+    side_.assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) {
         const double f = std::abs(fields_[i]);
         out[i] = std::isfinite(f) ? f : kFar;
         if (f > kWalkFrom * tolerance && !(f > tolerance)) walking_.push_back(i);
+        else if (!(f > kWalkFrom * tolerance)) trusted_.push_back(i);
     }
+    if (normals && tolerance > 0.0) walkWhereNoCrossing(tape, x, y, z, normals, tolerance);
     if (walking_.empty() || !(tolerance > 0.0)) return;
     const double reach = this->reach(tolerance), settled = kSettled * tolerance;
     at_.resize(n);
@@ -128,6 +132,43 @@ void SampleDistance::measure(const Tape& tape, const double* x, const double* y,
     checkCrossings(tape, reach, 2.0 * settled, out);
 }
 
+void SampleDistance::walkWhereNoCrossing(const Tape& tape, const double* x, const double* y, const double* z,
+                                         const glm::dvec3* normals, double tolerance)
+{
+    // Along the normal of the sample's triangle, a tolerance either way: the
+    // part's surface within half a tolerance puts the field above +h/4 on
+    // one side and below -h/4 on the other for any triangle within 60
+    // degrees of it; 0 on a side (a sharp edge's other face) counts as a
+    // crossing. Solid on both sides (a glue line) or on neither (a film)
+    // does not. A thin wall or a triangle leaning across an edge may fail
+    // too: it walks, which costs time and finds its distance all the same.
+    if (trusted_.empty()) return;
+    const double h = tolerance;
+    wx_.resize(2 * trusted_.size());
+    wy_.resize(2 * trusted_.size());
+    wz_.resize(2 * trusted_.size());
+    for (std::size_t k = 0; k < trusted_.size(); ++k) {
+        const std::size_t i = trusted_[k];
+        for (int side = 0; side < 2; ++side) {
+            const glm::dvec3 q = glm::dvec3(x[i], y[i], z[i]) + (side == 0 ? h : -h) * normals[i];
+            wx_[2 * k + std::size_t(side)] = q.x;
+            wy_[2 * k + std::size_t(side)] = q.y;
+            wz_[2 * k + std::size_t(side)] = q.z;
+        }
+    }
+    crossings_.resize(wx_.size());
+    plain_.evaluate(tape, wx_.data(), wy_.data(), wz_.data(), wx_.size(), crossings_.data());
+    for (std::size_t k = 0; k < trusted_.size(); ++k) {
+        const double out = crossings_[2 * k], in = crossings_[2 * k + 1];
+        const bool buried = out < -0.25 * h && in < -0.25 * h;
+        const bool film = out > 0.25 * h && in > 0.25 * h;
+        if (!buried && !film) continue;
+        walking_.push_back(trusted_[k]);
+        side_[trusted_[k]] = film ? 1 : -1;
+    }
+    std::sort(walking_.begin(), walking_.end());
+}
+
 void SampleDistance::checkCrossings(const Tape& tape, double reach, double bracket, double* out)
 {
     // A walk can also settle where f comes to 0 without changing sign: the
@@ -159,7 +200,10 @@ void SampleDistance::checkCrossings(const Tape& tape, double reach, double brack
         const std::size_t i = settled_[k];
         // Not the surface: as if beyond the tolerance, or, when asked,
         // where straight marches from the sample first cross it.
-        out[i] = std::max(first_[i], final_ ? march(tape, samples_[i], fields_[i], reach, reach / 64.0) : reach);
+        // On a film or a glue line f is about 0, on either side by rounding:
+        // the march leaves the side the probes found.
+        const double f0 = side_[i] != 0 ? side_[i] * std::max(std::abs(fields_[i]), 1e-300) : fields_[i];
+        out[i] = std::max(first_[i], final_ ? march(tape, samples_[i], f0, reach, reach / 64.0) : reach);
     }
     settled_.clear();
 }

@@ -69,11 +69,15 @@ public:
                Verdict* verdicts)
     {
         points_.clear();
+        normals_.clear();
         const glm::dvec3 origin = tape.origin();
         for (std::size_t i = 0; i < count; ++i) {
             const Tri& t = mesh.triangles[triangles[i]];
             appendTriangleSamples(mesh.vertices[t[0]] - origin, mesh.vertices[t[1]] - origin,
                                   mesh.vertices[t[2]] - origin, points_);
+            const glm::dvec3 n = glm::cross(mesh.vertices[t[1]] - mesh.vertices[t[0]], mesh.vertices[t[2]] - mesh.vertices[t[0]]);
+            const double length = glm::length(n);
+            normals_.insert(normals_.end(), kTriangleSamples, length > 0.0 ? n / length : glm::dvec3(0.0));
         }
         const std::size_t n = points_.size();
         x_.resize(n);
@@ -95,7 +99,7 @@ public:
         }
         const glm::dvec3 reach(distances_.reach(tolerance));
         intervals_.simplify(tape, Aabb{lo - reach, hi + reach}, region_);
-        distances_.measure(region_, x_.data(), y_.data(), z_.data(), n, tolerance, f_.data());
+        distances_.measure(region_, x_.data(), y_.data(), z_.data(), n, tolerance, f_.data(), normals_.data());
         // The gradient at each centroid, for the facing (in the samples' box).
         cx_.resize(count);
         cy_.resize(count);
@@ -154,7 +158,7 @@ private:
     IntervalEvaluator intervals_;
     GradientEvaluator<double> gradients_;
     Tape region_;
-    std::vector<glm::dvec3> points_;
+    std::vector<glm::dvec3> points_, normals_;
     std::vector<double> x_, y_, z_, f_;
     std::vector<double> cx_, cy_, cz_, cd_, gx_, gy_, gz_;
 };

@@ -192,10 +192,17 @@ private:
     }
 
     // Moves v by one written step, along the axis where it lies furthest
-    // from `from`, away from it.
+    // from `from`, away from it. Two vertices at one point (where two
+    // boards touch along an edge, the marching cubes put a vertex of each
+    // board's surface on the line) have no such axis: v then moves towards
+    // the middle of its own triangles, into its own board's corner and away
+    // from the other's. (Moved along +x whatever the boards, one board's
+    // corner went into the other's and the file crossed itself: random
+    // joinery, ExportedJoinery.)
     void nudge(std::uint32_t v, std::uint32_t from, WrittenFit& fit)
     {
-        const glm::dvec3 d = mesh_.vertices[v] - mesh_.vertices[from];
+        glm::dvec3 d = mesh_.vertices[v] - mesh_.vertices[from];
+        if (d == glm::dvec3(0.0)) d = towardsOwnTriangles(v, from);
         int axis = 0;
         for (int k = 1; k < 3; ++k)
             if (std::abs(d[k]) > std::abs(d[axis])) axis = k;
@@ -205,6 +212,23 @@ private:
         mesh_.vertices[v][axis] = q_[v][axis] + offset_[axis];
         fit.largestMove = std::max(fit.largestMove, std::abs(mesh_.vertices[v][axis] - before));
         ++fit.nudges;
+    }
+
+    // From v towards the middle of the vertices of its triangles other than
+    // `other` (0 when they are all at v).
+    glm::dvec3 towardsOwnTriangles(std::uint32_t v, std::uint32_t other) const
+    {
+        glm::dvec3 sum(0.0);
+        int count = 0;
+        for (const std::uint32_t t : around_[v]) {
+            if (mesh_.triangles[t][0] == kGone) continue;
+            for (const std::uint32_t w : mesh_.triangles[t])
+                if (w != v && w != other) {
+                    sum += mesh_.vertices[w];
+                    ++count;
+                }
+        }
+        return count ? sum / double(count) - mesh_.vertices[v] : glm::dvec3(0.0);
     }
 
     // A triangle without area (or turned over) once written: collapse its
