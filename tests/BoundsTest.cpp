@@ -9,6 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 namespace kerf {
 namespace {
 
@@ -59,6 +62,34 @@ TEST(Bounds, BlendsGrowTheUnionByAQuarterOfTheRadius)
       "children":[{"id":"a","type":"box","size":[2,2,2]},{"id":"b","type":"box","size":[2,2,2]}]}})",
                                  "t");
     EXPECT_EQ(partBounds(d).max, glm::dvec3(3, 3, 3));
+}
+
+// A dowel hole moved off its board (a newcomer set its Y to 100 on a board
+// 60 deep): it cuts nothing, and the part and its file lacked it without a
+// word. Found by bounds, so for certain: a hole touching or entering the
+// board, a hidden hole and a blended difference are not named.
+TEST(Bounds, AToolClearOfItsBoardCutsNothing)
+{
+    const auto idle = [](const std::string& holeAt, const std::string& extra = "") {
+        return toolsCuttingNothing(Document::parse(
+            R"({"format":"kerf","version":1,"root":{"id":"d","type":"difference")" + extra + R"(,"children":[
+              {"id":"board","type":"box","size":[400,60,20],"name":"Rail"},
+              {"id":"hole","type":"cylinder","radius":4,"height":25,"transform":{"translate":[)" + holeAt + R"(]}},
+              {"id":"pins","type":"array","count":[3,1,1],"step":[100,0,0],"children":[
+                {"id":"pin","type":"cylinder","radius":2.5,"height":10,"transform":{"translate":[-100,0,0]}}]}]}})",
+            "t"));
+    };
+    EXPECT_TRUE(idle("0,0,0").empty());
+    EXPECT_EQ(idle("0,100,0"), std::vector<std::string>{"hole"});
+    EXPECT_TRUE(idle("0,34,0").empty()); // its side 4 mm into the board
+    EXPECT_TRUE(idle("0,100,0", R"(,"blend":2)").empty());
+    const Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"d","type":"difference","children":[
+              {"id":"board","type":"box","size":[400,60,20],"name":"Rail"},
+              {"id":"hole","type":"cylinder","radius":4,"height":25,"transform":{"translate":[0,100,0]}},
+              {"id":"hidden","type":"cylinder","radius":4,"height":25,"visible":false,"transform":{"translate":[0,100,0]}}]}})",
+                                         "t");
+    EXPECT_EQ(toolsCuttingNothing(doc), std::vector<std::string>{"hole"});
+    EXPECT_EQ(describeToolsCuttingNothing(doc), "the cylinder 'hole' cuts nothing: it lies clear of Rail ('board')");
 }
 
 } // namespace

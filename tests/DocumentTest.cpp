@@ -72,6 +72,9 @@ std::vector<Refusal> refusals()
         {"APngImageSaysSo", "\x89PNG\r\n", "", "", "this is a PNG image"},
         {"PlainText", "hello, this is a note", "", "", "this starts with the text 'hello, this is a note'"},
         {"AnAsciiStl", "solid leg\n facet normal 0 0 1", "", "", "looks like an ASCII STL mesh"},
+        // Kerf's own export, one triangle: its header is text, its size says what it is.
+        {"ABinaryStl", "binary STL file from kerf" + std::string(80 - 25, ' ') + std::string("\x01\0\0\0", 4) + std::string(50, '\0'),
+         "", "", "this is a binary STL mesh of 1 triangle (Kerf shows meshes beside the part: Add > Reference Mesh)"},
         {"BinaryData", std::string("\x01\x02\x03\xFE", 4), "", "", "this holds binary data"},
         {"MissingFormat", variant(R"("format": "kerf",)", ""), "", "format", "missing"},
         {"WrongFormat", variant(R"("format": "kerf")", R"("format": "stl")"), "", "format", "\"kerf\""},

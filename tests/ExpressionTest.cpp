@@ -364,6 +364,18 @@ TEST(DocumentExpressions, AnEditFollowsThroughTheExpressionsThatReferToIt)
     EXPECT_EQ(renamed.root.find("hole")->expressions.size(), 2u);
 }
 
+// What stops a deletion: the expressions elsewhere that refer to a field of
+// what goes (the hole's radius is the board's thickness over 6). What goes
+// along (the hole under its array) does not count.
+TEST(DocumentExpressions, TheUsesOfANodesFieldsAreFoundBeforeItGoes)
+{
+    const Document d = load(kShelfSide);
+    EXPECT_EQ(edit::nodeUses(d, {"board"}), std::vector<std::string>{"hole.radius"});
+    EXPECT_TRUE(edit::nodeUses(d, {"hole"}).empty());
+    EXPECT_TRUE(edit::nodeUses(d, {"board", "holes"}).empty()); // the hole goes with its array
+    EXPECT_TRUE(edit::nodeUses(d, {"absent"}).empty());
+}
+
 TEST(DocumentExpressions, ParametersAreAddedRenamedWithTheirUsesAndRemovedOnlyWhenUnused)
 {
     Document d = load(kShelfSide);

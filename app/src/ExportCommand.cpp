@@ -257,6 +257,8 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
                 << (*format == MeshFileFormat::ThreeMf ? "" : "a .3mf file keeps the detail, or ")
                 << "move the part nearer the origin\n";
         const double ownFeatureSize = doc.settings.featureSize.value_or(defaultFeatureSize(bounds));
+        if (const std::string idle = describeToolsCuttingNothing(doc); !idle.empty())
+            err << "kerf export: warning: " << idle << "\n";
         if (stats.hiddenDetailCells > 0)
             err << "kerf export: warning: " << describeHiddenDetail(stats, ownFeatureSize) << "\n";
         if (stats.trianglesOverTolerance > 0)

@@ -2,6 +2,7 @@
 
 #include "FieldPath.hpp"
 #include "kerf/document/Expression.hpp"
+#include "kerf/document/NodeTypes.hpp"
 
 #include <cctype>
 
@@ -217,6 +218,23 @@ void updateNode(Document& doc, std::string_view id, const Node& updated)
     n.extra = updated.extra;
 }
 
+void setProfile(Document& doc, std::string_view id, std::vector<glm::dvec2> points,
+                const std::vector<std::array<std::string, 2>>& expressions)
+{
+    Node& n = requireNode(doc, id);
+    const FieldSpec* profile = nullptr;
+    for (const FieldSpec& f : nodeTypeSpec(n.type).fields)
+        if (f.shape == FieldShape::Points) profile = &f;
+    if (!profile) refuse("a " + std::string(nodeTypeName(n.type)) + " has no profile");
+    const std::string prefix = std::string(profile->key) + "[";
+    std::erase_if(n.expressions, [&](const auto& e) { return e.first.starts_with(prefix); });
+    for (std::size_t i = 0; i < expressions.size() && i < points.size(); ++i)
+        for (std::size_t c = 0; c < 2; ++c)
+            if (!expressions[i][c].empty())
+                n.expressions[prefix + std::to_string(i) + "][" + std::to_string(c) + "]"] = expressions[i][c];
+    profile->pointsIn(n) = std::move(points);
+}
+
 std::unordered_set<std::string> idsInSubtree(const Node& node)
 {
     std::unordered_set<std::string> ids;
@@ -319,6 +337,29 @@ std::vector<std::string> parameterUses(const Document& doc, const std::string& n
             if (std::find(u.names.begin(), u.names.end(), name) != u.names.end()) where.push_back(at);
         } catch (const expr::ExpressionError&) {
             // A malformed expression uses nothing it can be asked about.
+        }
+    });
+    return where;
+}
+
+std::vector<std::string> nodeUses(const Document& doc, const std::vector<std::string>& ids)
+{
+    std::unordered_set<std::string> going;
+    for (const std::string& id : ids)
+        if (const Node* n = doc.root.find(id)) going.merge(idsInSubtree(*n));
+    std::vector<std::string> where;
+    forEachExpression(doc, [&](const std::string& at, const std::string& text) {
+        // An id holds no dot, so the first one ends it; what goes with the
+        // deletion does not stop it.
+        if (going.contains(at.substr(0, at.find('.')))) return;
+        try {
+            for (const std::string& reference : expr::uses(text).references)
+                if (going.contains(reference.substr(0, reference.find('.')))) {
+                    where.push_back(at);
+                    return;
+                }
+        } catch (const expr::ExpressionError&) {
+            // A malformed expression refers to nothing it can be asked about.
         }
     });
     return where;

@@ -65,7 +65,17 @@ std::string describeContent(std::string_view head)
     if (startsWith("\xFF\xD8\xFF")) return "is a JPEG image";
     if (startsWith("%PDF")) return "is a PDF document";
     if (startsWith("PK\x03\x04")) return "is a ZIP archive (a 3MF file is one: Kerf reads meshes as reference meshes)";
-    if (startsWith("solid")) return "looks like an ASCII STL mesh (Kerf reads meshes as reference meshes)";
+    if (startsWith("solid")) return "looks like an ASCII STL mesh (Kerf shows meshes beside the part: Add > Reference Mesh)";
+    // Binary STL: an 80-byte header (any text: Kerf's own says "binary STL
+    // file"), a triangle count, 50 bytes a triangle. Its header read as text
+    // told a newcomer nothing.
+    if (head.size() >= 84) {
+        std::uint32_t triangles = 0;
+        std::memcpy(&triangles, head.data() + 80, sizeof triangles);
+        if (84 + 50 * std::uint64_t(triangles) == head.size())
+            return "is a binary STL mesh of " + std::to_string(triangles) + (triangles == 1 ? " triangle" : " triangles") +
+                   " (Kerf shows meshes beside the part: Add > Reference Mesh)";
+    }
     std::string shown;
     for (const char c : head.substr(0, 24)) {
         const auto u = static_cast<unsigned char>(c);

@@ -1,4 +1,6 @@
 #include "kerf/document/NodeBounds.hpp"
+
+#include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/NodeTypes.hpp"
 
 #include <glm/glm.hpp>
@@ -129,6 +131,49 @@ Aabb partBounds(const Document& doc)
     Aabb box = nodeBounds(doc.root);
     if (doc.settings.bounds) box = box.intersected(Aabb{doc.settings.bounds->min, doc.settings.bounds->max});
     return box;
+}
+
+std::vector<std::string> toolsCuttingNothing(const Document& doc)
+{
+    const std::unordered_map<std::string, Aabb> bounds = worldBoundsOfNodes(doc);
+    const auto boundsOf = [&](const Node& n) {
+        const auto it = bounds.find(n.id);
+        return it == bounds.end() ? Aabb{} : it->second;
+    };
+    std::vector<std::string> idle;
+    const auto walk = [&](const auto& self, const Node& n) -> void {
+        if (n.type == NodeType::Difference && n.visible && n.children.size() > 1 && !(n.as<BooleanParams>().blend > 0.0)) {
+            const Aabb base = boundsOf(n.children.front());
+            for (std::size_t i = 1; i < n.children.size(); ++i) {
+                const Aabb tool = boundsOf(n.children[i]);
+                if (!base.isEmpty() && !tool.isEmpty() && !tool.overlaps(base)) idle.push_back(n.children[i].id);
+            }
+        }
+        for (const Node& c : n.children) self(self, c);
+    };
+    walk(walk, doc.root);
+    return idle;
+}
+
+std::string describeToolsCuttingNothing(const Document& doc)
+{
+    const std::vector<std::string> idle = toolsCuttingNothing(doc);
+    if (idle.empty()) return {};
+    const auto named = [](const Node& n) {
+        return n.name ? *n.name + " ('" + n.id + "')" : "the " + std::string(nodeTypeName(n.type)) + " '" + n.id + "'";
+    };
+    constexpr std::size_t kNamed = 3;
+    std::string s;
+    for (std::size_t i = 0; i < idle.size() && i < kNamed; ++i) {
+        const auto location = edit::locate(doc, idle[i]);
+        const Node* tool = doc.root.find(idle[i]);
+        const Node* difference = location ? doc.root.find(location->parentId) : nullptr;
+        if (!tool || !difference) continue;
+        if (!s.empty()) s += "; ";
+        s += named(*tool) + " cuts nothing: it lies clear of " + named(difference->children.front());
+    }
+    if (idle.size() > kNamed) s += "; and " + std::to_string(idle.size() - kNamed) + " more";
+    return s;
 }
 
 } // namespace kerf

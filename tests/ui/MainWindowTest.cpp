@@ -409,6 +409,7 @@ private slots:
     void aSelectedHoleShowsItsToolBodyAsAGhost();
     void theBoundingBoxOfTheSelectionIsMeasuredAndDrawn();
     void aTurnedProfileIsEditedInItsPointTable();
+    void aProfilePointFollowsAParameter();
     void theThicknessChangedInTheParametersPanelCarriesEveryDependentFeature();
     void deleteInTheParametersTableIsTheParametersNotTheFeatures();
     void lengthsShownInInchesAreTypedInInchesAndTheDocumentKeepsMillimetres();
@@ -1490,6 +1491,16 @@ void MainWindowTest::theTreeMarksTheBaseAndAsksBeforeAToolGoesAboveIt()
     QCOMPARE(typeText("board"), QString("Box · base"));
     QCOMPARE(typeText("hole"), QString("Cylinder · cut"));
     QCOMPARE(typeText("d"), QString("Difference"));
+    // Moved off the board, the hole cuts nothing, and the tree says so
+    // (a newcomer's dowel hole went missing from the part and its file
+    // without a word); back on it, it cuts again.
+    QVERIFY(w->session()->apply("Off", [](Document& d) { d.root.find("hole")->transform.translate.y = 100; }));
+    QCOMPARE(typeText("hole"), QString("Cylinder · cuts nothing"));
+    const QModelIndex holeType = m->indexOf("hole").siblingAtColumn(FeatureTreeModel::TypeColumn);
+    QVERIFY2(m->data(holeType, Qt::ToolTipRole).toString().contains("cuts nothing from it"),
+             qPrintable(m->data(holeType, Qt::ToolTipRole).toString()));
+    action(w.get(), "action.undo")->trigger();
+    QCOMPARE(typeText("hole"), QString("Cylinder · cut"));
 
     // Drag the hole above the board: asked first; "no" changes nothing.
     const Document before = w->session()->document();
@@ -1571,6 +1582,22 @@ void MainWindowTest::deletingWhatADifferenceCutsFromAsksFirst()
     QVERIFY2(!asked, qPrintable(text));
     QVERIFY(!w->session()->document().root.find("hole"));
     QCOMPARE(w->session()->document().root.find("d")->children.front().id, std::string("board"));
+    action(w.get(), "action.undo")->trigger();
+
+    // The board that other features' expressions refer to: refused before
+    // any question, naming every use (a newcomer was asked about the
+    // difference first, then refused, one use named).
+    QVERIFY(w->session()->apply("Refer", [](Document& d) {
+        d.root.find("hole")->expressions["height"] = "board.size[2] + 12";
+        d.root.find("leg")->expressions["size[0]"] = "board.size[0] - 60";
+    }));
+    const Document referred = w->session()->document();
+    std::tie(asked, text) = deleteAnswering({"board"}, "delete.base.whole");
+    QVERIFY2(!asked, qPrintable(text));
+    QVERIFY(w->session()->document() == referred);
+    QVERIFY2(w->lastMessage() == "Cannot delete: Board is used by Size X of the box, Height of Pin hole: change those "
+                                 "first.",
+             qPrintable(w->lastMessage()));
 }
 
 void MainWindowTest::exportDialogWritesAClosedMesh()
@@ -2405,17 +2432,25 @@ void MainWindowTest::theGizmoMovesAHoleBySnappedOrTypedDistancesInOneUndoStep()
     QCOMPARE(z(), 143.5);
     QCOMPARE(undo->count(), steps + 2);
 
-    // Esc during a drag puts the hole back and leaves no step.
+    // Esc during a drag puts the hole back and leaves no step, and Redo
+    // keeps what it had (the drag's first move once cleared it).
+    undo->undo();
+    QCOMPARE(z(), 192.0);
+    QVERIFY(undo->canRedo());
+    QTRY_COMPARE(v->moveGizmoOrigin()->z, 192.0);
     const MoveGizmo g3 = *v->moveGizmo();
     const glm::dvec3 grip3 = g3.origin + 0.7 * g3.armLength * glm::dvec3(0, 0, 1);
     surface.press(surface.at(grip3));
     surface.move(surface.at(grip3 + glm::dvec3(0, 0, 20.0)));
-    QVERIFY(z() != 143.5);
+    QVERIFY(z() != 192.0);
     surface.key(Qt::Key_Escape);
     surface.release(surface.at(grip3 + glm::dvec3(0, 0, 20.0)));
-    QCOMPARE(z(), 143.5);
+    QCOMPARE(z(), 192.0);
     QCOMPARE(undo->count(), steps + 2);
-    QVERIFY(undo->canRedo() == false);
+    QVERIFY(undo->canRedo());
+    undo->redo();
+    QCOMPARE(z(), 143.5);
+    QTRY_COMPARE(v->moveGizmoOrigin()->z, 143.5);
 
     // A drag that starts off the gizmo orbits the camera and moves nothing.
     const glm::dvec3 eye = v->view().camera(100, 100, Aabb{glm::dvec3(-1), glm::dvec3(1)}).eye();
@@ -2667,6 +2702,11 @@ void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependen
     // Inches and fractions of an inch in any length field; the document stays in millimetres.
     typeInto(field(*w, "size.y"), "11 3/4in");
     QCOMPARE(w->session()->document().root.find("panel")->as<BoxParams>().size.y, 298.45);
+    // The number kept is the decimal the inches are, bit for bit (2 3/8in
+    // was saved as 60.324999999999996, QCOMPARE's fuzz hides it).
+    typeInto(field(*w, "size.y"), "2 3/8in");
+    QVERIFY(w->session()->document().root.find("panel")->as<BoxParams>().size.y == 60.325);
+    typeInto(field(*w, "size.y"), "11 3/4in");
     QCOMPARE(props->errorFor("size.y"), QString());
     typeInto(field(*w, "rotate.z"), "2mm");
     QVERIFY2(props->errorFor("rotate.z").contains("a length does not belong here"), qPrintable(props->errorFor("rotate.z")));
@@ -2856,7 +2896,14 @@ void MainWindowTest::aTurnedProfileIsEditedInItsPointTable()
     const QString why = w->propertyEditor()->errorFor("profile");
     // The point as its table row numbers it (the file's key is profile[2][0]).
     QVERIFY2(why.startsWith("Profile, point 3 of the revolve: r must be >= 0"), qPrintable(why));
-    QCOMPARE(table->item(2, 0)->text(), QString::number(profile()[2].x)); // the document's value again
+    QVERIFY2(why.endsWith("(not applied: the part keeps its last profile)"), qPrintable(why));
+    // What was typed stays to be mended: an outline typed point by point
+    // crosses itself until a point's second coordinate is in, and a newcomer
+    // lost each first one.
+    QCOMPARE(table->item(2, 0)->text(), QString("-3"));
+    table->item(2, 0)->setText(QString::number(profile()[2].x));
+    QVERIFY(w->session()->document() == before);
+    QCOMPARE(w->propertyEditor()->errorFor("profile"), QString());
 
     // Undo takes the wider foot back.
     action(w.get(), "action.undo")->trigger();
@@ -2873,6 +2920,67 @@ void MainWindowTest::aTurnedProfileIsEditedInItsPointTable()
     QVERIFY2(woodFraction(frame) > 0.02, "the turning fills part of the picture");
     QVERIFY2(w->viewport()->status().validationErrors == 0, qPrintable(w->viewport()->status().lastValidationMessage));
     saveScreenshot(*w, "app-revolve-profile");
+}
+
+// A profile point driven by a parameter (a newcomer's curved rail: "=-length/2"
+// in a point's cell was "point 1: not a number", so the board never followed
+// the length, its tenons did). Typed with '=', the coordinate is the
+// expression's: shown tinted with it in the tooltip, following the
+// parameter, kept when another point goes in before it, replaced by a number
+// typed over it. Add point walks on along the outline.
+void MainWindowTest::aProfilePointFollowsAParameter()
+{
+    auto w = makeWindow(recovery_.path());
+    action(w.get(), "action.new")->trigger();
+    QVERIFY(w->session()->apply("Add length", [](Document& d) {
+        d.parameters.push_back(Parameter{.name = "length", .expression = "400", .unit = "length"});
+    }));
+    action(w.get(), "action.add.extrude")->trigger();
+    const std::string id = w->selectedNodeIds().front();
+    auto* table = w->propertyEditor()->findChild<QTableWidget*>("field.profile");
+    QVERIFY(table);
+    const auto node = [&] { return w->session()->document().root.find(id); };
+    const auto points = [&] { return node()->as<ExtrudeParams>().profile; };
+    const int rows = table->rowCount();
+    QVERIFY(rows >= 3);
+
+    table->item(0, 0)->setText("=-length/2");
+    QCOMPARE(w->propertyEditor()->errorFor("profile"), QString());
+    QCOMPARE(points()[0].x, -200.0);
+    QCOMPARE(node()->expressions.at("profile[0][0]"), std::string("-length/2"));
+    QCOMPARE(table->item(0, 0)->text(), QString("-200"));
+    QVERIFY(table->item(0, 0)->toolTip().startsWith("= -length/2"));
+
+    // The parameter changed: the point follows.
+    QVERIFY(w->session()->apply("Longer", [](Document& d) { d.parameters[0].expression = "500"; }));
+    QCOMPARE(points()[0].x, -250.0);
+
+    // A point added after the first: each expression stays with its point,
+    // the second point's now the third's.
+    table->item(1, 1)->setText("=-length/50");
+    QCOMPARE(points()[1].y, -10.0);
+    table->setCurrentCell(0, 0);
+    auto* add = w->propertyEditor()->findChild<QPushButton*>("profile.add");
+    QVERIFY(add);
+    QTest::mouseClick(add, Qt::LeftButton);
+    QCOMPARE(int(points().size()), rows + 1);
+    QCOMPARE(node()->expressions.at("profile[0][0]"), std::string("-length/2"));
+    QCOMPARE(node()->expressions.at("profile[2][1]"), std::string("-length/50"));
+    QVERIFY(!node()->expressions.count("profile[1][1]"));
+    // Pressed again, the next point goes after the new one, not between the
+    // first two again.
+    const glm::dvec2 added = points()[1];
+    QTest::mouseClick(add, Qt::LeftButton);
+    QCOMPARE(points()[1], added);
+
+    // A number typed over it replaces the expression (further out: the
+    // points added lie on the edge between it and the next corner).
+    table->item(0, 0)->setText("-300");
+    QCOMPARE(w->propertyEditor()->errorFor("profile"), QString());
+    QCOMPARE(points()[0].x, -300.0);
+    QVERIFY(!node()->expressions.count("profile[0][0]"));
+    QVERIFY(w->session()->apply("Longer again", [](Document& d) { d.parameters[0].expression = "600"; }));
+    QCOMPARE(points()[0].x, -300.0);
 }
 
 // View > Voxelize on the GPU (issue 18): the GPU voxelizer in the viewport's

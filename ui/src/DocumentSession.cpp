@@ -26,34 +26,79 @@ QString DocumentSession::displayName() const
     return path_ ? QFileInfo(QString::fromStdString(path_->string())).fileName() : tr("Untitled");
 }
 
-bool DocumentSession::apply(const QString& text, const std::function<void(Document&)>& edit, QString* error,
-                            const QString& mergeKey)
+namespace {
+
+// The document after `edit`, resolved and validated as loading would; a
+// refusal in the panels' words.
+std::optional<Document> edited(const Document& document, const std::function<void(Document&)>& edit,
+                               const std::optional<std::filesystem::path>& path, QString* error)
 {
-    Document after = document_;
+    Document after = document;
     try {
         edit(after);
         // With expressions, the edit is evaluated again: what refers to an
         // edited field or parameter follows it (and the parameters of a part
         // with no feature yet get their values). A document with an empty
         // root union is where every new part starts, and a file holds it.
-        if (after.hasExpressions()) after = after.resolved(path_ ? path_->string() : "");
-        else after.validate(path_ ? path_->string() : "");
+        if (after.hasExpressions()) after = after.resolved(path ? path->string() : "");
+        else after.validate(path ? path->string() : "");
     } catch (const DocumentError& e) {
         // Without the file name (the field is right there), and in the
         // panels' words: the feature's name and the field's row label.
         if (error) *error = describeRefusal(after.root, e.nodeId(), e.field(), e.reason());
-        return false;
+        return std::nullopt;
     } catch (const std::exception& e) {
         if (error) *error = QString::fromUtf8(e.what());
-        return false;
+        return std::nullopt;
     }
-    if (after == document_) return true; // nothing to undo
-    undo_.push(new EditCommand(this, text, document_, std::move(after), mergeKey));
+    return after;
+}
+
+} // namespace
+
+bool DocumentSession::apply(const QString& text, const std::function<void(Document&)>& edit, QString* error,
+                            const QString& mergeKey)
+{
+    if (previewing()) endPreview(true);
+    std::optional<Document> after = edited(document_, edit, path_, error);
+    if (!after) return false;
+    if (*after == document_) return true; // nothing to undo
+    undo_.push(new EditCommand(this, text, document_, std::move(*after), mergeKey));
     return true;
+}
+
+bool DocumentSession::preview(const QString& text, const std::function<void(Document&)>& edit, QString* error)
+{
+    std::optional<Document> after = edited(document_, edit, path_, error);
+    if (!after) return false;
+    if (!previewBefore_) previewBefore_ = document_;
+    previewText_ = text;
+    if (*after == document_) return true;
+    document_ = std::move(*after);
+    ++revision_;
+    emit documentChanged();
+    return true;
+}
+
+void DocumentSession::endPreview(bool keep)
+{
+    if (!previewBefore_) return;
+    Document before = std::move(*previewBefore_);
+    previewBefore_.reset();
+    if (keep) {
+        // Pushing runs the step's redo: the document it already is.
+        if (!(before == document_)) undo_.push(new EditCommand(this, previewText_, std::move(before), document_, QString()));
+        return;
+    }
+    if (before == document_) return;
+    document_ = std::move(before);
+    ++revision_;
+    emit documentChanged();
 }
 
 void DocumentSession::setDocumentFromCommand(const Document& doc)
 {
+    previewBefore_.reset(); // an undo or a redo during a preview: the command's document
     document_ = doc;
     ++revision_;
     emit documentChanged();

@@ -46,6 +46,17 @@ public:
     bool apply(const QString& text, const std::function<void(Document&)>& edit, QString* error = nullptr,
                const QString& mergeKey = {});
 
+    /// Shows an edit under way (a gizmo drag, one call per mouse move) as
+    /// the document, validated as apply() does, without an undo step yet:
+    /// endPreview() makes the edits since the first preview one step, or
+    /// takes them back. A drag's steps once went on the undo stack as they
+    /// came, and the first cleared what Redo had, even when Esc then took
+    /// the drag back. Any other change (an edit, an undo) ends the preview:
+    /// apply() keeps it as a step first, an undo or redo drops it.
+    bool preview(const QString& text, const std::function<void(Document&)>& edit, QString* error = nullptr);
+    void endPreview(bool keep);
+    bool previewing() const { return previewBefore_.has_value(); }
+
     /// Replaces the document (New, Open, recovery). Clears the undo stack.
     /// `modified`: the document differs from the file (a recovered autosave).
     void reset(Document doc, std::optional<std::filesystem::path> path, bool modified = false);
@@ -68,6 +79,9 @@ private:
     std::optional<std::filesystem::path> path_;
     QUndoStack undo_;
     bool modifiedWithoutUndo_ = false;
+    // The document before the preview under way, and the step's name.
+    std::optional<Document> previewBefore_;
+    QString previewText_;
 };
 
 } // namespace kerf::ui

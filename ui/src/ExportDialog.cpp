@@ -1,6 +1,7 @@
 #include "ExportDialog.hpp"
 
 #include "QuantityEdit.hpp"
+#include "kerf/document/NodeBounds.hpp"
 #include "kerf/document/AtomicFile.hpp"
 #include "kerf/document/NodePlacement.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
@@ -438,6 +439,9 @@ void ExportDialog::start()
                 o.triangles = exported.report.asRead.triangles;
                 o.simplified = tolerance > 0.0 && exported.simplificationDefects.empty();
                 o.message = describeWritten(file, format, exported, tolerance, seconds, documentFeatureSize_);
+                // A hole moved off its board: the file lacks it, as the part does.
+                if (const std::string idle = describeToolsCuttingNothing(doc_); !idle.empty())
+                    o.message += "\n" + tr("Warning: %1.").arg(QString::fromStdString(idle));
             }
         } catch (const std::bad_alloc&) {
             o.message = tr("Export failed: out of memory; choose a larger feature size.");

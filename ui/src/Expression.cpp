@@ -4,6 +4,8 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 namespace kerf::ui {
 
@@ -77,7 +79,13 @@ ExpressionResult evaluate(std::string_view text, std::string_view unit, bool wan
         const expr::Quantity q = expr::evaluate(expr, none);
         if (!q.fits(wantLength))
             throw expr::ExpressionError(wantLength ? "it is not a length" : "a length does not belong here");
-        r.value = wantLength && q.bare ? bareLengthToMm(q.value, bareLength) : q.value;
+        const double value = wantLength && q.bare ? bareLengthToMm(q.value, bareLength) : q.value;
+        // To 12 significant digits: 2 3/8in is 60.325 mm, not the
+        // 60.324999999999996 that 2.375 * 25.4 gives and the file then held.
+        // A nanometre in a metre at most.
+        char digits[32];
+        std::snprintf(digits, sizeof digits, "%.12g", value);
+        r.value = std::strtod(digits, nullptr);
     } catch (const expr::ExpressionError& e) {
         r.error = "cannot read '" + expr + "' as a number: " + e.what();
     }

@@ -2,6 +2,7 @@
 
 #include "NodeText.hpp"
 #include "kerf/document/DocumentEdits.hpp"
+#include "kerf/document/NodeBounds.hpp"
 
 #include <QColor>
 #include <QIODevice>
@@ -13,7 +14,10 @@ namespace kerf::ui {
 FeatureTreeModel::FeatureTreeModel(DocumentSession* session, QObject* parent) : QAbstractItemModel(parent), session_(session)
 {
     items_ = flatten();
+    for (std::string& id : toolsCuttingNothing(session_->document())) cutNothing_.insert(std::move(id));
     connect(session_, &DocumentSession::documentChanged, this, [this] {
+        cutNothing_.clear();
+        for (std::string& id : toolsCuttingNothing(session_->document())) cutNothing_.insert(std::move(id));
         // A change of values keeps the tree's shape: the rows stay (and the
         // view keeps its state); only a change of shape resets the model.
         std::vector<Item> next = flatten();
@@ -108,14 +112,24 @@ QVariant FeatureTreeModel::data(const QModelIndex& index, int role) const
     if (!n) return {};
     if (role == NodeIdRole) return QString::fromStdString(n->id);
     if (index.column() == TypeColumn) {
-        if (role != Qt::DisplayRole) return {};
+        if (role != Qt::DisplayRole && role != Qt::ForegroundRole && role != Qt::ToolTipRole) return {};
         // In a difference the order matters: the first child is the body,
         // the others are cut from it.
         const Node* parent = nodeOf(index.parent());
-        if (parent && parent->type == NodeType::Difference)
-            return index.row() == 0 ? tr("%1 · base").arg(nodeTypeLabel(n->type))
-                                    : tr("%1 · cut").arg(nodeTypeLabel(n->type));
-        return nodeTypeLabel(n->type);
+        if (parent && parent->type == NodeType::Difference) {
+            if (index.row() == 0) return role == Qt::DisplayRole ? tr("%1 · base").arg(nodeTypeLabel(n->type)) : QVariant();
+            // A dowel hole moved off its board cuts nothing, and the part
+            // and its file lack it without a word: said where it is listed.
+            if (cutNothing_.contains(n->id)) {
+                if (role == Qt::ForegroundRole) return QColor(0xb0, 0x00, 0x20);
+                if (role == Qt::ToolTipRole)
+                    return tr("%1 lies clear of %2: it cuts nothing from it.")
+                        .arg(displayName(*n), displayName(parent->children.front()));
+                return role == Qt::DisplayRole ? tr("%1 · cuts nothing").arg(nodeTypeLabel(n->type)) : QVariant();
+            }
+            return role == Qt::DisplayRole ? tr("%1 · cut").arg(nodeTypeLabel(n->type)) : QVariant();
+        }
+        return role == Qt::DisplayRole ? QVariant(nodeTypeLabel(n->type)) : QVariant();
     }
     switch (role) {
     case Qt::DisplayRole: return displayName(*n);

@@ -13,6 +13,7 @@
 
 #include <functional>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 namespace kerf::ui {
@@ -70,6 +71,8 @@ private:
 
     DocumentSession* session_;
     std::vector<Item> items_; // items_[0] is the document's root
+    // Tools that cut nothing (toolsCuttingNothing), marked in the Type column.
+    std::unordered_set<std::string> cutNothing_;
 };
 
 } // namespace kerf::ui

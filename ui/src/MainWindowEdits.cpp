@@ -74,6 +74,15 @@ bool MainWindow::deleteSelection()
         }
     };
     takeEmptiedAlong();
+    // What other features' expressions refer to cannot go: said before any
+    // question, with every use (it was refused after the question about the
+    // difference, naming one).
+    if (const std::vector<std::string> uses = edit::nodeUses(session_->document(), ids); !uses.empty()) {
+        showMessage(tr("Cannot delete: %1 %2 used by %3: change those first.")
+                        .arg(only ? featureName(*only) : tr("these features"), only ? tr("is") : tr("are"),
+                             describeExpressionUses(session_->document().root, uses)));
+        return false;
+    }
     // Deleting what a difference cuts from would make its first tool the
     // body: holes would come back as pegs, without a word. Each such
     // difference is asked about first (the whole of it, or only what was

@@ -69,7 +69,6 @@ void MoveTool::started()
     if (id_.empty()) return;
     dragging_ = true;
     moved_ = false;
-    ++serial_;
     start_ = session_->document();
     startBounds_ = edit::firstInstanceBounds(start_, id_);
     // Every other primitive copy, by its placed bounds: what the drag lines up with.
@@ -150,10 +149,10 @@ void MoveTool::dragged(const qt::GizmoDrag& drag)
     QString error;
     const std::string id = id_;
     const Document start = start_;
-    if (!session_->apply(text, [&](Document& d) {
+    if (!session_->preview(text, [&](Document& d) {
             d = start;
             edit::moveNodeInWorld(d, id, delta);
-        }, &error, QString("gizmo-%1").arg(serial_))) {
+        }, &error)) {
         emit message(error);
         return;
     }
@@ -172,14 +171,9 @@ void MoveTool::finished(bool cancelled)
 {
     if (!dragging_) return;
     dragging_ = false;
-    if (cancelled && moved_) {
-        // Back to where it was: the merged step becomes a no-op and leaves the stack.
-        const Document start = start_;
-        session_->apply(tr("Move"), [&](Document& d) { d = start; }, nullptr, QString("gizmo-%1").arg(serial_));
-        emit message(tr("Move cancelled."));
-    } else {
-        emit message(QString());
-    }
+    // One step for the drag, or none: Esc takes it back, Redo keeps what it had.
+    session_->endPreview(!cancelled);
+    emit message(cancelled && moved_ ? tr("Move cancelled.") : QString());
     place();
 }
 

@@ -49,7 +49,6 @@ private:
     bool enabled_ = true;
     // The drag under way.
     bool dragging_ = false, moved_ = false;
-    int serial_ = 0;
     Document start_;
     Aabb startBounds_;
     std::vector<SnapTarget> targets_;

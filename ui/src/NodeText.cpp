@@ -84,4 +84,16 @@ QString describeExpressionUse(const Node& root, const std::string& use)
     return QCoreApplication::translate("kerf", "%1 of %2").arg(fieldLabel(*n, use.substr(dot + 1)), featureName(*n));
 }
 
+QString describeExpressionUses(const Node& root, const std::vector<std::string>& uses)
+{
+    constexpr std::size_t kListed = 5;
+    QStringList list;
+    for (std::size_t i = 0; i < uses.size() && i < kListed; ++i)
+        list << describeExpressionUse(root, uses[i]);
+    QString text = list.join(", ");
+    if (uses.size() > kListed)
+        text += QCoreApplication::translate("kerf", " and %n more", nullptr, int(uses.size() - kListed));
+    return text;
+}
+
 } // namespace kerf::ui

@@ -6,6 +6,7 @@
 #include <QString>
 
 #include <string>
+#include <vector>
 
 namespace kerf::ui {
 
@@ -30,5 +31,8 @@ QString describeRefusal(const Node& root, const std::string& nodeId, const std::
 /// "parameters.depth"), in the panels' words: "Size X of Side panel",
 /// "the parameter depth".
 QString describeExpressionUse(const Node& root, const std::string& use);
+/// Several of them: "Size X of Side panel, Position Z of the cylinder and 3
+/// more" (the first five named).
+QString describeExpressionUses(const Node& root, const std::vector<std::string>& uses);
 
 } // namespace kerf::ui

@@ -246,13 +246,7 @@ void ParametersPanel::removeSelected()
 
 QString ParametersPanel::usesText(const std::vector<std::string>& where) const
 {
-    constexpr std::size_t kListed = 5;
-    QStringList list;
-    for (std::size_t i = 0; i < where.size() && i < kListed; ++i)
-        list << describeExpressionUse(session_->document().root, where[i]);
-    QString text = list.join(", ");
-    if (where.size() > kListed) text += tr(" and %n more", nullptr, int(where.size() - kListed));
-    return text;
+    return describeExpressionUses(session_->document().root, where);
 }
 
 } // namespace kerf::ui

@@ -63,6 +63,10 @@ void setNormalComponent(glm::dvec3& n, int axis, double v)
     if (len > 0.0 && std::isfinite(len)) n /= len;
 }
 
+// A profile cell's expression ("-length/2", without the '='), where one
+// drives the coordinate.
+constexpr int kExpressionRole = Qt::UserRole + 1;
+
 // A profile point's coordinate as shown and typed: a length in the user's unit.
 QString profileText(double mm)
 {
@@ -466,7 +470,8 @@ void PropertyEditor::addProfileTable(const FieldSpec& field)
     const QString unit = LengthDisplay::instance().unit() == LengthUnit::Inches ? tr("in") : tr("mm");
     profile_->setHorizontalHeaderLabels({tr("%1 (%2)").arg(a, unit), tr("%1 (%2)").arg(b, unit)});
     profile_->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
-    profile_->setMinimumHeight(140);
+    // Eight points in sight (it showed five of an 18-point outline).
+    profile_->setMinimumHeight(profile_->horizontalHeader()->sizeHint().height() + 8 * (fontMetrics().height() + 8) + 4);
     // Typing over a point's cell edits it, as in the Parameters table.
     profile_->setEditTriggers(QAbstractItemView::DoubleClicked | QAbstractItemView::EditKeyPressed |
                               QAbstractItemView::AnyKeyPressed);
@@ -476,15 +481,25 @@ void PropertyEditor::addProfileTable(const FieldSpec& field)
     auto* h = new QHBoxLayout(buttons);
     h->setContentsMargins(0, 0, 0, 0);
     auto* add = new QPushButton(tr("Add point"), buttons);
+    add->setObjectName("profile.add");
     auto* remove = new QPushButton(tr("Remove point"), buttons);
+    remove->setObjectName("profile.remove");
     h->addWidget(add);
     h->addWidget(remove);
     form_->addRow(QString(), buttons);
     profileError_ = errorLabel(this);
     profileError_->setObjectName("error.profile");
     form_->addRow(QString(), profileError_);
-    connect(profile_, &QTableWidget::cellChanged, this, [this] {
-        if (!refreshing_) commitProfile();
+    connect(profile_, &QTableWidget::cellChanged, this, [this](int row, int column) {
+        if (refreshing_) return;
+        // "=-length/2" drives the coordinate; a number typed over a driven
+        // one replaces its expression (as in the fields above).
+        if (QTableWidgetItem* item = profile_->item(row, column)) {
+            const QString text = item->text().trimmed();
+            const QSignalBlocker block(profile_);
+            item->setData(kExpressionRole, text.startsWith('=') ? QVariant(text.mid(1).trimmed()) : QVariant());
+        }
+        commitProfile();
     });
     connect(add, &QPushButton::clicked, this, [this] {
         // A new point halfway along the edge after the current row.
@@ -499,6 +514,9 @@ void PropertyEditor::addProfileTable(const FieldSpec& field)
             profile_->insertRow(r + 1);
             profile_->setItem(r + 1, 0, new QTableWidgetItem(profileText(x)));
             profile_->setItem(r + 1, 1, new QTableWidgetItem(profileText(y)));
+            // The new point is current: pressed again, Add point walks on
+            // along the outline (it halved the same edge again and again).
+            profile_->setCurrentCell(r + 1, 0);
         }
         commitProfile();
     });
@@ -516,19 +534,43 @@ void PropertyEditor::addProfileTable(const FieldSpec& field)
 void PropertyEditor::commitProfile()
 {
     std::vector<glm::dvec2> points;
+    std::vector<std::array<std::string, 2>> driven;
+    const bool inches = LengthDisplay::instance().unit() == LengthUnit::Inches;
     for (int r = 0; r < profile_->rowCount(); ++r) {
-        const std::optional<double> x = profileValue(profile_->item(r, 0));
-        const std::optional<double> y = profileValue(profile_->item(r, 1));
-        if (!x || !y) {
-            showError(profileError_, tr("point %1: not a number").arg(r + 1));
-            refresh();
-            return;
+        glm::dvec2 p(0.0);
+        std::array<std::string, 2> expressions;
+        for (int c = 0; c < 2; ++c) {
+            const QTableWidgetItem* item = profile_->item(r, c);
+            const QString expression = item ? item->data(kExpressionRole).toString() : QString();
+            if (!expression.isEmpty()) {
+                expressions[std::size_t(c)] = expression.toStdString();
+                if (inches && expr::addsBareNumbersToLengths(expressions[std::size_t(c)])) {
+                    showError(profileError_, tr("point %1: in an expression a number without a unit is in "
+                                                "millimetres, the document's unit: write the unit (2in, 1/8in, 3mm).")
+                                                 .arg(r + 1));
+                    return;
+                }
+                continue; // its number comes from resolving the document
+            }
+            const std::optional<double> v = profileValue(item);
+            if (!v) {
+                // Said, and the typed text kept to be mended (it was lost).
+                showError(profileError_, tr("point %1: not a number").arg(r + 1));
+                return;
+            }
+            p[c] = *v;
         }
-        points.emplace_back(*x, *y);
+        points.push_back(p);
+        driven.push_back(expressions);
     }
-    const FieldSpec* field = profileField_;
-    if (!applyToNode(tr("Edit profile"), [&](Node& m) { field->pointsIn(m) = points; }, profileError_))
-        refresh(); // refused: the table shows the document's profile again
+    const std::string id = nodeId_;
+    QString why;
+    const bool ok = session_->apply(tr("Edit profile"),
+                                    [&](Document& d) { edit::setProfile(d, id, points, driven); }, &why);
+    // Refused (a point typed that makes the outline cross itself until its
+    // other coordinate is typed too): the table keeps what was typed, and
+    // the part its last profile, until the outline is whole again.
+    showError(profileError_, ok ? QString() : tr("%1 (not applied: the part keeps its last profile)").arg(why));
 }
 
 void PropertyEditor::addPartSettings()
@@ -604,10 +646,22 @@ void PropertyEditor::refresh()
         const auto& pts = profileField_->pointsIn(*n);
         const QSignalBlocker block(profile_);
         profile_->setRowCount(int(pts.size()));
-        for (int r = 0; r < int(pts.size()); ++r) {
-            profile_->setItem(r, 0, new QTableWidgetItem(profileText(pts[std::size_t(r)].x)));
-            profile_->setItem(r, 1, new QTableWidgetItem(profileText(pts[std::size_t(r)].y)));
-        }
+        for (int r = 0; r < int(pts.size()); ++r)
+            for (int c = 0; c < 2; ++c) {
+                auto* item = new QTableWidgetItem(profileText(pts[std::size_t(r)][c]));
+                const std::string path = std::string(profileField_->key) + "[" + std::to_string(r) + "][" +
+                                         std::to_string(c) + "]";
+                if (const auto e = n->expressions.find(path); e != n->expressions.end()) {
+                    // Driven, as a driven field above is shown: the value, tinted,
+                    // its expression in the tooltip.
+                    item->setData(kExpressionRole, QString::fromStdString(e->second));
+                    item->setBackground(QColor(0xe6, 0xef, 0xff));
+                    item->setToolTip(tr("= %1\nDriven by this expression (the Parameters panel); a number typed here "
+                                        "replaces it, =... types another.")
+                                         .arg(QString::fromStdString(e->second)));
+                }
+                profile_->setItem(r, c, item);
+            }
     }
     refreshing_ = false;
 }

@@ -13,6 +13,7 @@
 
 #include "kerf/document/Document.hpp"
 
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -77,6 +78,16 @@ std::string wrapNodes(Document& doc, const std::vector<std::string>& ids, Node o
 /// (a number typed over it). Refuses a change of type.
 void updateNode(Document& doc, std::string_view id, const Node& updated);
 
+/// A profile's points, each coordinate a number or an expression that
+/// drives it: `expressions[i][c]` ("-length/2") drives point i's coordinate
+/// c, "" leaves it a number. The node's profile expressions are replaced
+/// as a whole: a point inserted or removed moves the expressions of the
+/// points after it along (updateNode, which compares numbers index by
+/// index, would drop them). The numbers of driven coordinates are placeholders
+/// until the document is resolved. Refuses a node without a profile.
+void setProfile(Document& doc, std::string_view id, std::vector<glm::dvec2> points,
+                const std::vector<std::array<std::string, 2>>& expressions);
+
 /// The first difference of `after` whose base (its first child: the body
 /// the others are cut from) is not what it was in `before`, or whose only
 /// child left is a tool; empty when every difference keeps its base. An
@@ -122,6 +133,10 @@ void renameParameter(Document& doc, const std::string& from, const std::string& 
 void removeParameter(Document& doc, const std::string& name);
 /// Where `name` is used: "parameters.rows", "board.size[0]", in document order.
 std::vector<std::string> parameterUses(const Document& doc, const std::string& name);
+/// The expressions outside the subtrees of `ids` that refer to a field of a
+/// node in them ("box.size[2]" for "=extrude.height - 15"), as
+/// parameterUses names them: what stops a deletion of `ids`.
+std::vector<std::string> nodeUses(const Document& doc, const std::vector<std::string>& ids);
 
 /// A new empty document: a root union with no children, settings default.
 /// Not valid on its own (a union needs a child): editors add one first.

@@ -14,6 +14,7 @@
 
 #include <string>
 #include <unordered_map>
+#include <vector>
 
 namespace kerf {
 
@@ -27,5 +28,16 @@ std::unordered_map<std::string, Aabb> worldBoundsOfNodes(const Document& doc, do
 
 /// The part's bounds: the root's bounds clipped by settings.bounds.
 Aabb partBounds(const Document& doc);
+
+/// The tools of differences that cut nothing: their bounds (every copy)
+/// clear of the bounds of what they are cut from, so that they remove
+/// nothing from it, for certain. A dowel hole moved off its board is one;
+/// the part and its file are then missing the hole without a word.
+/// Blended differences (whose tools round what is near) and hidden tools
+/// are left out. Ids, in tree order.
+std::vector<std::string> toolsCuttingNothing(const Document& doc);
+/// Those tools in a sentence for people ("the cylinder 'hole2' cuts nothing:
+/// it lies clear of Side panel"), the first three named; "" when none.
+std::string describeToolsCuttingNothing(const Document& doc);
 
 } // namespace kerf
