@@ -333,7 +333,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             return 0;
         }
         out << printable(target.string()) << ": " << grouped(report.triangles) << " triangles, " << describe(*format)
-            << " (" << megabytes(written.bytes) << "), from " << printable(file)
+            << " (" << fileSize(written.bytes) << "), from " << printable(file)
             << (alone.empty() ? std::string() : " (" + printable(alone) + ")") << "\n";
         if (tolerance == 0.0)
             out << "  tolerance:     none (marching cubes at the feature size)\n";

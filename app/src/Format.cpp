@@ -48,4 +48,9 @@ std::string significant(double v, int digits)
 
 std::string megabytes(std::uint64_t bytes) { return number(double(bytes) / 1e6, 1) + " MB"; }
 
+std::string fileSize(std::uint64_t bytes)
+{
+    return bytes < 1000000 ? number(double(bytes) / 1e3, 1) + " kB" : megabytes(bytes);
+}
+
 } // namespace kerf

@@ -73,7 +73,7 @@ std::string describeContent(std::string_view head)
         std::uint32_t triangles = 0;
         std::memcpy(&triangles, head.data() + 80, sizeof triangles);
         if (84 + 50 * std::uint64_t(triangles) == head.size())
-            return "is a binary STL mesh of " + std::to_string(triangles) + (triangles == 1 ? " triangle" : " triangles") +
+            return "is a binary STL mesh of " + grouped(triangles) + (triangles == 1 ? " triangle" : " triangles") +
                    " (Kerf shows meshes beside the part: Add > Reference Mesh)";
     }
     std::string shown;

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <utility>
 
 namespace kerf::mesher {
 
@@ -132,6 +134,25 @@ void SampleDistance::measure(const Tape& tape, const double* x, const double* y,
     checkCrossings(tape, reach, 2.0 * settled, out);
 }
 
+void SampleDistance::fieldEitherSide(const Tape& tape, std::size_t count,
+                                     const std::function<std::pair<glm::dvec3, glm::dvec3>(std::size_t)>& pointAndStep)
+{
+    wx_.resize(2 * count);
+    wy_.resize(2 * count);
+    wz_.resize(2 * count);
+    for (std::size_t k = 0; k < count; ++k) {
+        const auto [p, step] = pointAndStep(k);
+        for (int side = 0; side < 2; ++side) {
+            const glm::dvec3 q = side == 0 ? p - step : p + step;
+            wx_[2 * k + std::size_t(side)] = q.x;
+            wy_[2 * k + std::size_t(side)] = q.y;
+            wz_[2 * k + std::size_t(side)] = q.z;
+        }
+    }
+    crossings_.resize(wx_.size());
+    plain_.evaluate(tape, wx_.data(), wy_.data(), wz_.data(), wx_.size(), crossings_.data());
+}
+
 void SampleDistance::walkWhereNoCrossing(const Tape& tape, const double* x, const double* y, const double* z,
                                          const glm::dvec3* normals, double tolerance)
 {
@@ -144,22 +165,12 @@ void SampleDistance::walkWhereNoCrossing(const Tape& tape, const double* x, cons
     // too: it walks, which costs time and finds its distance all the same.
     if (trusted_.empty()) return;
     const double h = tolerance;
-    wx_.resize(2 * trusted_.size());
-    wy_.resize(2 * trusted_.size());
-    wz_.resize(2 * trusted_.size());
-    for (std::size_t k = 0; k < trusted_.size(); ++k) {
+    fieldEitherSide(tape, trusted_.size(), [&](std::size_t k) {
         const std::size_t i = trusted_[k];
-        for (int side = 0; side < 2; ++side) {
-            const glm::dvec3 q = glm::dvec3(x[i], y[i], z[i]) + (side == 0 ? h : -h) * normals[i];
-            wx_[2 * k + std::size_t(side)] = q.x;
-            wy_[2 * k + std::size_t(side)] = q.y;
-            wz_[2 * k + std::size_t(side)] = q.z;
-        }
-    }
-    crossings_.resize(wx_.size());
-    plain_.evaluate(tape, wx_.data(), wy_.data(), wz_.data(), wx_.size(), crossings_.data());
+        return std::pair(glm::dvec3(x[i], y[i], z[i]), h * normals[i]);
+    });
     for (std::size_t k = 0; k < trusted_.size(); ++k) {
-        const double out = crossings_[2 * k], in = crossings_[2 * k + 1];
+        const double in = crossings_[2 * k], out = crossings_[2 * k + 1];
         const bool buried = out < -0.25 * h && in < -0.25 * h;
         const bool film = out > 0.25 * h && in > 0.25 * h;
         if (!buried && !film) continue;
@@ -177,22 +188,12 @@ void SampleDistance::checkCrossings(const Tape& tape, double reach, double brack
     // field changes sign: the points either side of the end, along the
     // gradient, show whether it does.
     if (settled_.empty()) return;
-    wx_.resize(2 * settled_.size());
-    wy_.resize(2 * settled_.size());
-    wz_.resize(2 * settled_.size());
-    for (std::size_t k = 0; k < settled_.size(); ++k) {
+    fieldEitherSide(tape, settled_.size(), [&](std::size_t k) {
         const Dual<double>& v = values_[settled_[k]];
         const double g = gradientLength(v);
         const glm::dvec3 along = g > 0.0 && std::isfinite(g) ? glm::dvec3(v.d[0], v.d[1], v.d[2]) / g : glm::dvec3(0.0);
-        for (int side = 0; side < 2; ++side) {
-            const glm::dvec3 q = at_[settled_[k]] + (side == 0 ? -bracket : bracket) * along;
-            wx_[2 * k + std::size_t(side)] = q.x;
-            wy_[2 * k + std::size_t(side)] = q.y;
-            wz_[2 * k + std::size_t(side)] = q.z;
-        }
-    }
-    crossings_.resize(wx_.size());
-    plain_.evaluate(tape, wx_.data(), wy_.data(), wz_.data(), wx_.size(), crossings_.data());
+        return std::pair(at_[settled_[k]], bracket * along);
+    });
     for (std::size_t k = 0; k < settled_.size(); ++k) {
         const double a = crossings_[2 * k], b = crossings_[2 * k + 1];
         const bool changesSign = (a <= 0.0 && b >= 0.0) || (a >= 0.0 && b <= 0.0);

@@ -45,6 +45,8 @@
 #include <glm/vec3.hpp>
 
 #include <cstddef>
+#include <functional>
+#include <utility>
 #include <vector>
 
 namespace kerf::mesher {
@@ -88,6 +90,10 @@ public:
 
 private:
     void checkCrossings(const Tape& tape, double reach, double bracket, double* out);
+    // The field at p - step and p + step for `count` points (p, step):
+    // crossings_[2k] and crossings_[2k + 1].
+    void fieldEitherSide(const Tape& tape, std::size_t count,
+                         const std::function<std::pair<glm::dvec3, glm::dvec3>(std::size_t)>& pointAndStep);
     // The samples of `trusted` (indices) whose field does not change sign
     // across them along their normals: appended to walking_.
     void walkWhereNoCrossing(const Tape& tape, const double* x, const double* y, const double* z,

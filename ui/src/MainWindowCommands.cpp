@@ -90,7 +90,12 @@ void MainWindow::buildFileMenu()
     connect(commands_.newDocument, &QAction::triggered, this, &MainWindow::newDocument);
     commands_.open = newAction(tr("&Open…"), "action.open", QKeySequence::Open);
     connect(commands_.open, &QAction::triggered, this, [this] {
-        const QString f = askFile(false, {});
+        // In the open document's folder, else the last file's (it started in
+        // the folder Kerf was started from, whatever the person had used).
+        const QString folder = session_->path()
+                                   ? QString::fromStdString(session_->path()->parent_path().string())
+                                   : RecentFilesMenu::lastFolder();
+        const QString f = askFile(false, folder);
         if (!f.isEmpty()) openFile(f.toStdString());
     });
     recentFiles_ = new RecentFilesMenu(this);

@@ -127,8 +127,10 @@ bool MainWindow::saveAs(const std::optional<fs::path>& file)
     if (file) {
         target = *file;
     } else {
+        const QString folder = RecentFilesMenu::lastFolder();
         const QString suggested = session_->path() ? QString::fromStdString(session_->path()->string())
-                                                   : QDir::homePath() + "/" + untitledStem_ + ".kerf";
+                                                   : (folder.isEmpty() ? QDir::homePath() : folder) + "/" + untitledStem_ +
+                                                         ".kerf";
         const QString f = askFile(true, suggested);
         if (f.isEmpty()) return false;
         target = f.toStdString();

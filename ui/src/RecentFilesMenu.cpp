@@ -13,6 +13,12 @@ const char* const kKey = "recentFiles";
 
 RecentFilesMenu::RecentFilesMenu(QWidget* parent) : QMenu(tr("Open &Recent"), parent) { rebuild(); }
 
+QString RecentFilesMenu::lastFolder()
+{
+    const QStringList list = QSettings().value(kKey).toStringList();
+    return list.isEmpty() ? QString() : QFileInfo(list.front()).absolutePath();
+}
+
 void RecentFilesMenu::add(const std::filesystem::path& file)
 {
     QSettings settings;

@@ -16,6 +16,8 @@ public:
 
     /// Puts `file` first (once).
     void add(const std::filesystem::path& file);
+    /// The folder of the file opened or saved last; empty when none.
+    static QString lastFolder();
 
 signals:
     void openRequested(const std::filesystem::path& file);

@@ -19,5 +19,8 @@ std::string mm(double v);
 std::string significant(double v, int digits);
 /// Decimal megabytes with one decimal: "10.2 MB".
 std::string megabytes(std::uint64_t bytes);
+/// A file's size as people read it: "17.9 kB" under a megabyte, else
+/// megabytes ("0.0 MB" said nothing of a 17.9 kB export).
+std::string fileSize(std::uint64_t bytes);
 
 } // namespace kerf
