@@ -2916,10 +2916,16 @@ void MainWindowTest::aTurnedProfileIsEditedInItsPointTable()
     QVERIFY(w->session()->document() == before);
     QCOMPARE(w->propertyEditor()->errorFor("profile"), QString());
 
-    // Undo takes the wider foot back.
+    // Undo takes the wider foot back, and a refusal about the profile as it
+    // was with it (a newcomer's "point 4: not a number" stayed after Undo).
+    table->item(2, 0)->setText("abc");
+    QVERIFY2(w->propertyEditor()->errorFor("profile").startsWith("point 3: not a number"),
+             qPrintable(w->propertyEditor()->errorFor("profile")));
     action(w.get(), "action.undo")->trigger();
     QCOMPARE(profile()[1].x, 12.0);
     QCOMPARE(table->item(1, 0)->text(), QString("12"));
+    QCOMPARE(table->item(2, 0)->text(), QString::number(profile()[2].x));
+    QCOMPARE(w->propertyEditor()->errorFor("profile"), QString());
 
     // The view shows the turning, with no validation error.
     w->selectNodes({});

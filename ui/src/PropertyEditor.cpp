@@ -94,6 +94,10 @@ PropertyEditor::PropertyEditor(DocumentSession* session, QWidget* parent) : QWid
     outer->addWidget(body);
     outer->addStretch(1);
     connect(session_, &DocumentSession::documentChanged, this, [this] {
+        // A refusal is about the document as it was: any change (an undo,
+        // an edit elsewhere) makes it stale ("point 4: not a number" stayed
+        // after Undo). A refused edit changes nothing, and keeps its message.
+        showError(nullptr, QString());
         const Node* n = session_->document().root.find(nodeId_);
         if (!n || n->type != shownType_) rebuild();
         else refresh();
@@ -128,6 +132,7 @@ void PropertyEditor::showError(QLabel* error, const QString& message)
         all.push_back(f.error);
     for (QLabel* other : all)
         if (other && other != error) other->hide();
+    if (!error) return; // (none: every message goes)
     error->setText(message);
     error->setVisible(!message.isEmpty());
 }
