@@ -1,17 +1,18 @@
 // The export as a property (issue 13): random joinery, boards glued face to
 // face and flush at their edges, grooves and rebates cut flush with their
 // faces, dowel and shelf-pin holes whose ends lie on a face, on round
-// millimetres that fall on the lattice's planes at some cell sizes. Each part is exported as the woodworker gets it (simplified
-// to a tolerance, binary STL) and the file read back by the suite's own
-// reader, welded by the coordinates written: a closed, consistently
-// oriented 2-manifold, no crossing triangles, the volume of the exact part
-// (computed here from the boxes, not from the field; parts without holes)
-// within the tolerance times its area, the distance to the exact surface
-// within the tolerance wherever the exporter says so, and the report the
-// file's. Run over 600 parts while it was written: it found an export
-// refused as crossing itself (two boards touching along an edge:
-// WrittenCoordinates' nudge) and a report of 0.049 mm where a hole's end
-// flush with a face let a triangle cut its rim by 0.08 mm (SampleDistance).
+// millimetres that fall on the lattice's planes at some cell sizes. Each
+// part is exported as the woodworker gets it (simplified to a tolerance,
+// binary STL) and the file read back by the suite's own reader, welded by
+// the coordinates written: a closed, consistently oriented 2-manifold, no
+// crossing triangles, the volume of the exact part (computed here from the
+// boxes, not from the field; parts without holes) within the tolerance
+// times its area, the distance to the exact surface within the tolerance
+// wherever the exporter says so, and the report the file's. Run over 600
+// parts while it was written: it found an export refused as crossing itself
+// (two boards touching along an edge: WrittenCoordinates' nudge) and a
+// report of 0.049 mm where a hole's end flush with a face let a triangle
+// cut its rim by 0.08 mm (SampleDistance).
 
 #include "kerf/accuracy/SurfaceDistance.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
@@ -36,7 +37,10 @@ namespace {
 
 struct Board {
     glm::dvec3 lo, hi;
-    bool contains(const glm::dvec3& p) const { return glm::all(glm::greaterThan(p, lo)) && glm::all(glm::lessThan(p, hi)); }
+    bool contains(const glm::dvec3& p) const
+    {
+        return glm::all(glm::greaterThan(p, lo)) && glm::all(glm::lessThan(p, hi));
+    }
 };
 
 // A part: boards glued together, tools cut from them.
@@ -61,7 +65,8 @@ struct Joinery {
             return std::string(buf);
         };
         std::string u = R"({"id":"glued","type":"union","children":[)";
-        for (std::size_t i = 0; i < boards.size(); ++i) u += (i ? "," : "") + box(boards[i], "board" + std::to_string(i));
+        for (std::size_t i = 0; i < boards.size(); ++i)
+            u += (i ? "," : "") + box(boards[i], "board" + std::to_string(i));
         u += "]}";
         if (tools.empty() && holes.empty()) return u;
         std::string d = R"({"id":"cut","type":"difference","children":[)" + u;
@@ -70,7 +75,9 @@ struct Joinery {
             const Hole& h = holes[i];
             const char* rot = h.axis == 0 ? "[0,90,0]" : h.axis == 1 ? "[90,0,0]" : "[0,0,0]";
             char buf[300];
-            std::snprintf(buf, sizeof buf, R"(,{"id":"hole%zu","type":"cylinder","radius":%g,"height":%g,"transform":{"translate":[%g,%g,%g],"rotate":%s}})",
+            std::snprintf(buf, sizeof buf,
+                          R"(,{"id":"hole%zu","type":"cylinder","radius":%g,"height":%g,)"
+                          R"("transform":{"translate":[%g,%g,%g],"rotate":%s}})",
                           i, h.radius, h.depth, h.centre.x, h.centre.y, h.centre.z, rot);
             d += buf;
         }

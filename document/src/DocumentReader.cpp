@@ -65,7 +65,8 @@ std::string describeContent(std::string_view head)
     if (startsWith("\xFF\xD8\xFF")) return "is a JPEG image";
     if (startsWith("%PDF")) return "is a PDF document";
     if (startsWith("PK\x03\x04")) return "is a ZIP archive (a 3MF file is one: Kerf reads meshes as reference meshes)";
-    if (startsWith("solid")) return "looks like an ASCII STL mesh (Kerf shows meshes beside the part: Add > Reference Mesh)";
+    if (startsWith("solid"))
+        return "looks like an ASCII STL mesh (Kerf shows meshes beside the part: Add > Reference Mesh)";
     // Binary STL: an 80-byte header (any text: Kerf's own says "binary STL
     // file"), a triangle count, 50 bytes a triangle. Its header read as text
     // told a newcomer nothing.

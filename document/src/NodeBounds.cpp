@@ -142,7 +142,8 @@ std::vector<std::string> toolsCuttingNothing(const Document& doc)
     };
     std::vector<std::string> idle;
     const auto walk = [&](const auto& self, const Node& n) -> void {
-        if (n.type == NodeType::Difference && n.visible && n.children.size() > 1 && !(n.as<BooleanParams>().blend > 0.0)) {
+        const bool blended = n.type == NodeType::Difference && n.as<BooleanParams>().blend > 0.0;
+        if (n.type == NodeType::Difference && n.visible && n.children.size() > 1 && !blended) {
             const Aabb base = boundsOf(n.children.front());
             for (std::size_t i = 1; i < n.children.size(); ++i) {
                 const Aabb tool = boundsOf(n.children[i]);

@@ -75,7 +75,8 @@ public:
             const Tri& t = mesh.triangles[triangles[i]];
             appendTriangleSamples(mesh.vertices[t[0]] - origin, mesh.vertices[t[1]] - origin,
                                   mesh.vertices[t[2]] - origin, points_);
-            const glm::dvec3 n = glm::cross(mesh.vertices[t[1]] - mesh.vertices[t[0]], mesh.vertices[t[2]] - mesh.vertices[t[0]]);
+            const glm::dvec3 n =
+                glm::cross(mesh.vertices[t[1]] - mesh.vertices[t[0]], mesh.vertices[t[2]] - mesh.vertices[t[0]]);
             const double length = glm::length(n);
             normals_.insert(normals_.end(), kTriangleSamples, length > 0.0 ? n / length : glm::dvec3(0.0));
         }

@@ -87,7 +87,8 @@ void DocumentSession::endPreview(bool keep)
     previewBefore_.reset();
     if (keep) {
         // Pushing runs the step's redo: the document it already is.
-        if (!(before == document_)) undo_.push(new EditCommand(this, previewText_, std::move(before), document_, QString()));
+        if (!(before == document_))
+            undo_.push(new EditCommand(this, previewText_, std::move(before), document_, QString()));
         return;
     }
     if (before == document_) return;
