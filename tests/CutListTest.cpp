@@ -175,6 +175,62 @@ TEST(CutList, AnUnnamedBodyTakesTheNameOfTheBoardItIsMadeOf)
     EXPECT_EQ(rows[1].name, "shell"); // nothing named on the way down: the id
 }
 
+TEST(CutList, TenonsAreCutFromTheirRailsStock)
+{
+    // A newcomer's rail: an extruded rail 400 long, 60 wide, 22 thick, with
+    // a 30 mm tenon on each end (8 thick, 50 wide), rotated into place. The
+    // cut list gave the rail and each tenon as stock of its own.
+    const Document doc = parse(R"({"id":"root","type":"union","children":[
+        {"id":"railbody","type":"union","transform":{"translate":[100,50,300],"rotate":[0,0,30]},"children":[
+            {"id":"rail","type":"box","name":"Rail","size":[400,60,22]},
+            {"id":"tl","type":"box","name":"Tenon L","size":[30,50,8],"transform":{"translate":[-215,0,0]}},
+            {"id":"tr","type":"box","name":"Tenon R","size":[30,50,8],"transform":{"translate":[215,0,0]}}]},
+        {"id":"leg","type":"box","name":"Leg","size":[40,40,700],"transform":{"translate":[-140,0,350]}},
+        {"id":"apron","type":"box","name":"Apron","size":[300,20,80],"transform":{"translate":[30,0,600]}},
+        {"id":"dowel","type":"cylinder","name":"Dowel","radius":4,"height":30,
+         "transform":{"translate":[-140,0,705]}},
+        {"id":"side","type":"difference","name":"Side","children":[
+            {"id":"panel","type":"box","size":[18,300,600],"transform":{"translate":[500,0,300]}},
+            {"id":"housing","type":"box","size":[6,310,18],"transform":{"translate":[506,0,300]}}]},
+        {"id":"shelf","type":"box","name":"Shelf","size":[400,300,18],"transform":{"translate":[703,0,300]}}]})");
+    const auto rows = cutList(doc);
+    std::vector<std::string> names;
+    for (const auto& r : rows) names.push_back(r.name);
+    ASSERT_EQ(names, (std::vector<std::string>{"Rail", "Leg", "Apron", "Dowel", "Side", "Shelf"}));
+    // The rail's stock is 460 long: the tenons are cut from it.
+    EXPECT_NEAR(rows[0].length, 460, 2e-2);
+    EXPECT_NEAR(rows[0].width, 60, 2e-2);
+    EXPECT_NEAR(rows[0].thickness, 22, 2e-2);
+    EXPECT_EQ(rows[0].joined, (std::vector<std::string>{"Tenon L", "Tenon R"}));
+    EXPECT_EQ(cutListName(rows[0]), "Rail (with its tenons: Tenon L, Tenon R)");
+    // The apron butts against the leg, the dowel stands in the leg's end (too
+    // thin for its width), the shelf sits in the side's housing: each is
+    // stock of its own, and none lengthens another.
+    EXPECT_NEAR(rows[1].length, 700, 2e-2);
+    EXPECT_NEAR(rows[2].length, 300, 2e-2);
+    EXPECT_NEAR(rows[3].length, 30, 2e-2);
+    EXPECT_NEAR(rows[4].length, 600, 2e-2);
+    EXPECT_NEAR(rows[5].length, 400, 2e-2);
+    for (std::size_t i = 1; i < rows.size(); ++i) EXPECT_TRUE(rows[i].joined.empty()) << rows[i].name;
+    EXPECT_NE(cutListCsv(rows).find("\"Rail (with its tenons: Tenon L, Tenon R)\",rail,1,460.00,60.00,22.00\r\n"),
+              std::string::npos);
+}
+
+TEST(CutList, ATenonOfAnArrayedRailJoinsEachCopysStock)
+{
+    // Three rails, each with its tenon, made by an array of the union: the
+    // quantity is 3, the stock the rail's with its tenon.
+    const Document doc = parse(R"({"id":"rails","type":"array","count":[1,3,1],"step":[0,100,0],"children":[
+        {"id":"u","type":"union","children":[
+            {"id":"rail","type":"box","name":"Rail","size":[400,60,22]},
+            {"id":"t","type":"box","name":"Tenon","size":[25,50,8],"transform":{"translate":[212.5,0,0]}}]}]})");
+    const auto rows = cutList(doc);
+    ASSERT_EQ(rows.size(), 1u);
+    EXPECT_EQ(rows[0].quantity, 3);
+    EXPECT_NEAR(rows[0].length, 425, 2e-2);
+    EXPECT_EQ(rows[0].joined, std::vector<std::string>{"Tenon"});
+}
+
 TEST(CutList, CsvQuotesAndUsesCrLf)
 {
     std::vector<CutListRow> rows(2);

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <functional>
 #include <limits>
+#include <optional>
 
 namespace kerf {
 
@@ -67,7 +68,9 @@ public:
         const bool boolean = isBoolean(n.type);
         if (boolean && !kids.empty() && n.type == NodeType::Union) {
             scope.labelledBy = nullptr; // each child is a body of its own
+            const std::size_t first = bodies_.size();
             for (const Node* c : kids) collect(*c, world, scope);
+            joinTenons(first, scope.quantity);
             return;
         }
         if (boolean && !kids.empty() && n.type != NodeType::Union) {
@@ -94,9 +97,130 @@ public:
         measure(n, parentWorld, scope);
     }
 
-    std::vector<CutListRow> rows;
+    std::vector<CutListRow> rows() const
+    {
+        std::vector<CutListRow> out;
+        for (const Body& b : bodies_)
+            if (!b.joined) out.push_back(b.row);
+        return out;
+    }
 
 private:
+    // A body as measured: its row, and what a later join needs (its solid
+    // in its own frame, where that frame lies, its tight bounds there).
+    struct Body {
+        CutListRow row;
+        Node solid;           // with its cuts and clips, in its own frame
+        Affine worldFromLocal;
+        Aabb local;           // tight outer bounds in its own frame
+        Aabb world;           // a box around it in the world (for the pairing)
+        bool joined = false;  // joined to another body's stock (a tenon)
+    };
+
+    // Where `b` lies in another body's frame, as a tight box.
+    std::optional<Aabb> boundsIn(const Body& b, const Affine& localFromWorld) const
+    {
+        Node placed = b.solid;
+        placed.transform = transformFromAffine(localFromWorld * b.worldFromLocal);
+        const auto tb = tightBounds(compileTape(placed), tolerance_);
+        if (!tb) return std::nullopt;
+        return tb->outer;
+    }
+
+    // Whether `tenon` (its tight box `t` in the frame of `board`, whose own
+    // box is `a`) is part of board's stock: it touches or overlaps the board
+    // along the board's length, reaches beyond one end, and lies within the
+    // board's cross-section, filling at least a quarter of its thickness and
+    // half of its width. A tenon, a round tenon on a turned leg, a horn; not
+    // a dowel (too thin for the board's width), not a leg or apron butted
+    // against it (wider than its section), not a shelf in a housing (it
+    // leaves the board across its thickness).
+    bool isTenonOf(const Aabb& a, const Aabb& t) const
+    {
+        const glm::dvec3 size = a.size();
+        int axes[3] = {0, 1, 2};
+        std::sort(axes, axes + 3, [&](int i, int j) { return size[i] > size[j]; });
+        const int along = axes[0], across = axes[1], through = axes[2];
+        const double slack = std::max(tolerance_, 1e-6 * glm::length(size));
+        for (const int s : {across, through})
+            if (t.min[s] < a.min[s] - slack || t.max[s] > a.max[s] + slack) return false;
+        if (t.size()[through] < 0.25 * size[through] || t.size()[across] < 0.5 * size[across]) return false;
+        const bool touches = t.min[along] <= a.max[along] + slack && t.max[along] >= a.min[along] - slack;
+        const bool lengthens = t.max[along] > a.max[along] + slack || t.min[along] < a.min[along] - slack;
+        return touches && lengthens && t.size()[along] < size[along];
+    }
+
+    // Joins tenons to their boards among the bodies from `first` on, those
+    // that a union lists as they are (no array or mirror between: their
+    // quantity is the union's). A board's row then measures it with its
+    // tenons, and names them.
+    void joinTenons(std::size_t first, long quantity)
+    {
+        std::vector<std::size_t> candidates;
+        for (std::size_t i = first; i < bodies_.size(); ++i)
+            if (!bodies_[i].joined && !bodies_[i].row.unbounded && bodies_[i].row.quantity == quantity)
+                candidates.push_back(i);
+        // Furniture joins tens of bodies in a union; a union of thousands
+        // (a generated grid) is listed body by body rather than paired.
+        if (candidates.size() < 2 || candidates.size() > kMostBodiesPaired) return;
+        // Largest stock first: a tenon joins the largest board it belongs to.
+        auto volume = [&](std::size_t i) {
+            const glm::dvec3 s = bodies_[i].local.size();
+            return s.x * s.y * s.z;
+        };
+        std::stable_sort(candidates.begin(), candidates.end(),
+                         [&](std::size_t i, std::size_t j) { return volume(i) > volume(j); });
+        std::size_t measured = 0;
+        for (const std::size_t board : candidates) {
+            Body& a = bodies_[board];
+            if (a.joined) continue;
+            const Affine localFromWorld = a.worldFromLocal.inverseOrthogonal();
+            bool grew = false;
+            for (const std::size_t other : candidates) {
+                Body& b = bodies_[other];
+                if (other == board || b.joined || !(volume(other) < volume(board))) continue;
+                if (!overlapsWithin(a.world, b.world, tolerance_)) continue;
+                if (++measured > kMostPairsMeasured) break; // bounded time, whatever the document
+                const std::optional<Aabb> t = boundsIn(b, localFromWorld);
+                if (!t || !isTenonOf(a.local, *t)) continue;
+                Node joined = makeNode(NodeType::Union, "cut-list:tenons");
+                joined.children.push_back(std::move(a.solid));
+                Node placed = b.solid;
+                placed.transform = transformFromAffine(localFromWorld * b.worldFromLocal);
+                joined.children.push_back(std::move(placed));
+                a.solid = std::move(joined);
+                a.row.joined.push_back(b.row.name);
+                a.row.joined.insert(a.row.joined.end(), b.row.joined.begin(), b.row.joined.end());
+                b.joined = true;
+                grew = true;
+            }
+            if (grew) {
+                setDimensions(a, tightBounds(compileTape(a.solid), tolerance_));
+                a.world = a.worldFromLocal.apply(a.local);
+            }
+            if (measured > kMostPairsMeasured) return;
+        }
+    }
+
+    static bool overlapsWithin(const Aabb& a, const Aabb& b, double slack)
+    {
+        for (int k = 0; k < 3; ++k)
+            if (a.min[k] > b.max[k] + slack || b.min[k] > a.max[k] + slack) return false;
+        return true;
+    }
+
+    static void setDimensions(Body& body, const std::optional<TightBounds>& tb)
+    {
+        if (!tb) return;
+        body.local = tb->outer;
+        std::array<double, 3> d = {tb->outer.size().x, tb->outer.size().y, tb->outer.size().z};
+        std::sort(d.begin(), d.end(), std::greater<>());
+        body.row.length = d[0];
+        body.row.width = d[1];
+        body.row.thickness = d[2];
+        body.row.uncertainty = tb->uncertainty();
+    }
+
     // The body `n` with its cuts and clips, in n's local frame.
     void measure(const Node& n, const Affine& parentWorld, const Scope& scope)
     {
@@ -122,27 +246,29 @@ private:
         }
         const Tape tape = compileTape(solid);
         if (tape.empty() || tape.bounds().isEmpty()) return;
-        CutListRow row;
-        row.nodeId = n.id;
-        row.name = n.name ? *n.name : scope.labelledBy ? *scope.labelledBy->name : nameOfBase(n);
-        row.quantity = scope.quantity;
+        Body body;
+        body.row.nodeId = n.id;
+        body.row.name = n.name ? *n.name : scope.labelledBy ? *scope.labelledBy->name : nameOfBase(n);
+        body.row.quantity = scope.quantity;
         if (!tape.bounds().isBounded()) {
-            row.unbounded = true;
-            rows.push_back(row);
+            body.row.unbounded = true;
+            bodies_.push_back(std::move(body));
             return;
         }
         const auto tb = tightBounds(tape, tolerance_);
         if (!tb) return; // empty after its cuts
-        std::array<double, 3> d = {tb->outer.size().x, tb->outer.size().y, tb->outer.size().z};
-        std::sort(d.begin(), d.end(), std::greater<>());
-        row.length = d[0];
-        row.width = d[1];
-        row.thickness = d[2];
-        row.uncertainty = tb->uncertainty();
-        rows.push_back(row);
+        setDimensions(body, tb);
+        body.worldFromLocal = parentWorld * Affine::fromTransform(n.transform);
+        body.world = body.worldFromLocal.apply(body.local);
+        body.solid = std::move(solid);
+        bodies_.push_back(std::move(body));
     }
 
+    static constexpr std::size_t kMostBodiesPaired = 1000;
+    static constexpr std::size_t kMostPairsMeasured = 4000;
+
     double tolerance_;
+    std::vector<Body> bodies_;
 };
 
 std::string csvField(const std::string& s)
@@ -179,7 +305,15 @@ std::vector<CutListRow> cutList(const Document& doc, double tolerance)
         scope.clips.push_back({&box, Affine{}});
     }
     c.collect(doc.root, Affine{}, scope);
-    return std::move(c.rows);
+    return c.rows();
+}
+
+std::string cutListName(const CutListRow& row)
+{
+    if (row.joined.empty()) return row.name;
+    std::string s = row.name + (row.joined.size() == 1 ? " (with its tenon: " : " (with its tenons: ");
+    for (std::size_t i = 0; i < row.joined.size(); ++i) s += (i ? ", " : "") + row.joined[i];
+    return s + ")";
 }
 
 std::string cutListCsv(const std::vector<CutListRow>& rows, LengthUnit unit)
@@ -194,7 +328,7 @@ std::string cutListCsv(const std::vector<CutListRow>& rows, LengthUnit unit)
     std::string out = inches ? "Part,Id,Quantity,Length (in),Width (in),Thickness (in)\r\n"
                              : "Part,Id,Quantity,Length (mm),Width (mm),Thickness (mm)\r\n";
     for (const auto& r : rows) {
-        out += csvField(r.name) + "," + csvField(r.nodeId) + "," + std::to_string(r.quantity) + ",";
+        out += csvField(cutListName(r)) + "," + csvField(r.nodeId) + "," + std::to_string(r.quantity) + ",";
         if (r.unbounded)
             out += "unbounded,unbounded,unbounded\r\n";
         else

@@ -72,7 +72,7 @@ void CutListDialog::showRows(std::vector<CutListRow> rows)
     double worst = 0.0;
     for (int r = 0; r < int(rows_.size()); ++r) {
         const CutListRow& row = rows_[std::size_t(r)];
-        table_->setItem(r, 0, cell(QString::fromStdString(row.name), false));
+        table_->setItem(r, 0, cell(QString::fromStdString(cutListName(row)), false));
         table_->setItem(r, 1, cell(QString::number(row.quantity), true));
         for (int c = 0; c < 3; ++c) {
             const double v = c == 0 ? row.length : c == 1 ? row.width : row.thickness;

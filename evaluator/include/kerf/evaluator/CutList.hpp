@@ -15,6 +15,12 @@
 //   first copy.
 // - Anything else (a primitive, a smooth boolean, an offset, a shell) is one
 //   body.
+// - A tenon is part of its board's stock: a body of a union that touches a
+//   larger body of the same union, lies within that body's cross-section
+//   (filling at least a quarter of its thickness and half of its width) and
+//   reaches beyond its end is joined to it; the board's row measures both
+//   and names the tenons (CutListRow::joined). A dowel, a leg against an
+//   apron, a shelf in a housing stay bodies of their own.
 // Each body is measured in its own frame (its node's local axes, the
 // transforms from the root down to it undone), so a splayed leg lists the
 // stock it is cut from, not its footprint. The dimensions are the tight
@@ -38,11 +44,16 @@ struct CutListRow {
     double thickness = 0.0;
     double uncertainty = 0.0; // mm: how far the dimensions may be off (the search's tolerance)
     bool unbounded = false;   // an unbounded body (a lone halfspace): no dimensions
+    std::vector<std::string> joined; // names of the tenons measured with it (cut from its stock)
 };
 
 /// The cut list of `doc`'s part, bodies in tree order. Empty bodies are left
 /// out. `tolerance` (mm) is the tight-bounds tolerance.
 std::vector<CutListRow> cutList(const Document& doc, double tolerance = 1e-2);
+
+/// A row's part as shown and written: its name, and the tenons joined to it
+/// ("Rail (with its tenons: Tenon, Tenon)").
+std::string cutListName(const CutListRow& row);
 
 /// The rows as CSV (RFC 4180: quoted where needed, CRLF line ends), with a
 /// header: Part,Id,Quantity,Length (mm),Width (mm),Thickness (mm); in
