@@ -269,9 +269,10 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
     // The previous frame in this command buffer may still read the
     // parameters and the indirect dispatch being rewritten.
     VkMemoryBarrier reuse{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    // (The transfer stage too: the last frame's copy of the dispatch's count.)
     vkCmdPipelineBarrier(cb,
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
-                             VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                             VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                          VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &reuse, 0, nullptr, 0, nullptr);
     vkCmdUpdateBuffer(cb, impl_->params.buffer(), 0, sizeof p, &p);
     const std::uint32_t noneListed[4] = {0, 1, 1, 0}; // groups, y, z, count
