@@ -9,6 +9,7 @@
 #include "kerf/viewport/ComputeTracer.hpp"
 #include "kerf/viewport/HeapAllocator.hpp"
 #include "kerf/viewport/SceneRenderer.hpp"
+#include "kerf/tracer/ViewController.hpp"
 #include "kerf/viewport/VoxelStreamer.hpp"
 #include "kerf/viewport/VulkanError.hpp"
 #include "kerf/voxelizer/BrickLeaves.hpp"
@@ -472,6 +473,38 @@ TEST_F(VulkanTracer, TracesOnlyWhenTheViewOrTheVoxelsChange)
     renderer.render(tracer, tracer.voxels(), Camera::standardView(tape.bounds(), "top", 200, 120), tape.features(),
                     exact);
     EXPECT_TRUE(renderer.lastFrameTraced());
+    EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
+}
+
+TEST_F(VulkanTracer, TheGridShowsUnderAnEmptyPart)
+{
+    // A new part (nothing in it yet) shows the ground grid as the viewport
+    // frames it (ViewportWidget: the view of a 200 mm box round the origin).
+    // A newcomer met a blank gradient: the empty part's grid of no tiles had
+    // a box of no size at its origin, and the ground grid was sized by it.
+    const Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"u","type":"union","children":[]}})",
+                                         "new.kerf");
+    Voxelizer vox({.limits = {}, .coarseLevelDrop = 0, .threads = 2, .featureSize = 0.0, .onPublish = {}});
+    ASSERT_TRUE(vox.waitFor(vox.setDocument(doc), true, std::chrono::seconds(60)));
+    vk::VoxelStreamer streamer(*context);
+    streamer.setTarget(vox.snapshot());
+    context->submitAndWait([&](VkCommandBuffer cb) { streamer.recordFrame(cb); });
+    const vk::VoxelAddresses nothing = vk::VoxelAddresses::of(streamer.resident());
+    vk::ComputeTracer tracer(*context);
+    vk::SceneRenderer renderer(*context);
+    ViewController view;
+    view.setStandardView("iso", Aabb{glm::dvec3(-100), glm::dvec3(100)}, 320.0 / 240.0);
+    const Camera camera = view.camera(320, 240, streamer.resident().layout.bounds());
+    vk::SceneOptions options;
+    options.lights = ShadeOptions::forCamera(camera);
+    const RgbaImage bare = renderer.render(tracer, nothing, camera, {}, options);
+    options.grid = true;
+    const RgbaImage grid = renderer.render(tracer, nothing, camera, {}, options);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i + 3 < grid.pixels.size(); i += 4)
+        differ += std::abs(int(grid.pixels[i]) - int(bare.pixels[i])) > 8;
+    EXPECT_GT(differ, std::size_t(320 * 240 / 100)) << "the grid's lines cover some of the picture";
+    EXPECT_TRUE(streamer.resident().layout.bounds().isEmpty());
     EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
 }
 

@@ -224,7 +224,8 @@ void MainWindow::buildDocks()
     auto* section = new SectionPanel(
         [this] {
             if (gpuLayout_ && gpuLayout_->tileCount() > 0) return gpuLayout_->bounds();
-            return voxelizer_->latest() ? voxelizer_->latest()->layout.bounds() : Aabb{glm::dvec3(-100), glm::dvec3(100)};
+            const Aabb part = voxelizer_->latest() ? voxelizer_->latest()->layout.bounds() : Aabb::empty();
+            return part.isEmpty() ? Aabb{glm::dvec3(-100), glm::dvec3(100)} : part; // nothing yet: round the origin
         },
         [this] { return viewport_->camera().eye(); }, this);
     connect(section, &SectionPanel::sectionChanged, viewport_, &qt::ViewportWidget::setSection);

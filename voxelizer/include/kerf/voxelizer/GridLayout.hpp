@@ -50,7 +50,9 @@ struct GridLayout {
         const glm::dvec3 lo = origin + glm::dvec3(t) * tileSize;
         return {lo, lo + glm::dvec3(tileSize)};
     }
-    Aabb bounds() const { return {origin, origin + glm::dvec3(dims) * tileSize}; }
+    /// The grid's box; empty for a grid of no tiles (an empty part), not a
+    /// point at its origin (the viewport sized the ground grid to 4 mm by it).
+    Aabb bounds() const { return empty() ? Aabb::empty() : Aabb{origin, origin + glm::dvec3(dims) * tileSize}; }
     /// Voxel edge at a contree depth of `lv` levels.
     double voxelSizeAt(int lv) const;
 
