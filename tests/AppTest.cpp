@@ -3,14 +3,20 @@
 // figures must behave as the trade says (finer voxels: more memory, less
 // error).
 
+#include "kerf/app/Commands.hpp"
 #include "kerf/app/TradeBench.hpp"
 #include "kerf/app/TypicalEdit.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
+#include <sstream>
 #include <string>
+
+#include <unistd.h>
 
 namespace kerf {
 namespace {
@@ -18,6 +24,45 @@ namespace {
 Document doc(const std::string& root)
 {
     return Document::parse(R"({"format":"kerf","version":1,"root":)" + root + "}", "test.kerf");
+}
+
+TEST(Commands, AnOutputThatIsTheDocumentIsRefusedAndTheDocumentKept)
+{
+    // A hostile tester exported a document onto itself through a link
+    // named .stl, and a document named .stl onto itself: both replaced the
+    // document with the mesh.
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("kerf-overwrite-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string text = R"({"format":"kerf","version":1,"root":{"id":"b","type":"box","size":[20,20,20]}})";
+    std::ofstream(dir / "part.kerf") << text;
+    std::ofstream(dir / "part.stl") << text;
+    fs::create_symlink("part.kerf", dir / "link.stl");
+    fs::create_hard_link(dir / "part.kerf", dir / "hard.png");
+    const std::string doc = (dir / "part.kerf").string();
+    const std::vector<std::vector<std::string>> exports = {
+        {doc, "-o", (dir / "link.stl").string(), "--feature-size", "2"},
+        {(dir / "part.stl").string(), "-o", (dir / "part.stl").string()},
+        {doc, "-o", (dir / "." / "part.kerf").string()}};
+    for (const auto& args : exports) {
+        std::ostringstream out, err;
+        EXPECT_EQ(runExport(args, out, err), 2) << args[2];
+        EXPECT_NE(err.str().find("is the document being read"), std::string::npos) << err.str();
+    }
+    std::ostringstream out, err;
+    EXPECT_EQ(runRender({doc, "-o", (dir / "hard.png").string(), "--cpu"}, out, err), 2);
+    EXPECT_NE(err.str().find("is the document being read"), std::string::npos) << err.str();
+    std::ostringstream benchOut, benchErr;
+    EXPECT_EQ(runBench({doc, "--json", (dir / "same").string(), "--plot", (dir / "same").string()}, benchOut, benchErr,
+                       [](const TradeReport&, const std::string&, const std::filesystem::path&) {}),
+              2);
+    EXPECT_NE(benchErr.str().find("is the --json file"), std::string::npos) << benchErr.str();
+    for (const char* name : {"part.kerf", "part.stl"}) {
+        std::ifstream in(dir / name);
+        EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), text) << name;
+    }
+    EXPECT_FALSE(fs::exists(dir / "same"));
+    fs::remove_all(dir);
 }
 
 TEST(TypicalEdit, TheChairMovesADowelHole)

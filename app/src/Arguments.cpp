@@ -7,8 +7,26 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 
 namespace kerf {
+
+void refuseOverwriting(const std::string& output, const std::string& other, const std::string& role)
+{
+    namespace fs = std::filesystem;
+    std::error_code a, b;
+    bool same = false;
+    if (fs::exists(output, a) && fs::exists(other, b)) {
+        same = fs::equivalent(output, other, a) && !a; // the same file, by any name
+    } else {
+        // One of them is not there yet: the same name, once links and dots are resolved.
+        const fs::path x = fs::weakly_canonical(output, a), y = fs::weakly_canonical(other, b);
+        same = !a && !b && x == y;
+    }
+    if (same)
+        throw RefusedRequest(printable(output) + " is " + role + " (" + printable(other) +
+                             "); nothing was written: choose another output file");
+}
 
 Arguments::Arguments(const std::vector<std::string>& args, const std::vector<std::string>& valueOptions,
                      const std::vector<std::string>& flags)

@@ -361,6 +361,9 @@ int runBench(const std::vector<std::string>& args, std::ostream& out, std::ostre
         }
         const std::optional<std::string> sizes = a.value("--feature-sizes");
         if (sizes) options.featureSizes = parseFeatureSizes(*sizes);
+        for (const auto& out : {json, png})
+            if (out) refuseOverwriting(*out, file, "the document being measured");
+        if (json && png) refuseOverwriting(*png, *json, "the --json file");
 
         const Document doc = Document::load(file, a.defines());
         const Tape tape = compileTape(doc);

@@ -141,6 +141,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const bool ascii = a.has("--ascii"), json = a.has("--json");
         file = a.positional()[0];
         const std::filesystem::path target = *output;
+        refuseOverwriting(target.string(), file, "the document being read");
         std::optional<MeshFileFormat> format = meshFileFormatFor(target, ascii);
         if (!format) {
             // A target that is no regular file is refused as such first; a

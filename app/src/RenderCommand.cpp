@@ -121,8 +121,9 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const std::filesystem::path file = a.positional()[0];
         const bool requested = a.value("--feature-size").has_value();
         const double requestedSize = requested ? Arguments::parseFeatureSize("--feature-size", *a.value("--feature-size")) : 0.0;
-        // The output first: a device, a folder or an unwritable place is
-        // refused before any work (and left as it is).
+        // The output first: a device, a folder, an unwritable place or the
+        // document itself is refused before any work (and left as it is).
+        refuseOverwriting(*output, file.string(), "the document being read");
         try {
             checkOutputFile(*output);
         } catch (const OutputFileError& e) {

@@ -24,6 +24,12 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+/// Throws RefusedRequest when writing `output` would replace `other`: the
+/// same file under one name, through a link, or a hard link to it (the
+/// document being read, or another output of the same command). `role`
+/// says what `other` is ("the document being read").
+void refuseOverwriting(const std::string& output, const std::string& other, const std::string& role);
+
 struct ImageSize {
     int width = 1280, height = 960;
 };
