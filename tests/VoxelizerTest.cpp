@@ -229,6 +229,19 @@ TEST(GridLayout, ChoosesWholeTilesAndSaysWhenTheDepthRunsOut)
     EXPECT_FALSE(deep.note.empty());
     EXPECT_LE(deep.tileCount(), 32768);
     EXPECT_TRUE(GridLayout::choose(Aabb::empty(), 1.0).empty());
+    EXPECT_TRUE(GridLayout::choose(Aabb::empty(), 1.0).bounds().isEmpty()); // not a point at the origin
+    // A 200 km sphere at 1e-6 mm (both within the format's limits): 1e13
+    // tiles a side at the shallowest depth, which an int held as INT_MIN, a
+    // negative count that passed as fitting (the application then crashed).
+    for (const double radius : {1e5, 1e8}) {
+        const GridLayout huge = GridLayout::choose(Aabb::centered(glm::dvec3(radius)), 1e-6);
+        EXPECT_GT(huge.dims.x, 0) << radius;
+        EXPECT_GT(huge.tileCount(), 0) << radius;
+        EXPECT_LE(huge.tileCount(), 32768) << radius;
+        EXPECT_GT(huge.voxelSize, 1e-6) << radius;
+        EXPECT_FALSE(huge.note.empty()) << radius;
+        EXPECT_TRUE(huge.bounds().contains(glm::dvec3(radius)) && huge.bounds().contains(glm::dvec3(-radius)));
+    }
 }
 
 TEST(VoxelFormat, CompactEncodingErrors)

@@ -154,8 +154,9 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
                 << mm(layout.voxelSize) << " mm; " << layout.dims.x << " x " << layout.dims.y << " x "
                 << layout.dims.z << " tiles, " << layout.levels << " levels; voxelized in " << mm(seconds) << " s)\n";
         } else {
-            std::snprintf(mib, sizeof mib, "about %.1f GiB", estimate.bytes / (1024.0 * 1024.0 * 1024.0));
-            out << "  voxel memory:  " << mib << " (about " << describeCount(estimate.populatedVoxels)
+            // Readable at any size ("about 3.2 GB", "more than 1000 EB").
+            const std::string bytes = describeBytes(estimate.bytes);
+            out << "  voxel memory:  " << (bytes.rfind("more", 0) == 0 ? bytes : "about " + bytes) << " (about " << describeCount(estimate.populatedVoxels)
                 << " populated voxels of " << mm(layout.voxelSize) << " mm, estimated from a coarse voxelization in "
                 << mm(seconds) << " s; ";
             if (tooLarge)

@@ -30,21 +30,23 @@ GridLayout GridLayout::choose(const Aabb& partBounds, double featureSize, const 
     const int maxLevels = std::clamp(limits.maxLevels, 1, voxel::kMaxLevels);
     // One voxel of margin on every side keeps the surface off the grid's
     // boundary, so every surface voxel has all its neighbours in the grid.
+    // In double: a 200 km part at 1e-6 mm is 1e13 tiles a side, which an
+    // int held as INT_MIN (a negative count that "fit", and a crash after).
     auto dimsFor = [&](double tile, double voxel) {
         const glm::dvec3 e = partBounds.size() + glm::dvec3(2.0 * voxel);
-        return glm::ivec3(glm::max(glm::dvec3(1.0), glm::ceil(e / tile)));
+        return glm::max(glm::dvec3(1.0), glm::ceil(e / tile));
     };
     double voxel = featureSize;
     int levels = std::clamp(limits.minLevels, 1, maxLevels);
     for (;; ++levels) {
-        const glm::ivec3 d = dimsFor(voxel * std::pow(4.0, levels), voxel);
-        if (double(d.x) * d.y * d.z <= double(limits.maxTiles) || levels == maxLevels) break;
+        const glm::dvec3 d = dimsFor(voxel * std::pow(4.0, levels), voxel);
+        if (d.x * d.y * d.z <= double(limits.maxTiles) || levels == maxLevels) break;
     }
-    glm::ivec3 dims = dimsFor(voxel * std::pow(4.0, levels), voxel);
-    if (double(dims.x) * dims.y * dims.z > double(limits.maxTiles)) {
+    glm::dvec3 dims = dimsFor(voxel * std::pow(4.0, levels), voxel);
+    if (dims.x * dims.y * dims.z > double(limits.maxTiles)) {
         // Too fine for the addressing: coarsen the voxels until the grid fits.
         const double requested = voxel;
-        while (double(dims.x) * dims.y * dims.z > double(limits.maxTiles)) {
+        while (dims.x * dims.y * dims.z > double(limits.maxTiles)) {
             voxel *= 1.25;
             dims = dimsFor(voxel * std::pow(4.0, levels), voxel);
         }
@@ -56,7 +58,7 @@ GridLayout GridLayout::choose(const Aabb& partBounds, double featureSize, const 
     g.levels = levels;
     g.voxelSize = voxel;
     g.tileSize = voxel * std::pow(4.0, levels);
-    g.dims = dims;
+    g.dims = glm::ivec3(dims); // at most maxTiles in all: within int
     g.origin = partBounds.center() - 0.5 * glm::dvec3(dims) * g.tileSize;
     return g;
 }
