@@ -4,6 +4,7 @@
 #include "kerf/voxelizer/BlockTapes.hpp"
 #include "kerf/voxelizer/DirtyRegion.hpp"
 #include "kerf/voxelizer/TileBuilder.hpp"
+#include "kerf/voxelizer/Voxelize.hpp"
 #include "kerf/voxelizer/WorkerArena.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -323,7 +324,28 @@ void Voxelizer::process(Request request)
     // 1. The coarse pass: every tile the edit reaches, at the coarse depth,
     // published at once (the preview). Without one, those tiles are built
     // at their planned depth below, and nothing is published before the end.
-    const int coarseLevels = std::max(1, layout.levels - options_.coarseLevelDrop);
+    int coarseLevels = std::max(1, layout.levels - options_.coarseLevelDrop);
+    // The coarse pass builds every tile the edit reaches, whatever the
+    // budget: at the coarse depth of a feature size far too fine for the
+    // part (2 um on a 2 m panel) that was billions of voxels, and the
+    // application grew by 250 MB a second until the system killed it. Its
+    // depth is lowered until the estimate fits half of the budget (each
+    // level up has about a sixteenth of the surface voxels).
+    bool coarsePassOverBudget = false;
+    if (budget > 0 && coarseLevels > 1 && !order.empty()) {
+        if (!budgetedCoarseLevels_ || !(budgetedCoarseLevels_->first == layout)) {
+            GridLayout coarse = layout;
+            coarse.levels = coarseLevels;
+            coarse.voxelSize = layout.voxelSizeAt(coarseLevels);
+            const VoxelEstimate e = estimateVoxels(tape, coarse, 2e5, 0.25);
+            int fits = coarseLevels;
+            for (double bytes = e.bytes; fits > 1 && bytes > 0.5 * double(budget); bytes /= 16.0)
+                --fits;
+            budgetedCoarseLevels_ = std::pair{layout, fits};
+        }
+        coarsePassOverBudget = budgetedCoarseLevels_->second < coarseLevels;
+        coarseLevels = std::min(coarseLevels, budgetedCoarseLevels_->second);
+    }
     auto current = start();
     pass(false, 0, layout.levels); // this revision is under way
     const bool coarsePass = coarseLevels < layout.levels && !order.empty();
@@ -332,6 +354,7 @@ void Voxelizer::process(Request request)
         pass(true, order.size(), coarseLevels);
         if (!buildInto(*current, order, [&](long) { return coarseLevels; })) return finish(true);
         current->complete = false;
+        current->coarsenedForBudget = coarsePassOverBudget ? order.size() : 0; // said in the status bar
         publish(current);
         stats.coarseMs = millisecondsSince(request.submitted);
         current = std::make_shared<VoxelSnapshot>(*current);

@@ -150,6 +150,9 @@ private:
     // Owned by the coordinating thread.
     std::optional<Document> builtDocument_;   // the document the last processed request described
     GridLayout builtLayout_;                  // ... and its grid
+    // The coarse pass's depth within the memory budget, for the grid it was
+    // estimated on (an estimate takes a coarse voxelization: once a grid).
+    std::optional<std::pair<GridLayout, int>> budgetedCoarseLevels_;
     std::vector<long> unfinishedTiles_;       // tiles not yet at full depth for builtDocument_
     FeatureRegistry features_;
 
