@@ -641,6 +641,28 @@ TEST(MeshFile, RefusesAToleranceFinerThanItsCoordinatesHold)
     EXPECT_NE(tiny->find("3MF"), std::string::npos) << *tiny;
 }
 
+TEST(MeshFile, APartTheFileCannotHoldIsRefusedAndTheDefaultIsWhatItHolds)
+{
+    // A hostile tester's 2 mm sphere 1.7e8 mm from the origin: its STL steps
+    // by 8 mm there, the marching cubes' vertices rounded onto a few points
+    // and the export ended in "internal error ... crossing triangle pairs".
+    const Aabb speck{glm::dvec3(1e8 - 1.0), glm::dvec3(1e8 + 1.0)};
+    const auto stl = partTheFileCannotHold(speck, MeshFileFormat::BinaryStl);
+    ASSERT_TRUE(stl);
+    EXPECT_NE(stl->find("a binary STL file cannot hold this part: its coordinates step by 8 mm"), std::string::npos)
+        << *stl;
+    EXPECT_NE(stl->find("a .3mf file holds it"), std::string::npos) << *stl;
+    EXPECT_FALSE(partTheFileCannotHold(speck, MeshFileFormat::ThreeMf));
+    EXPECT_FALSE(partTheFileCannotHold(Aabb{glm::dvec3(-500.0), glm::dvec3(500.0)}, MeshFileFormat::BinaryStl));
+    // A sphere 200 km across: the default tolerance becomes the finest its
+    // STL holds (0.05 mm split on past 5 GB for detail rounding undoes).
+    const Aabb huge{glm::dvec3(-1e8), glm::dvec3(1e8)};
+    EXPECT_FALSE(partTheFileCannotHold(huge, MeshFileFormat::BinaryStl));
+    EXPECT_DOUBLE_EQ(defaultToleranceFor(huge, MeshFileFormat::BinaryStl), 16.0);
+    EXPECT_DOUBLE_EQ(defaultToleranceFor(Aabb{glm::dvec3(-500.0), glm::dvec3(500.0)}, MeshFileFormat::BinaryStl),
+                     kDefaultExportTolerance);
+}
+
 // A simplified mesh spends most of its time simplifying: the progress moves
 // through that step rather than standing still until it is over (the export
 // dialog sat at 51 % for most of an export).

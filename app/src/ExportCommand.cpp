@@ -136,7 +136,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         if (const auto v = a.value("--feature-size"))
             requested = Arguments::parseFeatureSize("--feature-size", *v);
         const std::optional<std::string> toleranceText = a.value("--tolerance");
-        const double tolerance =
+        double tolerance =
             toleranceText ? Arguments::parseTolerance("--tolerance", *toleranceText) : kDefaultExportTolerance;
         const bool ascii = a.has("--ascii"), json = a.has("--json");
         file = a.positional()[0];
@@ -199,6 +199,19 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         // (below), as the issue asks of far parts.
         if (const auto why = toleranceText ? toleranceTheFileCannotHold(bounds, *format, tolerance) : std::nullopt)
             throw RefusedRequest(printable(file) + ": " + *why);
+        // The default, where the file cannot hold it, is the finest the file
+        // holds: meshing to less only splits triangles that rounding undoes
+        // (a sphere 200 km across split on past 5 GB for 0.05 mm that its
+        // STL steps by 8 mm).
+        if (const auto why = partTheFileCannotHold(bounds, *format)) throw RefusedRequest(printable(file) + ": " + *why);
+        if (!toleranceText && toleranceTheFileCannotHold(bounds, *format, tolerance)) {
+            const double held = defaultToleranceFor(bounds, *format);
+            err << "kerf export: warning: the default tolerance of " << mm(tolerance) << " mm is finer than "
+                << (*format == MeshFileFormat::ThreeMf ? "a 3MF" : "an STL") << " file holds for this part: meshed to "
+                << significant(held, 2) << " mm, the finest it holds\n";
+            tolerance = held;
+            options.tolerance = held;
+        }
         // The output and the machine's budget, before any meshing.
         preflightExport(doc, file, target, options.featureSize, options.tolerance);
         if (interrupted) return interruptedMessage();

@@ -99,6 +99,30 @@ double finestTolerance(const Aabb& partBounds, MeshFileFormat format)
     return 2.0 * spacingAt(writtenReach(partBounds, format), format);
 }
 
+std::optional<std::string> partTheFileCannotHold(const Aabb& partBounds, MeshFileFormat format)
+{
+    if (partBounds.isEmpty() || !partBounds.isBounded()) return std::nullopt;
+    const glm::dvec3 size = partBounds.size();
+    const double smallest = std::min({size.x, size.y, size.z});
+    const double step = 0.5 * finestTolerance(partBounds, format);
+    if (!(step > 0.1 * smallest)) return std::nullopt;
+    const bool stl = format != MeshFileFormat::ThreeMf;
+    const bool threeMfHolds = stl && !(0.5 * finestTolerance(partBounds, MeshFileFormat::ThreeMf) > 0.1 * smallest);
+    char text[640];
+    std::snprintf(text, sizeof text,
+                  "a %s file cannot hold this part: its coordinates step by %.2g mm where the part is, %.3g mm from "
+                  "%s, and the part is %.3g mm across at its thinnest (every vertex would round onto a few points)%s",
+                  describe(format), step, writtenReach(partBounds, format), stl ? "the origin" : "its middle",
+                  smallest, threeMfHolds ? "; a .3mf file holds it (stored round its own middle)" : "");
+    return std::string(text);
+}
+
+double defaultToleranceFor(const Aabb& partBounds, MeshFileFormat format)
+{
+    return partBounds.isEmpty() ? kDefaultExportTolerance
+                                : std::max(kDefaultExportTolerance, finestTolerance(partBounds, format));
+}
+
 std::optional<std::string> toleranceTheFileCannotHold(const Aabb& partBounds, MeshFileFormat format,
                                                       double tolerance)
 {

@@ -603,7 +603,14 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
         std::sort(failing.begin(), failing.end());
         splitThisRound.assign(mesh.triangles.size(), 0);
         std::vector<std::uint32_t> changed, busy;
+        std::size_t tried = 0;
         for (const auto& [negative, i] : failing) {
+            // A round over millions of triangles takes minutes: Ctrl+C is
+            // asked here too, and the triangle limit holds within a round
+            // (a sphere 200 km across at the default tolerance split on
+            // past 5 GB, deaf to Ctrl+C).
+            if ((++tried & 1023) == 0 && work.cancelled()) return false;
+            if (mesh.triangles.size() >= settings.maxTriangles) break;
             // A fold first: a split of a folded triangle makes folded ones.
             if (turnsUpright(verdicts[i].facing)) {
                 if (splitThisRound[dirty[i]]) {

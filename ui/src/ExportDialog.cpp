@@ -398,7 +398,7 @@ void ExportDialog::start()
             // the warning the result gives; a tolerance typed in is refused.)
             if (const auto why = tolerance != kDefaultExportTolerance
                                      ? toleranceTheFileCannotHold(tape.bounds(), format, tolerance)
-                                     : std::nullopt) {
+                                     : partTheFileCannotHold(tape.bounds(), format)) {
                 std::string sentence = *why;
                 sentence[0] = char(std::toupper(static_cast<unsigned char>(sentence[0])));
                 o.message = tr("Not exported: %1.").arg(QString::fromStdString(sentence));
@@ -415,7 +415,10 @@ void ExportDialog::start()
             }
             MeshOptions options;
             options.featureSize = featureSize;
-            options.tolerance = tolerance;
+            // The default where the file cannot hold it: the finest it holds.
+            const double meshTolerance =
+                tolerance == kDefaultExportTolerance ? defaultToleranceFor(tape.bounds(), format) : tolerance;
+            options.tolerance = meshTolerance;
             const Progress progress([this](double f) { fraction_ = f; }, [this] { return cancel_.load(); });
             const auto t0 = std::chrono::steady_clock::now();
             const ExportedPart exported = exportPart(doc_, options, file, format, partName, progress);
@@ -437,8 +440,13 @@ void ExportDialog::start()
                 o.written = true;
                 o.closed = true;
                 o.triangles = exported.report.asRead.triangles;
-                o.simplified = tolerance > 0.0 && exported.simplificationDefects.empty();
-                o.message = describeWritten(file, format, exported, tolerance, seconds, documentFeatureSize_);
+                o.simplified = meshTolerance > 0.0 && exported.simplificationDefects.empty();
+                o.message = describeWritten(file, format, exported, meshTolerance, seconds, documentFeatureSize_);
+                if (meshTolerance != tolerance)
+                    o.message += "\n" + tr("Warning: the default tolerance of %1 mm is finer than this file holds for "
+                                           "this part: meshed to %2 mm, the finest it holds.")
+                                         .arg(tolerance)
+                                         .arg(meshTolerance, 0, 'g', 2);
                 // A hole moved off its board: the file lacks it, as the part does.
                 if (const std::string idle = describeToolsCuttingNothing(doc_); !idle.empty())
                     o.message += "\n" + tr("Warning: %1.").arg(QString::fromStdString(idle));

@@ -56,6 +56,17 @@ double finestTolerance(const Aabb& partBounds, MeshFileFormat format);
 std::optional<std::string> toleranceTheFileCannotHold(const Aabb& partBounds, MeshFileFormat format,
                                                       double tolerance);
 
+/// Why a file of `format` cannot hold the part at all, or nothing when it
+/// can: its coordinates step by more than a tenth of the part's smallest
+/// extent where the part is (a 2 mm sphere 170 km from the origin in an STL
+/// steps by 8 mm: every vertex rounds onto a few points and the triangles
+/// cross). Says which format holds it.
+std::optional<std::string> partTheFileCannotHold(const Aabb& partBounds, MeshFileFormat format);
+
+/// The tolerance to mesh to when none was asked for: the default, or the
+/// finest the file holds where that is coarser.
+double defaultToleranceFor(const Aabb& partBounds, MeshFileFormat format);
+
 struct MeshFileReport {
     WrittenFit fit;            // what fitting to the written coordinates changed
     MeshReport asRead;         // the mesh as a reader gets it
