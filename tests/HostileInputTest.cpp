@@ -19,6 +19,9 @@
 #include "kerf/evaluator/TapeCompiler.hpp"
 
 #include <gtest/gtest.h>
+#include <cstring>
+#include <sys/un.h>
+#include <sys/socket.h>
 
 #include <glm/glm.hpp>
 
@@ -533,6 +536,22 @@ TEST_F(HostileFiles, AFifoWithoutAWriterDoesNotHang)
     const std::string what = refusal(dir / "pipe.kerf");
     EXPECT_NE(what.find("the file is empty"), std::string::npos) << what;
     EXPECT_LT(std::chrono::duration<double>(Clock::now() - t0).count(), 0.5 * kSlow);
+}
+
+TEST_F(HostileFiles, ASocketIsRefusedByWhatItIs)
+{
+    // It was "cannot open the file: No such device or address".
+    const fs::path path = dir / "sock.kerf";
+    const int s = ::socket(AF_UNIX, SOCK_STREAM, 0);
+    ASSERT_GE(s, 0);
+    sockaddr_un address{};
+    address.sun_family = AF_UNIX;
+    ASSERT_LT(path.string().size(), sizeof address.sun_path);
+    std::strncpy(address.sun_path, path.c_str(), sizeof address.sun_path - 1);
+    ASSERT_EQ(0, ::bind(s, reinterpret_cast<const sockaddr*>(&address), sizeof address));
+    const std::string what = refusal(path);
+    ::close(s);
+    EXPECT_NE(what.find("is a socket, not a Kerf document file"), std::string::npos) << what;
 }
 
 TEST_F(HostileFiles, AFileOverTheSizeLimitIsRefusedByItsSize)

@@ -23,6 +23,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sys/stat.h>
 #include <unistd.h>
 
 // Under AddressSanitizer, LeakSanitizer reports allocations made by
@@ -514,18 +515,24 @@ TEST(ReferenceMesh, MissingAndBrokenFilesAreNamedAndLeftOut)
     std::filesystem::create_directories(dir);
     std::ofstream(dir / "broken.stl") << "this is not a mesh";
     writeRod(dir, 0.0);
+    // A named pipe named like a mesh: reading it waited for a writer for
+    // ever (the application hung at open).
+    ASSERT_EQ(::mkfifo((dir / "pipe.stl").c_str(), 0600), 0);
     const Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"s","type":"sphere","radius":5},
-        "meshes":[{"id":"gone","path":"missing.stl"},{"id":"bad","path":"broken.stl"},{"id":"ok","path":"rod.off"}]})",
+        "meshes":[{"id":"gone","path":"missing.stl"},{"id":"bad","path":"broken.stl"},{"id":"ok","path":"rod.off"},
+                  {"id":"pipe","path":"pipe.stl"}]})",
                                          "with-meshes.kerf");
     std::vector<std::string> problems;
     const auto meshes = loadReferenceMeshes(doc, dir, problems);
     ASSERT_EQ(meshes.size(), 1u);
     EXPECT_EQ(meshes[0].id, "ok");
     EXPECT_EQ(meshes[0].mesh.triangles(), 12u);
-    ASSERT_EQ(problems.size(), 2u);
+    ASSERT_EQ(problems.size(), 3u);
     EXPECT_NE(problems[0].find("mesh 'gone'"), std::string::npos);
     EXPECT_NE(problems[0].find("no such file"), std::string::npos);
     EXPECT_NE(problems[1].find("mesh 'bad'"), std::string::npos);
+    EXPECT_NE(problems[2].find("mesh 'pipe'"), std::string::npos);
+    EXPECT_NE(problems[2].find("is a named pipe (FIFO), not a mesh file"), std::string::npos) << problems[2];
     std::filesystem::remove_all(dir);
 }
 

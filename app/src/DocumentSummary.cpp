@@ -33,8 +33,10 @@ DocumentSummary summarize(const Document& doc, const std::string& documentFolder
     s.featureSize = doc.settings.featureSize.value_or(defaultFeatureSize(s.bounds));
     s.meshes = doc.meshes.size();
     for (const auto& m : doc.meshes) {
+        // A FIFO or a folder where a mesh file should be is as good as absent
+        // (the application refuses to read it).
         std::error_code ec;
-        if (!std::filesystem::exists(std::filesystem::path(documentFolder) / m.path, ec)) ++s.missingMeshes;
+        if (!std::filesystem::is_regular_file(std::filesystem::path(documentFolder) / m.path, ec)) ++s.missingMeshes;
     }
     return s;
 }

@@ -47,8 +47,13 @@ std::string readDocumentFile(const std::filesystem::path& file)
     // for a writer forever. Cleared below for reading.
     const FileDescriptor fd(::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY));
     if (fd.get() < 0) {
-        if (errno == EISDIR) throw refuse("is a folder, not a Kerf document");
-        throw refuse("cannot open the file: " + std::string(std::strerror(errno)));
+        const int why = errno;
+        if (why == EISDIR) throw refuse("is a folder, not a Kerf document");
+        // A socket cannot be opened: said by what it is, not by errno's words.
+        struct stat kind {};
+        if (::stat(file.c_str(), &kind) == 0 && S_ISSOCK(kind.st_mode))
+            throw refuse("is " + describeFileKind(kind.st_mode) + ", not a Kerf document file");
+        throw refuse("cannot open the file: " + std::string(std::strerror(why)));
     }
     struct stat st {};
     if (::fstat(fd.get(), &st) != 0) throw refuse("cannot read the file: " + std::string(std::strerror(errno)));

@@ -1,5 +1,7 @@
 #include "kerf/viewport/ReferenceMesh.hpp"
 
+#include "kerf/document/FileKind.hpp"
+
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
@@ -7,6 +9,8 @@
 
 #include <cmath>
 #include <stdexcept>
+
+#include <sys/stat.h>
 
 namespace kerf {
 
@@ -27,6 +31,11 @@ TriangleMesh loadTriangleMesh(const std::filesystem::path& file)
 {
     std::error_code ec;
     if (!std::filesystem::exists(file, ec)) throw std::runtime_error(file.string() + ": no such file");
+    // Only a regular file is read: a FIFO named hinge.stl blocked the
+    // application in open() for ever, waiting for a writer.
+    struct stat st {};
+    if (::stat(file.c_str(), &st) != 0 || !S_ISREG(st.st_mode))
+        throw std::runtime_error(file.string() + ": is " + describeFileKind(st.st_mode) + ", not a mesh file");
     OMesh m;
     OpenMesh::IO::Options options;
     if (!OpenMesh::IO::read_mesh(m, file.string(), options))

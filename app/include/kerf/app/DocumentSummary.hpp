@@ -20,7 +20,7 @@ struct DocumentSummary {
     double featureSize = 0.0;           // mm, the document's or the default
     bool featureSizeFromDocument = false;
     std::size_t meshes = 0;
-    std::size_t missingMeshes = 0;      // reference meshes whose file is absent
+    std::size_t missingMeshes = 0;      // reference meshes whose file is absent or no regular file
 };
 
 
