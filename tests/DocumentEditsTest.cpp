@@ -345,6 +345,51 @@ TEST(AddFeature, APrimitiveRestingOnTheGridStaysThereAsItsHeightChanges)
     EXPECT_DOUBLE_EQ(nodeBounds(taller).max.z, 40.0);
 }
 
+TEST(AddFeature, APanelWhoseThicknessIsAParameterStaysOnTheGridWhenItChanges)
+{
+    // A newcomer's cabinet side: Size Z "=thickness" put the panel's centre
+    // at 9 mm as a number; thickness 25 left it at 9 (from -3.5 to 21.5),
+    // and the dado, rebate and holes measured from "thickness - ..." came
+    // out shallower, without a word.
+    Document doc = edit::emptyDocument();
+    doc.parameters.push_back({.name = "thickness", .expression = "18"});
+    const std::string id = edit::addFeature(doc, NodeType::Box, {});
+    doc = doc.resolved();
+    const Node before = *doc.root.find(id);
+    Node driven = before;
+    driven.expressions["size[2]"] = "thickness";
+    driven.as<BoxParams>().size.z = 18.0;
+    edit::keepResting(before, driven);
+    EXPECT_EQ(driven.expressions.at("transform.translate[2]"), "thickness/2");
+    EXPECT_EQ(edit::restingExpression(driven), "thickness/2");
+    edit::updateNode(doc, id, driven);
+    doc.root.find(id)->expressions = driven.expressions;
+    doc.parameters[0].expression = "25";
+    const Document thicker = doc.resolved();
+    EXPECT_DOUBLE_EQ(nodeBounds(*thicker.root.find(id)).min.z, 0.0);
+    EXPECT_DOUBLE_EQ(nodeBounds(*thicker.root.find(id)).max.z, 25.0);
+    // A sum in parentheses; a sphere's radius as it is; a height typed as a
+    // number again takes the expression this rule wrote away.
+    Node sum = *thicker.root.find(id);
+    sum.expressions["size[2]"] = "thickness + 2";
+    EXPECT_EQ(edit::restingExpression(sum), "(thickness + 2)/2");
+    Node plain = *thicker.root.find(id);
+    Node typed = plain;
+    typed.expressions.erase("size[2]");
+    typed.as<BoxParams>().size.z = 30.0;
+    edit::keepResting(plain, typed);
+    EXPECT_FALSE(typed.expressions.count("transform.translate[2]"));
+    EXPECT_DOUBLE_EQ(nodeBounds(typed).min.z, 0.0);
+    // An expression the user wrote is theirs: left as it is.
+    Node own = plain;
+    own.expressions["transform.translate[2]"] = "thickness";
+    Node ownThinner = own;
+    ownThinner.as<BoxParams>().size.z = 10.0;
+    edit::keepResting(own, ownThinner);
+    EXPECT_EQ(ownThinner.expressions.at("transform.translate[2]"), "thickness");
+    EXPECT_DOUBLE_EQ(ownThinner.transform.translate.z, own.transform.translate.z);
+}
+
 } // namespace
 } // namespace kerf
 

@@ -4,6 +4,7 @@
 #include "kerf/document/NodeBounds.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <stdexcept>
 
@@ -89,17 +90,58 @@ std::string addFeature(Document& doc, NodeType type, const std::vector<std::stri
     return id;
 }
 
+namespace {
+constexpr const char* kPositionZ = "transform.translate[2]";
+} // namespace
+
+std::optional<std::string> restingExpression(const Node& n)
+{
+    if (n.transform.rotate != glm::dvec3(0.0)) return std::nullopt;
+    // The field that sets the height, and the height over the centre.
+    const char* field = nullptr;
+    bool half = true;
+    switch (n.type) {
+    case NodeType::Box: field = "size[2]"; break;
+    case NodeType::Cylinder:
+    case NodeType::Cone:
+    case NodeType::Extrude: field = "height"; break;
+    case NodeType::Sphere: field = "radius", half = false; break;
+    default: return std::nullopt;
+    }
+    const auto it = n.expressions.find(field);
+    if (it == n.expressions.end()) return std::nullopt;
+    const std::string& e = it->second;
+    if (!half) return e;
+    const bool name = !e.empty() && std::all_of(e.begin(), e.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+    }) && !std::isdigit(static_cast<unsigned char>(e[0]));
+    return (name ? e : "(" + e + ")") + "/2";
+}
+
 void keepResting(const Node& before, Node& after)
 {
     if (!isPrimitive(before.type) || before.type != after.type || !(before.transform == after.transform) ||
-        before.transform.rotate != glm::dvec3(0.0) || after.expressions.count("transform.translate[2]"))
-        return; // an expression placing it is the user's rule, not ours
+        before.transform.rotate != glm::dvec3(0.0))
+        return;
+    // An expression placing it is the user's rule, not ours, unless it is
+    // the one this rule wrote for the height it had (then it follows the new one).
+    const auto placedBy = before.expressions.find(kPositionZ);
+    const bool ours = placedBy != before.expressions.end() && placedBy->second == restingExpression(before);
+    if (after.expressions.count(kPositionZ) && !ours) return;
     const Aabb was = nodeBounds(before);
     const Aabb now = nodeBounds(after);
     if (was.isEmpty() || !was.isBounded() || now.isEmpty() || !now.isBounded()) return;
     // Resting: its bottom on the grid, to the rounding a typed position leaves.
     if (std::abs(was.min.z) > 1e-9 * std::max(1.0, was.max.z - was.min.z)) return;
     after.transform.translate.z -= now.min.z;
+    // A height set by an expression (Size Z "=thickness") places it by one
+    // too, so that it stays on the grid when the parameter changes: a
+    // newcomer's panel stayed centred at 9 mm when thickness went from 18
+    // to 25, and every cut measured from its top came out shallower.
+    if (const auto e = restingExpression(after))
+        after.expressions[kPositionZ] = *e;
+    else
+        after.expressions.erase(kPositionZ);
 }
 
 } // namespace kerf::edit

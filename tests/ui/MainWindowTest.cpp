@@ -2071,6 +2071,23 @@ void MainWindowTest::aNewBoxStaysOnTheGridWhateverSetsItsHeight()
     typeInto(field(*w, "translate.z"), "200");
     typeInto(field(*w, "size.z"), "50");
     QCOMPARE(w->session()->document().root.find("box")->transform.translate.z, 200.0);
+
+    // A panel whose thickness is a parameter stays on the grid when the
+    // parameter changes: a newcomer's stayed centred at 9 mm when thickness
+    // went from 18 to 25, and the cuts measured from its top came out shallower.
+    action(w.get(), "action.new")->trigger();
+    auto* panel = w->findChild<ParametersPanel*>("parametersPanel");
+    panel->addParameter();
+    if (auto* open = panel->table()->findChild<QLineEdit*>()) QTest::keyClick(open, Qt::Key_Escape);
+    const std::string thickness = w->session()->document().parameters.at(0).name;
+    panel->table()->item(0, ParametersPanel::ExpressionColumn)->setText("18");
+    action(w.get(), "action.add.box")->trigger();
+    typeInto(field(*w, "size.z"), QString::fromStdString("=" + thickness));
+    QCOMPARE(bottom(), 0.0);
+    QCOMPARE(w->session()->document().root.find("box")->expressions.at("transform.translate[2]"), thickness + "/2");
+    panel->table()->item(0, ParametersPanel::ExpressionColumn)->setText("25");
+    QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.z, 25.0);
+    QCOMPARE(bottom(), 0.0);
 }
 
 void MainWindowTest::escapeInAFieldTakesBackWhatWasTyped()

@@ -161,8 +161,15 @@ bool PropertyEditor::applyToNode(const QString& text, const std::function<void(N
             }
             Node placed = updated;
             edit::keepResting(*n, placed);
+            Node& target = *d.root.find(id);
             if (placed.transform.translate.z != updated.transform.translate.z)
-                d.root.find(id)->transform.translate.z = placed.transform.translate.z;
+                target.transform.translate.z = placed.transform.translate.z;
+            // ... and by the expression that keeps it there (Size Z "=thickness").
+            const std::string positionZ = "transform.translate[2]";
+            if (const auto e = placed.expressions.find(positionZ); e != placed.expressions.end())
+                target.expressions[positionZ] = e->second;
+            else
+                target.expressions.erase(positionZ);
         },
         &why, mergeKey);
     if (error) showError(error, ok ? QString() : why);

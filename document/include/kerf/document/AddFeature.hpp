@@ -18,6 +18,7 @@
 
 #include "kerf/document/Document.hpp"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,17 @@ std::string placeholderOf(const Document& doc, const std::string& operationId);
 /// parameters changes its height: a board laid on the bench and made
 /// thinner stays on the bench. Adjusts `after`'s translate z; leaves it
 /// alone when the edit moved the node itself, or it did not rest there.
+/// A height set by an expression (a box's Size Z "=thickness", a cylinder's
+/// Height) places the resting primitive by one too: translate z becomes
+/// "thickness/2", which follows the parameter; an expression this rule
+/// wrote is rewritten as the height's changes, and goes when the height
+/// becomes a number.
 void keepResting(const Node& before, Node& after);
+
+/// The expression for translate z that keeps `n` (unrotated) resting on the
+/// grid as its height's expression changes: "thickness/2" for a box whose
+/// Size Z is "thickness", "(a + b)/2", a sphere's radius as it is; nothing
+/// where the height is a number or the primitive has no such field.
+std::optional<std::string> restingExpression(const Node& n);
 
 } // namespace kerf::edit
