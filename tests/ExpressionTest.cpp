@@ -160,11 +160,16 @@ TEST(Expression, RefusalsSayWhatIsWrong)
     EXPECT_NE(refusal("10 ^ 400").find("infinity"), std::string::npos);
     // Hostile sizes end in a sentence, not a crash.
     EXPECT_NE(refusal(std::string(5000, '1')).find("longer than"), std::string::npos);
-    EXPECT_NE(refusal(std::string(1000, '(') + "1" + std::string(1000, ')')).find("nests deeper"), std::string::npos);
-    EXPECT_NE(refusal(std::string(1000, '-') + "1").find("nests deeper"), std::string::npos);
+    EXPECT_NE(refusal(std::string(1000, '(') + "1" + std::string(1000, ')')).find("nests too deeply"), std::string::npos);
+    EXPECT_NE(refusal(std::string(1000, '-') + "1").find("nests too deeply"), std::string::npos);
     std::string tower = "2";
     for (int i = 0; i < 500; ++i) tower += "^2";
-    EXPECT_NE(refusal(tower).find("nests deeper"), std::string::npos);
+    EXPECT_NE(refusal(tower).find("nests too deeply"), std::string::npos);
+    // The format's limit, exactly: 32 parentheses are read, 33 refused
+    // (it was 31, and the message said "64 levels").
+    EXPECT_EQ(refusal(std::string(32, '(') + "1" + std::string(32, ')')), "(accepted)");
+    EXPECT_NE(refusal(std::string(33, '(') + "1" + std::string(33, ')')).find("more than 32 parentheses"),
+              std::string::npos);
     EXPECT_NE(refusal("t ^ 1e10").find("beyond 8"), std::string::npos);
 }
 
@@ -335,6 +340,22 @@ TEST(DocumentExpressions, AChainOfReferencesLongerThanTheBoundIsRefusedNotFollow
     EXPECT_NE(r.find("field 'parameters.p200': is reached through more than 200 references, one through the next, from 'p0'"),
               std::string::npos)
         << r;
+    // The same chain written the other way round (each parameter refers to
+    // the one before it) is as long: refused too. It was resolved one step
+    // at a time and passed, 5000 long.
+    std::string forward = R"({"name":"p0","expression":"1"})";
+    for (int i = 1; i <= 300; ++i)
+        forward += ",{\"name\":\"p" + std::to_string(i) + "\",\"expression\":\"p" + std::to_string(i - 1) + " + 1\"}";
+    const std::string f = loadRefusal(R"({"format":"kerf","version":1,"parameters":[)" + forward +
+                                      R"(],"root":{"id":"s","type":"sphere","radius":"p300"}})");
+    EXPECT_NE(f.find("field 'parameters.p200': is reached through more than 200 references"), std::string::npos) << f;
+    // 200 values in a row (the radius and 199 parameters) are read.
+    std::string fits = R"({"name":"p0","expression":"1"})";
+    for (int i = 1; i < 199; ++i)
+        fits += ",{\"name\":\"p" + std::to_string(i) + "\",\"expression\":\"p" + std::to_string(i - 1) + " + 1\"}";
+    EXPECT_NO_THROW(Document::parse(R"({"format":"kerf","version":1,"parameters":[)" + fits +
+                                        R"(],"root":{"id":"s","type":"sphere","radius":"p198"}})",
+                                    "fits.kerf"));
 }
 
 TEST(DocumentExpressions, AnEditFollowsThroughTheExpressionsThatReferToIt)

@@ -319,12 +319,16 @@ private:
 
     // Bounds that keep a hostile file's expression from exhausting the stack.
     static constexpr std::size_t kMaxLength = 4096;
-    static constexpr int kMaxNesting = 64;
+    // The format's limit is 32 parentheses; each level of them is two of
+    // the parser's (a power and a sign), and the top level two more.
+    static constexpr int kMaxParentheses = 32;
+    static constexpr int kMaxNesting = 2 * kMaxParentheses + 2;
     struct Nest {
         Parser& p;
         explicit Nest(Parser& parser) : p(parser)
         {
-            if (++p.nesting_ > kMaxNesting) p.fail("nests deeper than " + std::to_string(kMaxNesting) + " levels");
+            if (++p.nesting_ > kMaxNesting)
+                p.fail("nests too deeply: more than " + std::to_string(kMaxParentheses) + " parentheses (or signs)");
         }
         ~Nest() { --p.nesting_; }
     };

@@ -1,6 +1,7 @@
 #include "kerf/document/NodePlacement.hpp"
 
 #include "kerf/document/NodeBounds.hpp"
+#include "kerf/document/PrintableText.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -109,10 +110,12 @@ std::string featureNamed(const Document& doc, std::string_view idOrName)
         for (auto c = n->children.rbegin(); c != n->children.rend(); ++c) stack.push_back(&*c); // tree order
     }
     if (named.size() == 1) return named.front()->id;
-    if (named.empty()) throw std::invalid_argument("no feature has the id or the name '" + std::string(idOrName) + "'");
+    // Printable: the name comes from a command line or a field (an escape
+    // sequence or a newline typed there reached the terminal as it was).
+    if (named.empty()) throw std::invalid_argument("no feature has the id or the name '" + printable(idOrName) + "'");
     std::string ids;
     for (const Node* n : named) ids += (ids.empty() ? "" : ", ") + n->id;
-    throw std::invalid_argument(std::to_string(named.size()) + " features are named '" + std::string(idOrName) +
+    throw std::invalid_argument(std::to_string(named.size()) + " features are named '" + printable(idOrName) +
                                 "': give one of their ids (" + ids + ")");
 }
 

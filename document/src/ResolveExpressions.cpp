@@ -87,6 +87,7 @@ private:
         Parameter spec;
         State state = State::Pending;
         Quantity q;
+        std::size_t chain = 0; // the longest chain of references that ends here (1: refers to none)
     };
     struct Site {
         std::string nodeId, path, text;
@@ -95,6 +96,7 @@ private:
         bool count = false;
         State state = State::Pending;
         double value = 0.0;
+        std::size_t chain = 0;
     };
 
     [[noreturn]] void fail(const std::string& nodeId, const std::string& field, const std::string& reason) const
@@ -227,12 +229,13 @@ private:
     Quantity parameterValue(std::size_t i)
     {
         Param& p = params_[i];
-        if (p.state == State::Done) return p.q;
+        if (p.state == State::Done) return used(p.chain), p.q;
         const std::string field = "parameters." + p.spec.name;
         if (p.state == State::Busy) fail("", field, "the expression \"" + p.spec.expression + "\" refers back to itself" + chain());
         p.state = State::Busy;
         enter(field);
         trail_.push_back(p.spec.name);
+        longest_.push_back(0);
         try {
             Quantity q = expr::evaluate(p.spec.expression, resolver());
             if (p.spec.unit) {
@@ -246,19 +249,21 @@ private:
         } catch (const ExpressionError& e) {
             fail("", field, "the expression \"" + p.spec.expression + "\" " + e.what());
         }
+        p.chain = finishChain("", field);
         trail_.pop_back();
         p.spec.value = p.q.value;
         p.state = State::Done;
-        return p.q;
+        return used(p.chain), p.q;
     }
 
     double siteValue(Site& s)
     {
-        if (s.state == State::Done) return s.value;
+        if (s.state == State::Done) return used(s.chain), s.value;
         if (s.state == State::Busy) fail(s.nodeId, s.path, "the expression \"" + s.text + "\" refers back to itself" + chain());
         s.state = State::Busy;
         enter(s.path, s.nodeId);
         trail_.push_back(s.nodeId + "." + s.path);
+        longest_.push_back(0);
         try {
             const Quantity q = expr::evaluate(s.text, resolver());
             if (!q.fits(s.dimension == Dimension::Length))
@@ -268,9 +273,10 @@ private:
         } catch (const ExpressionError& e) {
             fail(s.nodeId, s.path, "the expression \"" + s.text + "\" " + e.what());
         }
+        s.chain = finishChain(s.nodeId, s.path);
         trail_.pop_back();
         s.state = State::Done;
-        return s.value;
+        return used(s.chain), s.value;
     }
 
     // References nest as deep as the chain of values they pass through: a
@@ -282,6 +288,26 @@ private:
                                     " references, one through the next, from '" + trail_.front() + "'");
     }
     static constexpr std::size_t kMaxReferenceDepth = 200;
+
+    // The longest chain of references, whatever the order they are met in:
+    // the trail above bounds the recursion, but a chain of 300 written in
+    // order was resolved one step at a time and passed, and the same chain
+    // written backwards was refused. Each value's chain is 1 + the longest
+    // of those it uses (longest_: one entry per value being evaluated).
+    void used(std::size_t chain)
+    {
+        if (!longest_.empty()) longest_.back() = std::max(longest_.back(), chain);
+    }
+    std::size_t finishChain(const std::string& nodeId, const std::string& field)
+    {
+        const std::size_t chain = longest_.back() + 1;
+        longest_.pop_back();
+        if (chain > kMaxReferenceDepth)
+            fail(nodeId, field, "is reached through more than " + std::to_string(kMaxReferenceDepth) +
+                                    " references, one through the next");
+        return chain;
+    }
+    std::vector<std::size_t> longest_;
 
     std::string chain() const
     {
