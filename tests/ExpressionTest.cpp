@@ -78,6 +78,14 @@ TEST(Expression, LengthsCarryTheirUnits)
     EXPECT_DOUBLE_EQ(value("11 3/4in"), 298.45); // a whole number and a fraction
     EXPECT_DOUBLE_EQ(value("2 + 11 3/4in"), 300.45);
     EXPECT_DOUBLE_EQ(value("11 3/4"), 11.75); // without a unit, a bare mixed number
+    // As every field shows a length, with a space: a newcomer's "18 mm" in
+    // the Parameters table was refused ("has 'm' where an operator ...").
+    EXPECT_DOUBLE_EQ(value("18 mm"), 18.0);
+    EXPECT_EQ(eval("18 mm").length, 1);
+    EXPECT_DOUBLE_EQ(value("3/4 in"), 19.05);
+    EXPECT_DOUBLE_EQ(value("11 3/4 in"), 298.45);
+    EXPECT_DOUBLE_EQ(value("2 * 9 mm + 1"), 19.0);
+    EXPECT_NE(refusal("18 mmm").find("where an operator or the end was expected"), std::string::npos);
     EXPECT_TRUE(eval("11 3/4").bare);
     EXPECT_NE(refusal("11 3/0").find("divides by zero"), std::string::npos);
     EXPECT_NE(refusal("11 3").find("where an operator or the end was expected"), std::string::npos);

@@ -158,14 +158,19 @@ private:
         return atom();
     }
 
-    // A unit right after a number ("18mm", "3/4in", "2'"), if there is one.
+    // A unit after a number ("18mm", "3/4in", "2'"), if there is one; a
+    // unit's name may follow a space ("18 mm", as every field displays a
+    // length: a newcomer's "18 mm" typed in the Parameters table was
+    // refused). No name can be a unit's (the reader refuses such names).
     std::optional<double> unitHere()
     {
         if (at_ < s_.size() && (s_[at_] == '"' || s_[at_] == '\'')) return unitScale(s_.substr(at_++, 1));
-        std::size_t end = at_;
+        std::size_t start = at_;
+        while (start < s_.size() && s_[start] == ' ') ++start;
+        std::size_t end = start;
         while (end < s_.size() && std::isalpha(static_cast<unsigned char>(s_[end]))) ++end;
-        if (end == at_ || (end < s_.size() && isNameChar(s_[end]))) return std::nullopt;
-        const std::optional<double> scale = unitScale(s_.substr(at_, end - at_));
+        if (end == start || (end < s_.size() && isNameChar(s_[end]))) return std::nullopt;
+        const std::optional<double> scale = unitScale(s_.substr(start, end - start));
         if (scale) at_ = end;
         return scale;
     }
