@@ -554,6 +554,11 @@ TEST(DocumentEdits, AFeatureAloneIsDescribedWithItsCopiesAndWhatItIs)
     EXPECT_EQ(edit::describeFeatureAlone(d, "pin"),
               "Pin hole alone, with every copy of the mirror and array above it, as a solid: it is a cutter (the part "
               "has its shape cut away)");
+    // The board a difference cuts, alone, has none of its cuts: said, with
+    // what to select instead (a newcomer's CNC file was a plain box).
+    EXPECT_EQ(edit::describeFeatureAlone(d, "board"),
+              "board alone, with every copy of the mirror above it, without the cuts of Side (holes): select Side for "
+              "the board as cut");
 }
 
 TEST(DocumentEdits, IdsInSubtreeNameTheNodeAndEverythingBelow)

@@ -95,6 +95,22 @@ std::string describeFeatureAlone(const Document& doc, std::string_view id)
         s += std::string(", with every copy of the ") + (mirror && array ? "mirror and array" : mirror ? "mirror" : "array") +
              " above it";
     if (isSubtracted(doc, id)) s += ", as a solid: it is a cutter (the part has its shape cut away)";
+    // The body of a difference alone has none of its cuts: a newcomer picked
+    // the board (the cut list's name for it) and got a plain box for the CNC.
+    for (std::size_t i = path.size() - 1; i-- > 0;) {
+        const Node& parent = *path[i];
+        if (parent.type != NodeType::Difference || parent.children.size() < 2 || &parent.children.front() != path[i + 1])
+            continue;
+        std::string tools;
+        std::size_t named = 0;
+        for (std::size_t k = 1; k < parent.children.size() && named < 3; ++k, ++named)
+            tools += (tools.empty() ? "" : ", ") + parent.children[k].name.value_or(parent.children[k].id);
+        if (parent.children.size() - 1 > named) tools += ", ...";
+        const std::string whole = parent.name.value_or(parent.id);
+        s += ", without the cuts of " + whole + " (" + tools + "): select " + whole + " for the " +
+             n.name.value_or(n.id) + " as cut";
+        break;
+    }
     return s;
 }
 

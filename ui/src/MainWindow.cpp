@@ -414,8 +414,12 @@ void MainWindow::sayWhenNothingShows(const VoxelSnapshot& s)
     // A part whose every feature is thinner than a voxel voxelizes to
     // nothing: the view went blank without a word when a newcomer made an
     // array of 2000 legs (100 m long, so 100 mm voxels for 40 mm legs).
-    const QString nothing = tr("Nothing shows at the view feature size of %1 mm: every feature of the part is thinner "
-                               "than a voxel. Set a finer View feature size in Properties (with nothing selected).");
+    // Or the part is empty: a box cut away by a box of its own size said
+    // "every feature is thinner than a voxel" to a newcomer, who had cut it
+    // all away. Which of the two, the voxels cannot tell; both are said.
+    const QString nothing = tr("Nothing shows at the view feature size of %1 mm: the part is empty (cut away by "
+                               "its tools), or every feature of it is thinner than a voxel (a finer View feature "
+                               "size in Properties, with nothing selected, shows those).");
     const bool said = statusBar()->currentMessage().startsWith(nothing.left(nothing.indexOf('%')));
     if (!s.complete) return;
     const bool empty = std::none_of(s.tiles.begin(), s.tiles.end(),
