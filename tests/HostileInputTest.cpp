@@ -483,6 +483,25 @@ TEST(HostileInput, ATreeAtTheNestingLimitLoadsAndEverythingWalksItOnASmallStack)
     EXPECT_TRUE(done);
 }
 
+TEST(HostileInput, ABlendTooSmallToMatterIsNoBlend)
+{
+    // A blend of 5e-324 mm (a denormal) made 1/k infinite and every value
+    // NaN: kerf check and render showed the part, kerf export said "empty".
+    for (const char* blend : {"5e-324", "1e-310", "1e-12"}) {
+        const Document d = Document::parse(std::string(R"({"format":"kerf","version":1,"root":{"id":"u","type":"union",
+            "blend":)") + blend + R"(,"children":[{"id":"a","type":"sphere","radius":10},
+            {"id":"b","type":"sphere","radius":10,"transform":{"translate":[15,0,0]}}]}})",
+                                           "blend.kerf");
+        const Tape tape = compileTape(d);
+        PointEvaluator<double> points;
+        for (const double x : {-20.0, -5.0, 0.0, 7.5, 15.0, 30.0}) {
+            const double f = points.evaluate(tape, x, 0.0, 0.0);
+            ASSERT_TRUE(std::isfinite(f)) << blend << " at x = " << x;
+            EXPECT_DOUBLE_EQ(f, std::min(std::abs(x) - 10.0, std::abs(x - 15.0) - 10.0)) << blend;
+        }
+    }
+}
+
 // ---- Files that are not documents ---------------------------------------------------
 
 class HostileFiles : public ::testing::Test {

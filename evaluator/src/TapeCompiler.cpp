@@ -14,6 +14,14 @@ namespace kerf {
 
 namespace {
 
+// A blend radius too small to matter is no blend: below a thousandth of the
+// smallest feature size the format allows, its fillet (a quarter of the
+// radius deep) is far below anything a voxel or a mesh shows, and one of
+// 5e-324 mm made 1/k infinite, every value NaN, and an export "empty".
+constexpr double kNegligibleBlend = 1e-9; // mm
+double effectiveBlend(double k) { return k < kNegligibleBlend ? 0.0 : k; }
+
+
 class Compiler {
 public:
     explicit Compiler(FeatureRegistry* registry = nullptr) : registry_(registry) {}
@@ -148,7 +156,7 @@ private:
 
         switch (n.type) {
         case NodeType::Union: {
-            const double k = n.as<BooleanParams>().blend;
+            const double k = effectiveBlend(n.as<BooleanParams>().blend);
             if (k == 0.0) return emitBalanced(0, kids.size(), Op::Min, emitChild);
             bool any = false;
             for (std::size_t i = 0; i < kids.size(); ++i) {
@@ -159,7 +167,7 @@ private:
             return any;
         }
         case NodeType::Intersection: {
-            const double k = n.as<BooleanParams>().blend;
+            const double k = effectiveBlend(n.as<BooleanParams>().blend);
             const Mark m = mark();
             bool ok = true;
             if (k == 0.0) {
@@ -178,7 +186,7 @@ private:
             return ok;
         }
         case NodeType::Difference: {
-            const double k = n.as<BooleanParams>().blend;
+            const double k = effectiveBlend(n.as<BooleanParams>().blend);
             if (!emitChild(0)) return false;
             if (kids.size() == 1) return true;
             if (k == 0.0) {
