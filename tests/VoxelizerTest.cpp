@@ -14,6 +14,8 @@
 #include "support/QuietWait.hpp"
 #include "support/RandomShapes.hpp"
 
+#include "kerf/document/Limits.hpp"
+
 #include <gtest/gtest.h>
 
 #include <thread>
@@ -230,6 +232,10 @@ TEST(GridLayout, ChoosesWholeTilesAndSaysWhenTheDepthRunsOut)
     EXPECT_LE(deep.tileCount(), 32768);
     EXPECT_TRUE(GridLayout::choose(Aabb::empty(), 1.0).empty());
     EXPECT_TRUE(GridLayout::choose(Aabb::empty(), 1.0).bounds().isEmpty()); // not a point at the origin
+    // The default feature size stays within what a document may set.
+    EXPECT_DOUBLE_EQ(defaultFeatureSize(Aabb::centered(glm::dvec3(1e-300))), limits::kMinFeatureSize);
+    EXPECT_DOUBLE_EQ(defaultFeatureSize(Aabb::centered(glm::dvec3(1e12))), limits::kMaxFeatureSize);
+    EXPECT_DOUBLE_EQ(defaultFeatureSize(Aabb::centered(glm::dvec3(500.0))), 1.0);
     // A 200 km sphere at 1e-6 mm (both within the format's limits): 1e13
     // tiles a side at the shallowest depth, which an int held as INT_MIN, a
     // negative count that passed as fitting (the application then crashed).

@@ -1,5 +1,7 @@
 #include "kerf/mesher/MeshFile.hpp"
 
+#include "kerf/document/Limits.hpp"
+
 #include "kerf/mesher/FilePrecision.hpp"
 #include "kerf/mesher/SelfIntersections.hpp"
 #include "kerf/mesher/StlWriter.hpp"
@@ -104,6 +106,8 @@ std::optional<std::string> partTheFileCannotHold(const Aabb& partBounds, MeshFil
     if (partBounds.isEmpty() || !partBounds.isBounded()) return std::nullopt;
     const glm::dvec3 size = partBounds.size();
     const double smallest = std::min({size.x, size.y, size.z});
+    // A part thinner than any feature size is empty to the mesher, which says so.
+    if (smallest < limits::kMinFeatureSize) return std::nullopt;
     const double step = 0.5 * finestTolerance(partBounds, format);
     if (!(step > 0.1 * smallest)) return std::nullopt;
     const bool stl = format != MeshFileFormat::ThreeMf;

@@ -12,6 +12,7 @@
 #include "kerf/mesher/FilePrecision.hpp"
 
 #include "kerf/document/GroupedNumber.hpp"
+#include "kerf/document/Limits.hpp"
 
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/voxelizer/TileBuilder.hpp"
@@ -399,9 +400,10 @@ double roundDownToStep(double x)
 double finerFeatureSize(const MeshStats& stats)
 {
     double size = 0.0;
-    if (stats.trianglesOverTolerance > 0) size = 0.5 * stats.cellSize;
+    if (stats.trianglesOverTolerance > 0) size = std::max(0.5 * stats.cellSize, limits::kMinFeatureSize);
     if (stats.hiddenDetailCells > 0 && stats.hiddenDetailThickness > 0.0) {
-        const double hidden = roundDownToStep(0.5 * stats.hiddenDetailThickness);
+        // Never finer than a document may ask for (it once said 5e-10 mm).
+        const double hidden = std::max(roundDownToStep(0.5 * stats.hiddenDetailThickness), limits::kMinFeatureSize);
         size = size > 0.0 ? std::min(size, hidden) : hidden;
     }
     return size;
@@ -457,6 +459,10 @@ std::string describeEmptyPart(const MeshStats& stats, const Aabb& bounds)
     if (bounds.isEmpty() || !(smallest > 0.0) || !std::isfinite(smallest)) return s + ")";
     const double tryThis = roundDownToStep(0.25 * smallest);
     if (!(tryThis < stats.cellSize)) return s + ")";
+    // No feature size a document may have meshes it (it suggested "0 mm").
+    if (tryThis < limits::kMinFeatureSize)
+        return s + "; the part is thinner than the finest feature size Kerf allows, " +
+               shortNumber(limits::kMinFeatureSize) + " mm)";
     // A round step at or under the quarter (2 mm for an 18 mm board): said as such.
     return s + "; a feature size of " + shortNumber(tryThis) + " mm (a quarter of its smallest extent or less) meshes it)";
 }

@@ -1,5 +1,7 @@
 #include "kerf/voxelizer/GridLayout.hpp"
 
+#include "kerf/document/Limits.hpp"
+
 #include "kerf/voxelizer/VoxelFormat.hpp"
 
 #include <glm/glm.hpp>
@@ -15,6 +17,10 @@ double defaultFeatureSize(const Aabb& bounds)
     const glm::dvec3 e = bounds.size();
     const double target = std::max({e.x, e.y, e.z}) / 1000.0;
     if (!(target > 0.0)) return 1.0;
+    // Within the feature sizes a document may set: a sphere of 1e-300 mm
+    // got 2e-303 mm (check said "0 populated voxels of 2e-303 mm").
+    if (target <= limits::kMinFeatureSize) return limits::kMinFeatureSize;
+    if (target >= limits::kMaxFeatureSize) return limits::kMaxFeatureSize;
     const double decade = std::pow(10.0, std::floor(std::log10(target)));
     for (double m : {5.0, 2.0, 1.0})
         if (m * decade <= target) return m * decade;
