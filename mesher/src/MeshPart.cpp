@@ -105,9 +105,9 @@ std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layou
                                        const Progress& work, tbb::task_arena& arena, MeshStats& stats)
 {
     const Lattice lattice = Lattice::fromLayout(layout);
-    if (std::max({lattice.dims.x, lattice.dims.y, lattice.dims.z}) >= (std::int64_t(1) << 20))
-        throw std::runtime_error("the part is too large to mesh at a feature size of " +
-                                 std::to_string(options.featureSize) + " mm");
+    if (std::max({lattice.dims.x, lattice.dims.y, lattice.dims.z}) >= kMaxLatticeCellsPerAxis)
+        throw std::runtime_error(partTooLongToMesh(tape.bounds(), options.featureSize)
+                                     .value_or("the part is too long to mesh at this feature size"));
     const CellMeshing meshing = cellMeshing(lattice, layout, options.tolerance, options.findHiddenDetail);
     stats.edgeMargin = meshing.edgeMargin * lattice.h;
     const TileMesher mesher(tape, lattice, meshing);
@@ -387,6 +387,20 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
 }
 
 namespace {
+// The smallest of 1, 2 and 5 times a power of ten that is at least x (> 0).
+double roundUpToStep(double x)
+{
+    const double decade = std::pow(10.0, std::floor(std::log10(x)));
+    for (const double step : {1.0, 2.0, 5.0})
+        if (step * decade >= x * (1.0 - 1e-12)) return step * decade;
+    return 10.0 * decade;
+}
+
+// A length or a coordinate as people read it: 0.05, 1, 139.9.
+std::string shortNumber(double v);
+} // namespace
+
+namespace {
 // The largest of 1, 2 and 5 times a power of ten that is at most x (> 0).
 double roundDownToStep(double x)
 {
@@ -396,6 +410,26 @@ double roundDownToStep(double x)
     return decade;
 }
 } // namespace
+
+std::optional<std::string> partTooLongToMesh(const Aabb& partBounds, double featureSize)
+{
+    if (partBounds.isEmpty() || !partBounds.isBounded() || !(featureSize > 0.0)) return std::nullopt;
+    // The mesher tiles along the longest axis, as latticeMesh() lays them out.
+    const auto tilesAlong = [&](double size) {
+        const GridLayout g = GridLayout::choose(partBounds, size);
+        const Lattice l = Lattice::fromLayout(g);
+        return std::max({l.dims.x, l.dims.y, l.dims.z});
+    };
+    if (tilesAlong(featureSize) < kMaxLatticeCellsPerAxis) return std::nullopt;
+    double fits = roundUpToStep(featureSize * 1.0001);
+    for (int i = 0; i < 64 && tilesAlong(fits) >= kMaxLatticeCellsPerAxis; ++i)
+        fits = roundUpToStep(fits * 1.0001 * 2.0);
+    const glm::dvec3 size = partBounds.size();
+    return "the part is " + shortNumber(std::max({size.x, size.y, size.z})) + " mm long: at a feature size of " +
+           shortNumber(featureSize) + " mm it needs more than the mesher's " +
+           grouped(std::uint64_t(kMaxLatticeCellsPerAxis)) + " tiles along it; choose " + shortNumber(fits) +
+           " mm or more";
+}
 
 double finerFeatureSize(const MeshStats& stats)
 {

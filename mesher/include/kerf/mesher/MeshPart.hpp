@@ -58,6 +58,14 @@ namespace kerf {
 /// docs/benchmarks.md).
 inline constexpr double kDefaultExportTolerance = 0.05;
 
+/// The most mesher tiles (of up to 64 cells) the lattice has along an axis.
+inline constexpr std::int64_t kMaxLatticeCellsPerAxis = std::int64_t(1) << 20;
+
+/// Why the part cannot be meshed at `featureSize` at all, or nothing when it
+/// can: more than kMaxLatticeCellsPerAxis mesher tiles along an axis. Says
+/// the feature size that fits.
+std::optional<std::string> partTooLongToMesh(const Aabb& partBounds, double featureSize);
+
 /// How the simplification keeps the mesh from crossing itself: no triangle
 /// may cross another or come within the file's rounding of one.
 enum class CrossingGuard {
