@@ -383,6 +383,22 @@ TEST(ProfileSweep, AProfileAtThePointLimitIsCheckedInWellUnderASecond)
     EXPECT_LT(std::chrono::duration<double>(Clock::now() - t0).count(), 1.0 * kSlow);
 }
 
+TEST(ProfileSweep, DefectsAreNamedAsTheProfileTableNumbersItsRows)
+{
+    // A newcomer's table numbered points from 1 and the messages from 0;
+    // two points in a row at one place were told "the profile closes
+    // itself"; a bow tie was "no area" (it has none, but it crosses itself).
+    const std::vector<glm::dvec2> twice = {{0, 0}, {10, 0}, {10, 0}, {0, 10}};
+    EXPECT_EQ(findProfileDefect(twice), "point 3 repeats point 2 (two points in a row at one place)");
+    const std::vector<glm::dvec2> closed = {{0, 0}, {10, 0}, {0, 10}, {0, 0}};
+    EXPECT_EQ(findProfileDefect(closed),
+              "the last point repeats the first (the profile closes itself; do not repeat the first point)");
+    const std::vector<glm::dvec2> bowTie = {{-10, -10}, {10, -10}, {-10, 10}, {10, 10}};
+    EXPECT_EQ(findProfileDefect(bowTie), "self-intersecting: edge 2 (points 2-3) meets edge 4 (points 4-1)");
+    const std::vector<glm::dvec2> line = {{0, 0}, {5, 0}, {10, 0}};
+    EXPECT_EQ(findProfileDefect(line), "the polygon has no area (degenerate: its points lie on one line)");
+}
+
 TEST(HostileInput, AHalfMillionPointProfileIsRefusedAtOnce)
 {
     std::string pts;

@@ -173,27 +173,37 @@ std::optional<std::string> findProfileDefect(const std::vector<glm::dvec2>& p)
     if (!(extent > 0.0)) return "all points coincide";
     // Tolerances relative to the profile's size: cross products scale with extent^2.
     const double eps = extent * extent * 1e-12;
+    // Points and edges are numbered from 1, as the application's profile
+    // table numbers its rows (edge k runs from point k to the next).
+    const auto number = [](std::size_t i) { return std::to_string(i + 1); };
     for (std::size_t i = 0; i < n; ++i) {
         const std::size_t j = (i + 1) % n;
         if (glm::length(p[j] - p[i]) <= extent * 1e-9)
-            return "point " + std::to_string(j) + " repeats point " + std::to_string(i) +
-                   " (the profile closes itself; do not repeat the first point)";
+            return j == 0 ? "the last point repeats the first (the profile closes itself; do not repeat the first point)"
+                          : "point " + number(j) + " repeats point " + number(i) + " (two points in a row at one place)";
     }
-    if (std::fabs(signedArea(p)) <= extent * extent * 1e-9) return "the polygon has no area (degenerate)";
+    // Every point on one line: no area, whatever folds back along it.
+    std::size_t far = 0;
+    for (std::size_t i = 1; i < n; ++i)
+        if (glm::length(p[i] - p[0]) > glm::length(p[far] - p[0])) far = i;
+    bool onOneLine = true;
+    for (std::size_t i = 0; i < n && onOneLine; ++i) onOneLine = orientation(p[0], p[far], p[i], eps) == 0;
+    if (onOneLine) return "the polygon has no area (degenerate: its points lie on one line)";
     for (std::size_t i = 0; i < n; ++i) {
         const glm::dvec2 a = p[i], b = p[(i + 1) % n], c = p[(i + 2) % n];
         // Neighbouring edges may only share their common point: a spike that
         // folds back along itself overlaps.
         if (orientation(a, b, c, eps) == 0 && glm::dot(b - a, c - b) < 0.0)
-            return "edges " + std::to_string(i) + " and " + std::to_string((i + 1) % n) +
-                   " fold back over each other at point " + std::to_string((i + 1) % n);
+            return "edges " + number(i) + " and " + number((i + 1) % n) + " fold back over each other at point " +
+                   number((i + 1) % n);
     }
+    // Crossing first: a bow tie has no area either, and was told only that.
     if (const auto hit = TouchingEdges(p, eps).find()) {
         const auto [i, j] = *hit;
-        return "self-intersecting: edge " + std::to_string(i) + " (points " + std::to_string(i) + "-" +
-               std::to_string((i + 1) % n) + ") meets edge " + std::to_string(j) + " (points " + std::to_string(j) +
-               "-" + std::to_string((j + 1) % n) + ")";
+        return "self-intersecting: edge " + number(i) + " (points " + number(i) + "-" + number((i + 1) % n) +
+               ") meets edge " + number(j) + " (points " + number(j) + "-" + number((j + 1) % n) + ")";
     }
+    if (std::fabs(signedArea(p)) <= extent * extent * 1e-9) return "the polygon has no area (degenerate)";
     return std::nullopt;
 }
 
