@@ -92,7 +92,7 @@ private:
         if (a.bare) return {op(asLength(a, b), b.value), b.length, false};
         if (b.bare) return {op(a.value, asLength(b, a)), a.length, false};
         if (a.length != b.length)
-            throw ExpressionError(std::string("a unit mismatch: ") + verb + " " + describe(b) + " and " + describe(a));
+            throw ExpressionError(std::string("is a unit mismatch: ") + verb + " " + describe(b) + " and " + describe(a));
         return {op(a.value, b.value), a.length, false};
     }
 
@@ -139,9 +139,9 @@ private:
         const Quantity base = unary();
         if (!eat('^')) return base;
         const Quantity e = power();
-        if (!e.bare && e.length != 0) fail("a unit mismatch: an exponent must be a plain number, not " + describe(e));
+        if (!e.bare && e.length != 0) fail("is a unit mismatch: an exponent must be a plain number, not " + describe(e));
         if (base.bare || base.length == 0) return {std::pow(base.value, e.value), 0, base.bare};
-        if (e.value != std::round(e.value)) fail("a unit mismatch: a length to a fractional power");
+        if (e.value != std::round(e.value)) fail("is a unit mismatch: a length to a fractional power");
         if (std::fabs(e.value) > 8.0) fail("raises a length to a power beyond 8");
         return {std::pow(base.value, e.value), base.length * int(e.value), false};
     }
@@ -236,16 +236,16 @@ private:
         while (eat(','));
         if (!eat(')')) fail("misses ')' after the arguments of " + f);
         auto one = [&] {
-            if (args.size() != 1) fail(f + " takes one argument, not " + std::to_string(args.size()));
+            if (args.size() != 1) fail("gives " + f + " " + std::to_string(args.size()) + " arguments (it takes one)");
             return args[0];
         };
         auto angle = [&] {
             const Quantity a = one();
-            if (!a.bare && a.length != 0) fail("a unit mismatch: " + f + " of " + describe(a) + " (it takes degrees)");
+            if (!a.bare && a.length != 0) fail("is a unit mismatch: " + f + " of " + describe(a) + " (it takes degrees)");
             return a.value * std::numbers::pi / 180.0;
         };
         if (f == "min" || f == "max") {
-            if (args.size() < 2) fail(f + " takes two or more arguments");
+            if (args.size() < 2) fail("gives " + f + " one argument (it takes two or more)");
             Quantity q = args[0];
             for (std::size_t i = 1; i < args.size(); ++i)
                 q = combineAdditive(
@@ -259,7 +259,7 @@ private:
         if (f == "ceil") return {std::ceil(one().value), args[0].length, args[0].bare};
         if (f == "sqrt") {
             const Quantity a = one();
-            if (!a.bare && a.length % 2 != 0) fail("a unit mismatch: the square root of " + describe(a));
+            if (!a.bare && a.length % 2 != 0) fail("is a unit mismatch: the square root of " + describe(a));
             if (a.value < 0.0 && resolver_) fail("takes the square root of a negative number");
             return {std::sqrt(a.value), a.length / 2, a.bare};
         }

@@ -2298,7 +2298,11 @@ void MainWindowTest::aPartThinnerThanAVoxelEverywhereIsSaidNotLeftBlank()
     QVERIFY(w->openFile(doc.toStdString()));
     QTRY_VERIFY_WITH_TIMEOUT(w->statusBar()->currentMessage().startsWith("Nothing shows at the view feature size of"),
                              60000);
-    QVERIFY2(w->statusBar()->currentMessage().contains("Set a finer View feature size"),
+    QVERIFY2(w->statusBar()->currentMessage().contains("a finer View feature size in Properties"),
+             qPrintable(w->statusBar()->currentMessage()));
+    // At the part's own voxel size (it said "0 mm", from the empty part
+    // shown before the file opened).
+    QVERIFY2(w->statusBar()->currentMessage().startsWith("Nothing shows at the view feature size of 50 mm"),
              qPrintable(w->statusBar()->currentMessage()));
     // Done so, the legs show and the message goes.
     w->selectNodes({});

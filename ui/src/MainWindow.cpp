@@ -424,8 +424,11 @@ void MainWindow::sayWhenNothingShows(const VoxelSnapshot& s)
     if (!s.complete) return;
     const bool empty = std::none_of(s.tiles.begin(), s.tiles.end(),
                                     [](const auto& t) { return t && t->state != TileState::Empty; });
-    // Everything hidden, or a new part: nothing to show, rightly.
-    if (empty && !partBounds(session_->document()).isEmpty()) showMessage(nothing.arg(s.layout.voxelSize), 0);
+    // Everything hidden, or a new part: nothing to show, rightly. A grid of
+    // no tiles is such a part's (an earlier revision's, published while a
+    // file opened: it said "at the view feature size of 0 mm").
+    if (empty && !s.layout.empty() && !partBounds(session_->document()).isEmpty())
+        showMessage(nothing.arg(s.layout.voxelSize), 0);
     else if (said) statusBar()->clearMessage(); // shown again: the message is stale
 }
 
