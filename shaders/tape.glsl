@@ -22,6 +22,7 @@
 #define KERF_TAPE_GLSL
 
 #include "kerf/voxelizer/TileTapeFormat.h"
+#include "kerf/evaluator/FeatureTie.h"
 
 float tapeFloat(uint t, uint i) { return uintBitsToFloat(tapeWord(t, i)); }
 #define kTapeNaN uintBitsToFloat(0x7fc00000u)

@@ -71,7 +71,9 @@ T KERF_TAPE_EVALUATE(uint t, T px, T py, T pz, out uint feature)
 #ifdef KERF_TAPE_FEATURES
             // The deciding feature: the operand the exact min/max would pick.
             const bool isMin = op == KERF_TAPE_MIN || op == KERF_TAPE_SMOOTH_MIN;
-            f0 = (isMin ? valT(b) < valT(a) : valT(a) < valT(b)) ? f0 : f1;
+            // Within the tie band the left operand keeps it (FeatureTie.h).
+            f0 = (isMin ? valT(b) + float(KERF_FEATURE_TIE) < valT(a) : valT(a) + float(KERF_FEATURE_TIE) < valT(b)) ? f0
+                                                                                                                 : f1;
             f1 = f2; f2 = f3; f3 = f4; f4 = f5; f5 = f6; f6 = f7;
 #endif
         } else if (op == KERF_TAPE_NEGATE) {

@@ -5,6 +5,7 @@
 #include "kerf/document/PrintableText.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -99,8 +100,32 @@ std::vector<std::pair<std::string, std::string>> Arguments::defines() const
     return out;
 }
 
+namespace {
+// A decimal number as people write one (12, 0.5, .5, 1e-3): strtod also
+// reads hexadecimal ("0x10" was 16 mm), "inf" and "nan", and leading spaces.
+bool isDecimal(const std::string& text)
+{
+    std::size_t i = 0, digits = 0;
+    if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+    for (; i < text.size() && std::isdigit(static_cast<unsigned char>(text[i])); ++i) ++digits;
+    if (i < text.size() && text[i] == '.')
+        for (++i; i < text.size() && std::isdigit(static_cast<unsigned char>(text[i])); ++i) ++digits;
+    if (digits == 0) return false;
+    if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+        ++i;
+        if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+        std::size_t exponent = 0;
+        for (; i < text.size() && std::isdigit(static_cast<unsigned char>(text[i])); ++i) ++exponent;
+        if (exponent == 0) return false;
+    }
+    return i == text.size();
+}
+} // namespace
+
 double Arguments::parsePositiveMillimetres(const std::string& option, const std::string& text)
 {
+    if (!isDecimal(text))
+        throw UsageError(option + " must be a positive number of millimetres, not '" + printable(text) + "'");
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
     if (text.empty() || *end != '\0' || !std::isfinite(v) || !(v > 0.0))
@@ -119,6 +144,8 @@ double Arguments::parseFeatureSize(const std::string& option, const std::string&
 
 double Arguments::parseTolerance(const std::string& option, const std::string& text)
 {
+    if (!isDecimal(text))
+        throw UsageError(option + " must be a number of millimetres (0 for none), not '" + printable(text) + "'");
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
     if (!text.empty() && *end == '\0' && v == 0.0) return 0.0;

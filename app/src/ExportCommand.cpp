@@ -204,16 +204,19 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         // (a sphere 200 km across split on past 5 GB for 0.05 mm that its
         // STL steps by 8 mm).
         if (const auto why = partTheFileCannotHold(bounds, *format)) throw RefusedRequest(printable(file) + ": " + *why);
-        if (!toleranceText && toleranceTheFileCannotHold(bounds, *format, tolerance)) {
-            const double held = defaultToleranceFor(bounds, *format);
-            err << "kerf export: warning: the default tolerance of " << mm(tolerance) << " mm is finer than "
-                << (*format == MeshFileFormat::ThreeMf ? "a 3MF" : "an STL") << " file holds for this part: meshed to "
-                << significant(held, 2) << " mm, the finest it holds\n";
-            tolerance = held;
-            options.tolerance = held;
+        const double defaultTolerance = tolerance;
+        const bool heldCoarser = !toleranceText && toleranceTheFileCannotHold(bounds, *format, tolerance);
+        if (heldCoarser) {
+            tolerance = defaultToleranceFor(bounds, *format);
+            options.tolerance = tolerance;
         }
         // The output and the machine's budget, before any meshing.
         preflightExport(doc, file, target, options.featureSize, options.tolerance);
+        // Said once the request is taken (a refusal stays one line).
+        if (heldCoarser)
+            err << "kerf export: warning: the default tolerance of " << mm(defaultTolerance) << " mm is finer than "
+                << (*format == MeshFileFormat::ThreeMf ? "a 3MF" : "an STL") << " file holds for this part: meshed to "
+                << significant(tolerance, 2) << " mm, the finest it holds\n";
         if (interrupted) return interruptedMessage();
 
         const bool terminal = ::isatty(STDERR_FILENO);

@@ -2,6 +2,7 @@
 // unknown field exactly as it was read.
 
 #include "kerf/document/AtomicFile.hpp"
+#include "kerf/document/PrintableText.hpp"
 #include "kerf/document/Document.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/NodeTypes.hpp"
@@ -147,7 +148,12 @@ void Document::save(const std::filesystem::path& file) const
     try {
         writeFileAtomically(file, text);
     } catch (const std::runtime_error& e) {
-        throw DocumentError(file.string(), "", "", e.what());
+        // The writer names the file already ("x.kerf: x.kerf: the folder ..."
+        // was said to a newcomer): once is enough.
+        std::string why = e.what();
+        const std::string named = printable(file.string(), 400) + ": ";
+        if (why.rfind(named, 0) == 0) why.erase(0, named.size());
+        throw DocumentError(file.string(), "", "", why);
     }
 }
 

@@ -1,5 +1,7 @@
 #include "kerf/evaluator/PointEvaluator.hpp"
 
+#include "kerf/evaluator/FeatureTie.h"
+
 #include "kerf/evaluator/Combine.hpp"
 #include "kerf/evaluator/Primitives.hpp"
 
@@ -282,8 +284,10 @@ void PointEvaluator<V>::evaluateBlock(const Tape& tape, const Scalar* x, const S
                 std::uint32_t* fa = fs + (sp - 2) * kBlock;
                 const std::uint32_t* fb = fs + (sp - 1) * kBlock;
                 const bool isMin = ins.op == Op::Min || ins.op == Op::SmoothMin;
+                // Within the tie band the left operand keeps it (FeatureTie.h).
+                const S tie = static_cast<S>(KERF_FEATURE_TIE);
                 for (std::size_t i = 0; i < n; ++i)
-                    if (isMin ? lessThan(b[i], a[i]) : lessThan(a[i], b[i])) fa[i] = fb[i];
+                    if (isMin ? lessThan(b[i] + V(tie), a[i]) : lessThan(a[i] + V(tie), b[i])) fa[i] = fb[i];
             }
             const S k = static_cast<S>(ins.k);
             switch (ins.op) {

@@ -1747,6 +1747,9 @@ void MainWindowTest::cutListMeasureAndSection()
     QTRY_VERIFY_WITH_TIMEOUT(cut->ready(), 30000);
     QCOMPARE(cut->rows().size(), std::size_t(1));
     QCOMPARE(cut->rows()[0].length, 1800.0);
+    const auto* counted = cut->findChild<QLabel*>("cutlist.status");
+    QVERIFY(counted);
+    QVERIFY2(counted->text().startsWith("1 row, 1 piece; dimensions within"), qPrintable(counted->text()));
     const QString csv = files_.path() + "/cut.csv";
     QVERIFY(cut->exportCsv(csv));
     QFile f(csv);

@@ -35,6 +35,7 @@ CutListDialog::CutListDialog(const Document& doc, QString partName, QString sugg
     table_->setSortingEnabled(false);
     layout->addWidget(table_);
     status_ = new QLabel(tr("Measuring the bodies…"), this);
+    status_->setObjectName("cutlist.status");
     layout->addWidget(status_);
     auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close, this);
     exportButton_ = buttons->addButton(tr("Export CSV…"), QDialogButtonBox::ActionRole);
@@ -83,10 +84,16 @@ void CutListDialog::showRows(std::vector<CutListRow> rows)
         }
         worst = std::max(worst, row.uncertainty);
     }
+    // Pieces, with each row's quantity: a mirrored pair is one row and two
+    // pieces (a newcomer read "1 body" beside a quantity of 2).
+    long pieces = 0;
+    for (const CutListRow& row : rows_) pieces += row.quantity;
+    const QString counted = rows_.size() == 1 ? tr("1 row") : tr("%1 rows").arg(rows_.size());
+    const QString made = pieces == 1 ? tr("1 piece") : tr("%1 pieces").arg(pieces);
     status_->setText(rows_.empty() ? tr("The part has no visible body.")
-                   : (rows_.size() == 1 ? tr("1 body; dimensions within %1 mm.")
-                                        : tr("%1 bodies; dimensions within %2 mm.").arg(rows_.size()))
-                         .arg(std::max(worst, 0.01), 0, 'f', 2));
+                                   : tr("%1, %2; dimensions within %3 mm.")
+                                         .arg(counted, made)
+                                         .arg(std::max(worst, 0.01), 0, 'f', 2));
     exportButton_->setEnabled(!rows_.empty());
     ready_ = true;
     emit computed();

@@ -1,5 +1,7 @@
 #include "kerf/voxelizer/TileTape.hpp"
 
+#include "kerf/evaluator/FeatureTie.h"
+
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -145,7 +147,10 @@ template <class T> T evaluate(const std::uint32_t* t, const glm::vec3& p, std::u
             const T b = st[0], a = st[1];
             // The deciding feature: the operand the exact min/max would pick.
             const bool isMin = op == KERF_TAPE_MIN || op == KERF_TAPE_SMOOTH_MIN;
-            const std::uint32_t f = (isMin ? b < a : a < b) ? fs[0] : fs[1];
+            // Within the tie band the left operand keeps it (FeatureTie.h).
+            const double tie = KERF_FEATURE_TIE;
+            const std::uint32_t f =
+                (isMin ? valueOf(b) + tie < valueOf(a) : valueOf(a) + tie < valueOf(b)) ? fs[0] : fs[1];
             using std::max;
             using std::min;
             if (op == KERF_TAPE_MIN) st[0] = min(a, b);
