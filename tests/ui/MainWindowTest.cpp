@@ -2824,6 +2824,9 @@ void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependen
     QCOMPARE(props->errorFor("size.x"), QString());
     typeInto(field(*w, "size.x"), "boards");
     QVERIFY2(props->errorFor("size.x").contains("cannot read 'boards'"), qPrintable(props->errorFor("size.x")));
+    // Another feature's value without the '=': said how to write it.
+    typeInto(field(*w, "size.x"), "frob.size[0] + 20");
+    QVERIFY2(props->errorFor("size.x").contains("start with '=': =frob.size[0]"), qPrintable(props->errorFor("size.x")));
     QCOMPARE(props->expressionFor("size.x"), QString("board + 3"));
     typeInto(field(*w, "size.x"), "19mm");
     QCOMPARE(props->expressionFor("size.x"), QString());

@@ -72,8 +72,13 @@ ExpressionResult evaluate(std::string_view text, std::string_view unit, bool wan
         none.name = [](std::string_view n) -> expr::Quantity {
             throw expr::ExpressionError("'" + std::string(n) + "' is not a number or a unit");
         };
+        // Another feature's value typed without the '=' that makes an
+        // expression: said how (a newcomer's "box.size[0] + 20" was only
+        // "not a number").
         none.field = [](std::string_view id, std::string_view path) -> expr::Quantity {
-            throw expr::ExpressionError("'" + std::string(id) + "." + std::string(path) + "' is not a number");
+            throw expr::ExpressionError("'" + std::string(id) + "." + std::string(path) +
+                                        "' is not a number (to use another feature's value, start with '=': =" +
+                                        std::string(id) + "." + std::string(path) + ")");
         };
         none.bareLengthMm = bareLengthToMm(1.0, bareLength); // "3/4in + 1/8" in a field shown in inches
         const expr::Quantity q = expr::evaluate(expr, none);

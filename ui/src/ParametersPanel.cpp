@@ -90,13 +90,16 @@ ParametersPanel::ParametersPanel(DocumentSession* session, QWidget* parent) : QW
     buttons->addWidget(add_);
     buttons->addWidget(remove_);
     buttons->addStretch(1);
-    layout->addLayout(buttons);
+    // Between the table and the buttons: the buttons stay where they are
+    // when a refusal shows (below them it moved them up, and a newcomer's
+    // next click missed Add).
     error_ = new QLabel(this);
     error_->setObjectName("parameters.error");
     error_->setWordWrap(true);
     error_->setStyleSheet("color: #b00020;");
     error_->hide();
     layout->addWidget(error_);
+    layout->addLayout(buttons);
 
     connect(add_, &QPushButton::clicked, this, &ParametersPanel::addParameter);
     connect(remove_, &QPushButton::clicked, this, &ParametersPanel::removeSelected);
