@@ -43,6 +43,7 @@ std::string readDocumentFile(const std::filesystem::path& file)
 {
     const std::string name = file.string();
     auto refuse = [&](const std::string& why) -> DocumentError { return DocumentError(name, "", "", why); };
+    if (name.empty()) throw refuse("the file name is empty: name a Kerf document (FILE.kerf)");
     // O_NONBLOCK: opening a FIFO that no one writes to would otherwise wait
     // for a writer forever. Cleared below for reading.
     const FileDescriptor fd(::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY));
