@@ -352,7 +352,10 @@ TEST(AddFeature, APanelWhoseThicknessIsAParameterStaysOnTheGridWhenItChanges)
     // and the dado, rebate and holes measured from "thickness - ..." came
     // out shallower, without a word.
     Document doc = edit::emptyDocument();
-    doc.parameters.push_back({.name = "thickness", .expression = "18"});
+    Parameter thickness;
+    thickness.name = "thickness";
+    thickness.expression = "18";
+    doc.parameters.push_back(thickness);
     const std::string id = edit::addFeature(doc, NodeType::Box, {});
     doc = doc.resolved();
     const Node before = *doc.root.find(id);

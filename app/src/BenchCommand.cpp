@@ -361,8 +361,8 @@ int runBench(const std::vector<std::string>& args, std::ostream& out, std::ostre
         }
         const std::optional<std::string> sizes = a.value("--feature-sizes");
         if (sizes) options.featureSizes = parseFeatureSizes(*sizes);
-        for (const auto& out : {json, png})
-            if (out) refuseOverwriting(*out, file, "the document being measured");
+        for (const auto& written : {json, png})
+            if (written) refuseOverwriting(*written, file, "the document being measured");
         if (json && png) refuseOverwriting(*png, *json, "the --json file");
 
         const Document doc = Document::load(file, a.defines());

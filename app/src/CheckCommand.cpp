@@ -156,7 +156,8 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
         } else {
             // Readable at any size ("about 3.2 GB", "more than 1000 EB").
             const std::string bytes = describeBytes(estimate.bytes);
-            out << "  voxel memory:  " << (bytes.rfind("more", 0) == 0 ? bytes : "about " + bytes) << " (about " << describeCount(estimate.populatedVoxels)
+            out << "  voxel memory:  " << (bytes.rfind("more", 0) == 0 ? bytes : "about " + bytes) << " (about "
+                << describeCount(estimate.populatedVoxels)
                 << " populated voxels of " << mm(layout.voxelSize) << " mm, estimated from a coarse voxelization in "
                 << mm(seconds) << " s; ";
             if (tooLarge)

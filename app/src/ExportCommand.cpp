@@ -203,7 +203,8 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         // holds: meshing to less only splits triangles that rounding undoes
         // (a sphere 200 km across split on past 5 GB for 0.05 mm that its
         // STL steps by 8 mm).
-        if (const auto why = partTheFileCannotHold(bounds, *format)) throw RefusedRequest(printable(file) + ": " + *why);
+        if (const auto why = partTheFileCannotHold(bounds, *format))
+            throw RefusedRequest(printable(file) + ": " + *why);
         const double defaultTolerance = tolerance;
         const bool heldCoarser = !toleranceText && toleranceTheFileCannotHold(bounds, *format, tolerance);
         if (heldCoarser) {
