@@ -76,6 +76,13 @@ bool capPending = false;
 float capDepth = 0.0;
 vec3 capNormal = vec3(0.0);
 
+// Whether the plane's point was inside, from the field where the ray enters
+// its first populated voxel (ReferenceTracer.cpp, CapState::insideAtEntry).
+bool capInsideAtEntry(float value, float voxelMm, bool travelled)
+{
+    return travelled ? value < -1e-3 * voxelMm : value <= 0.0;
+}
+
 void hitCap(inout Hit hit)
 {
     hit.depth = capDepth;
@@ -121,6 +128,9 @@ vec4 alongRay(const float k[8], vec3 o, vec3 d)
 
 float evalCubic(vec4 c, float w) { return c.x + w * (c.y + w * (c.z + w * c.w)); }
 
+// What counts as zero in a voxel's cubic along a ray (ReferenceTracer.cpp, kCubicZero).
+float cubicZero(const vec4 c) { return 1e-5 * (abs(c.x) + abs(c.y) + abs(c.z) + abs(c.w)); }
+
 float firstCrossing(vec4 c, float wEnd, out float least)
 {
     float r1 = kInf, r2 = kInf;
@@ -148,7 +158,7 @@ float firstCrossing(vec4 c, float wEnd, out float least)
 
     // Inside is below zero, as the voxelizer counts a corner, and a value
     // within the cubic's rounding of zero is zero (ReferenceTracer.cpp says why).
-    const float zero = 1e-5 * (abs(c.x) + abs(c.y) + abs(c.z) + abs(c.w));
+    const float zero = cubicZero(c);
     float a = breaks[0];
     float fa = evalCubic(c, a);
     least = fa;
@@ -510,7 +520,8 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
             const float wEnd = max(0.0, (sExit - s) * voxelScale);
             const vec4 along = alongRay(k, o, dir);
             if (capPending) {
-                if (evalCubic(along, 0.0) <= 0.0) { // at or below zero (ReferenceTracer.cpp)
+                if (capInsideAtEntry(evalCubic(along, 0.0), voxelMm,
+                                     tEnter + s * tileSize - capDepth > 1e-3 * voxelMm)) {
                     hitCap(hit);
                     return true;
                 }

@@ -350,6 +350,42 @@ TEST(TracerSection, AFaceFarBehindThePlaneIsNoCut)
     }
 }
 
+// A newcomer's wall-cabinet side with a dado, cut across Y and seen in
+// perspective: a strip of the dado's wall was drawn hatched as cut. The wall
+// lies on lattice planes; a ray that started on the plane inside the groove
+// crossed unpopulated (outside) cells and entered the wall's voxel where the
+// field is exactly 0, which the cap took for inside. A cap is only where the
+// plane's point is inside the part.
+TEST(TracerSection, AWallOnLatticePlanesSeenInPerspectiveIsNoCut)
+{
+    const Tape tape = compileTape(doc(R"({"id":"side","type":"difference","children":[
+        {"id":"panel","type":"box","size":[600,300,19.05],"transform":{"translate":[0,0,9.525]}},
+        {"id":"dado","type":"box","size":[18,320,8],"transform":{"translate":[0,0,17.05]}}]})"));
+    PointEvaluator<double> points;
+    const Section section = Section::alongAxis(1, -113.0, true);
+    for (const double featureSize : {0.5, 1.0}) {
+        const FlatVoxelBuffers buffers = voxels(tape, featureSize);
+        const Camera camera = Camera::perspective({0, -400, 10}, {0, -113, 10}, {0, 0, 1}, 8.0, 220, 160);
+        for (const TraceQuality quality : {TraceQuality::Voxels, TraceQuality::Exact}) {
+            const TraceImage image = traceVoxels(buffers, camera, 2, section, quality);
+            int caps = 0, capsOutside = 0;
+            for (int y = 0; y < image.height; ++y)
+                for (int x = 0; x < image.width; ++x) {
+                    if (image.feature[image.index(x, y)] != kSectionCap) continue;
+                    ++caps;
+                    const Ray r = camera.ray(x, y);
+                    const glm::dvec3 p = r.origin + double(image.depth[image.index(x, y)]) * r.direction;
+                    // Outside by more than the voxels' own departure near the
+                    // groove's inner corners (0.09 of a voxel seen there).
+                    capsOutside += points.evaluate(tape, p.x, p.y, p.z) > 0.25 * featureSize;
+                }
+            EXPECT_GT(caps, 1000) << featureSize << " mm: the plane cuts the panel";
+            EXPECT_EQ(capsOutside, 0) << "of " << caps << " caps at " << featureSize << " mm, "
+                                      << traceQualityName(quality);
+        }
+    }
+}
+
 // A section view is the exact image of the part intersected with the kept
 // half-space: the cut face of that solid is the plane, where the voxel
 // tracer reports the cap.

@@ -496,6 +496,22 @@ struct CapState {
     bool pending = false;
     float depth = 0.0f;
     glm::vec3 normal{0.0f};
+    // Whether the plane's point was inside, from the field where the ray
+    // enters its first populated voxel (`value`, mm). Where the ray starts in
+    // that voxel, at or below zero: a plane lying on a face of the part caps
+    // it (below by more than the rounding alone, CPU and GPU decided such
+    // points differently). Where it first crossed unpopulated cells
+    // (`travelled`), those were proven wholly inside or outside, corners
+    // included, so inside, the face they share with the voxel is below zero
+    // all over; a value within a thousandth of a voxel of zero there is a face
+    // of the part on a lattice plane met from outside (a dado's wall seen in
+    // perspective was hatched as cut). A thousandth, not the cubic's rounding:
+    // after 50 voxels of travel the entry lies 1e-5 of a voxel off the face,
+    // on either side as the CPU or the GPU rounds.
+    static bool insideAtEntry(float value, float voxelMm, bool travelled)
+    {
+        return travelled ? value < -1e-3f * voxelMm : value <= 0.0f;
+    }
     void hitAt(RayHit& hit)
     {
         hit.depth = depth;
@@ -604,10 +620,8 @@ bool traceTile(const FlatVoxelBuffers& b, const TileEntry& entry, const std::uin
             const float wEnd = glm::max(0.0f, (sExit - s) * voxelScale);
             const Cubic along = alongRay(tri, o, dir);
             if (cap.pending) {
-                // At or below zero: a plane lying on a face of the part caps
-                // it (below by more than the cubic's rounding, CPU and GPU
-                // decided such points differently).
-                if (evalCubic(along, 0.0f) <= 0.0f) {
+                if (cap.insideAtEntry(evalCubic(along, 0.0f), voxelMm,
+                                      tEnter + s * tileSize - cap.depth > 1e-3f * voxelMm)) {
                     cap.hitAt(hit);
                     return true;
                 }
