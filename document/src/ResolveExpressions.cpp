@@ -2,11 +2,14 @@
 
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/Expression.hpp"
+#include "kerf/document/GroupedNumber.hpp"
+#include "kerf/document/Limits.hpp"
 #include "kerf/document/NodeTypes.hpp"
 
 #include "BoundedJsonParser.hpp"
 #include "FieldPath.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <unordered_map>
 #include <unordered_set>
@@ -72,8 +75,22 @@ public:
         for (const std::string& key : siteOrder_) {
             Site& s = sites_.at(key);
             // The number in the field: an integer where the reader wants one.
-            if (s.count && s.value == std::round(s.value) && std::fabs(s.value) < 9.0e15)
-                *s.json = static_cast<std::int64_t>(s.value);
+            // A count within decimal arithmetic's rounding of a whole number is
+            // that number ("(0.1 + 0.2) * 10" gives 3.0000000000000004; a
+            // count was refused there, "not 3.0000000000000004 ... gives 3").
+            const double whole = std::round(s.value);
+            if (s.count && std::fabs(s.value - whole) > kCountRounding * std::max(1.0, std::fabs(whole)))
+                fail(s.nodeId, s.path,
+                     "is a count, a whole number, and the expression \"" + s.text + "\" gives " +
+                         formatFieldNumber(s.value) + " (round(), floor() or ceil() make a whole number of it)");
+            if (s.count && std::fabs(whole) >= 9.0e15)
+                fail(s.nodeId, s.path,
+                     "is a count, and the expression \"" + s.text + "\" gives " + formatFieldNumber(s.value) +
+                         (whole > 0.0 ? ", more than the " + grouped(limits::kMaxPrimitiveCopies) +
+                                            " primitive copies a document may have"
+                                      : ", where a count is 1 or more"));
+            if (s.count)
+                *s.json = static_cast<std::int64_t>(whole);
             else
                 *s.json = s.value;
             out.sites.push_back({s.nodeId, s.path, s.text, s.value});
@@ -82,6 +99,9 @@ public:
     }
 
 private:
+    // How far from a whole number a count's expression may land by rounding
+    // alone, relative to the number.
+    static constexpr double kCountRounding = 1e-9;
     enum class State : std::uint8_t { Pending, Busy, Done };
     struct Param {
         Parameter spec;
