@@ -8,10 +8,12 @@
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/Expression.hpp"
 #include "kerf/document/NodePlacement.hpp"
+#include "kerf/document/ReferableNumbers.hpp"
 #include "kerf/evaluator/CutList.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -558,6 +560,27 @@ TEST(ParametricExample, ThicknessHeightAndRowsFollowTheirParametersIntoTheCutLis
     ASSERT_FALSE(rows.empty());
     EXPECT_NEAR(rows.front().thickness, 19.05, rows.front().uncertainty + 1e-6);
     EXPECT_NEAR(rows.front().length, 2000.0, rows.front().uncertainty + 1e-6);
+}
+
+// What the property fields offer while a reference is typed: every one of
+// them resolves, to the number the feature holds.
+TEST(ParametricExample, EveryReferableNumberOfEveryExampleResolves)
+{
+    for (const char* name : {"door-frame", "side-chair", "stool", "table-top", "turned-leg", "bookshelf-side"}) {
+        Document d = Document::load(kExamples + "/" + name + ".kerf");
+        const std::vector<std::string> refs = referableNumbers(d);
+        ASSERT_GT(refs.size(), 10u) << name;
+        const std::size_t before = d.parameters.size();
+        for (std::size_t i = 0; i < refs.size(); ++i)
+            d.parameters.push_back({.name = "ref" + std::to_string(i), .expression = refs[i]});
+        const Document resolved = Document::parse(d.serialize(), name);
+        for (std::size_t i = 0; i < refs.size(); ++i)
+            EXPECT_TRUE(std::isfinite(resolved.parameters[before + i].value)) << name << ": " << refs[i];
+    }
+    const Document door = Document::load(kExamples + "/door-frame.kerf");
+    const std::vector<std::string> refs = referableNumbers(door);
+    for (const char* ref : {"panel-tongue.size[2]", "hinge-cup.transform.translate[0]", "panel-field.distance"})
+        EXPECT_NE(std::find(refs.begin(), refs.end(), ref), refs.end()) << ref;
 }
 
 } // namespace

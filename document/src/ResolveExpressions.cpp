@@ -58,6 +58,21 @@ std::optional<FieldKind> fieldKind(const Json& node, const std::vector<std::stri
 
 Quantity asField(double v, Dimension d) { return d == Dimension::Length ? Quantity::lengthMm(v) : Quantity{v, 0, false}; }
 
+// The value a field left out of the node has: a position or rotation
+// component (0), an optional number (its type's `absent`, a union without
+// blend: 0). A feature at the origin has a position to refer to like any other.
+std::optional<double> leftOutValue(const Json& node, const FieldPath& path)
+{
+    if (path.keys.size() == 2 && path.keys[0] == "transform")
+        return path.indices.size() == 1 && path.indices[0] < 3 ? std::optional<double>(0.0) : std::nullopt;
+    if (path.keys.size() != 1 || !path.indices.empty()) return std::nullopt;
+    const auto type = node.find("type");
+    if (type == node.end() || !type->is_string()) return std::nullopt;
+    const std::optional<NodeType> t = nodeTypeFromName(type->get<std::string>());
+    const FieldSpec* f = t ? nodeTypeSpec(*t).field(path.keys[0]) : nullptr;
+    return f && f->optional && f->shape == FieldShape::Number ? std::optional<double>(f->absent) : std::nullopt;
+}
+
 class Resolution {
 public:
     Resolution(Json& doc, std::string file, const ParameterOverrides& overrides) : file_(std::move(file))
@@ -237,6 +252,9 @@ private:
             const std::optional<FieldPath> fp = parseFieldPath(path);
             const std::optional<FieldKind> kind = fp ? fieldKind(*node->second, fp->keys) : std::nullopt;
             const Json* v = fp && kind ? jsonAt(*node->second, *fp) : nullptr;
+            if (!v && fp && kind)
+                if (const std::optional<double> left = leftOutValue(*node->second, *fp))
+                    return asField(*left, kind->dimension);
             if (!v) throw ExpressionError("refers to '" + std::string(id) + "." + std::string(path) + "', not a number of that node");
             if (const auto s = sites_.find(std::string(id) + "." + std::string(path)); s != sites_.end())
                 return asField(siteValue(s->second), kind->dimension);

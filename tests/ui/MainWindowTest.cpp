@@ -2808,6 +2808,25 @@ void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependen
     QTest::keyClicks(sizeX2, "=18");
     QVERIFY(!fieldCompleter->popup()->isVisible());
     QTest::keyClick(sizeX2, Qt::Key_Escape);
+    // Other features' numbers complete too, ids with '-' whole: a newcomer
+    // could not refer to a board's size without knowing its id, which the
+    // application shows nowhere else. Subtraction still completes the name after '-'.
+    sizeX2->selectAll();
+    QTest::keyClicks(sizeX2, "=dado-b");
+    QVERIFY(fieldCompleter->popup()->isVisible());
+    QCOMPARE(fieldCompleter->currentCompletion(), QString("dado-bottom.size[0]"));
+    QTest::keyClicks(sizeX2, "ottom.size[2");
+    QCOMPARE(fieldCompleter->currentCompletion(), QString("dado-bottom.size[2]"));
+    QTest::keyClick(fieldCompleter->popup(), Qt::Key_Return);
+    QVERIFY2(sizeX2->findChild<QLineEdit*>()->text().startsWith("=dado-bottom.size[2]"),
+             qPrintable(sizeX2->findChild<QLineEdit*>()->text()));
+    sizeX2->selectAll();
+    QTest::keyClicks(sizeX2, "=depth-boa");
+    QVERIFY(fieldCompleter->popup()->isVisible());
+    QCOMPARE(fieldCompleter->currentCompletion(), QString("board"));
+    QTest::keyClick(fieldCompleter->popup(), Qt::Key_Escape); // the popup, then the typing
+    QVERIFY(!fieldCompleter->popup()->isVisible());
+    QTest::keyClick(sizeX2, Qt::Key_Escape);
 
     // A parameter's name typed without the '=' is the same expression (a
     // newcomer typed "top_t/2" and was told it was no number); a word that

@@ -1,11 +1,15 @@
 #include "NameCompleter.hpp"
 
 #include "kerf/document/Document.hpp"
+#include "kerf/document/ReferableNumbers.hpp"
+
+#include <algorithm>
 
 #include <QAbstractItemView>
 #include <QCompleter>
 #include <QKeyEvent>
 #include <QLineEdit>
+#include <QScrollBar>
 #include <QStringListModel>
 
 namespace kerf::ui {
@@ -21,6 +25,13 @@ QStringList parameterNames(const Document& doc)
     return names;
 }
 
+QStringList parameterAndFeatureNames(const Document& doc)
+{
+    QStringList names = parameterNames(doc);
+    for (const std::string& ref : referableNumbers(doc)) names << QString::fromStdString(ref);
+    return names;
+}
+
 NameCompleter::NameCompleter(QLineEdit* edit, std::function<QStringList()> names, bool onlyAfterEquals)
     : QObject(edit), edit_(edit), names_(std::move(names)), onlyAfterEquals_(onlyAfterEquals)
 {
@@ -29,6 +40,9 @@ NameCompleter::NameCompleter(QLineEdit* edit, std::function<QStringList()> names
     completer_->setObjectName("nameCompleter");
     completer_->setWidget(edit_); // not setCompleter: that would complete the whole text
     completer_->setCaseSensitivity(Qt::CaseInsensitive);
+    // Anywhere in the name: "=left" finds "stile-left.size[0]" (the tree shows
+    // the feature as "Left stile").
+    completer_->setFilterMode(Qt::MatchContains);
     completer_->setCompletionMode(QCompleter::PopupCompletion);
     connect(edit_, &QLineEdit::textEdited, this, &NameCompleter::offer);
     connect(completer_, qOverload<const QString&>(&QCompleter::activated), this, &NameCompleter::insert);
@@ -58,6 +72,16 @@ int NameCompleter::wordStart() const
     const QString text = edit_->text();
     int start = edit_->cursorPosition();
     while (start > 0 && isNameChar(text[start - 1])) --start;
+    // A feature's number is longer: its id may hold '-', then '.', a path and
+    // indices ("stile-left.size[0]"). That word, where some name holds it
+    // ("depth-thi" is a subtraction, and the shorter word is completed).
+    int wide = edit_->cursorPosition();
+    while (wide > 0 && (isNameChar(text[wide - 1]) || QStringLiteral("-.[]").contains(text[wide - 1]))) --wide;
+    if (wide < start) {
+        const QString longer = text.mid(wide, edit_->cursorPosition() - wide);
+        for (const QString& name : names_())
+            if (name.contains(longer, Qt::CaseInsensitive)) return wide;
+    }
     return start;
 }
 
@@ -68,7 +92,7 @@ void NameCompleter::offer()
     const QString prefix = text.mid(start, edit_->cursorPosition() - start);
     // A word being typed, not a number ("18mm") nor a node's field ("seat.size").
     const bool active = (!onlyAfterEquals_ || text.trimmed().startsWith('=')) && !prefix.isEmpty() &&
-                        !prefix[0].isDigit() && (start == 0 || text[start - 1] != '.');
+                        !prefix[0].isDigit() && (start == 0 || text[start - 1] != '.') && !prefix.contains(']');
     if (!active) {
         completer_->popup()->hide();
         return;
@@ -80,7 +104,11 @@ void NameCompleter::offer()
         completer_->popup()->hide();
         return;
     }
-    completer_->complete();
+    // As wide as the longest name offered ("panel-groove.transform.translate[2]"
+    // was cut off at the field's width), at least the field's.
+    QAbstractItemView* popup = completer_->popup();
+    const int wide = popup->sizeHintForColumn(0) + popup->verticalScrollBar()->sizeHint().width() + 12;
+    completer_->complete(QRect(0, 0, std::max(edit_->width(), wide), edit_->height()));
     // The first name is chosen: Return takes it (arrows choose another).
     completer_->popup()->setCurrentIndex(completer_->completionModel()->index(0, 0));
 }

@@ -2,7 +2,10 @@
 // Completes the document's parameter names while an expression is typed:
 // the word under the cursor ("=thi" offers "thickness"), not the whole
 // text, so it works in the middle of "depth - 2*thi". For the Parameters
-// panel's expressions and the property fields' "=...".
+// panel's expressions and the property fields' "=...", which also offer the
+// features' numbers ("=pan" offers "panel.size[2]": a newcomer could not
+// refer to a board's thickness without knowing its id, which the
+// application did not show).
 
 #include <QObject>
 #include <QStringList>
@@ -21,6 +24,9 @@ namespace kerf::ui {
 
 /// The document's parameter names, in its order.
 QStringList parameterNames(const Document& doc);
+
+/// The parameter names, then every feature's numbers an expression can refer to.
+QStringList parameterAndFeatureNames(const Document& doc);
 
 class NameCompleter : public QObject {
     Q_OBJECT

@@ -13,6 +13,7 @@
 #include "UndoKeysToWindow.hpp"
 
 #include "kerf/document/NodeTypes.hpp"
+#include "kerf/document/ReferableNumbers.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/voxelizer/GridLayout.hpp"
 
@@ -242,8 +243,8 @@ void PropertyEditor::addQuantity(const QString& label, const QString& key, int u
     auto* edit = new QuantityEdit(QuantityEdit::Unit(unit), row);
     edit->setObjectName("field." + key);
     edit->setDecimals(decimals);
-    // "=thi" offers "thickness": the names an expression can use.
-    edit->completeNames([s = session_] { return parameterNames(s->document()); });
+    // "=thi" offers "thickness", "=pan" "panel.size[2]": the names an expression can use.
+    edit->completeNames([s = session_] { return parameterAndFeatureNames(s->document()); });
     auto* error = errorLabel(row);
     error->setObjectName("error." + key);
     v->addWidget(edit);
@@ -347,6 +348,14 @@ void PropertyEditor::rebuild()
         name_->selectAll();
     });
     form_->addRow(tr("Name"), name_);
+    // The id expressions refer to the feature by (a named feature shows its
+    // name everywhere else, and a newcomer could not find "stile-left").
+    auto* id = new QLabel(QString::fromStdString(n->id), this);
+    id->setObjectName("field.id");
+    id->setTextInteractionFlags(Qt::TextSelectableByMouse);
+    id->setToolTip(tr("Other features' expressions refer to this one's numbers by its id: =%1")
+                       .arg(QString::fromStdString(referableNumbers(*n).front())));
+    form_->addRow(tr("Id"), id);
     generalError_ = errorLabel(this);
     form_->addRow(QString(), generalError_);
     connect(name_, &QLineEdit::editingFinished, this, [this] {
