@@ -92,7 +92,8 @@ std::optional<SheetPoint> sample(const Tape& tape, GradientEvaluator<double>& gr
 } // namespace
 
 std::optional<glm::dvec3> snapToCrease(const Tape& tape, GradientEvaluator<double>& gradients, const glm::dvec3& x0,
-                                       glm::dvec3 nA, glm::dvec3 nB, double scale, double tolerance)
+                                       glm::dvec3 nA, glm::dvec3 nB, double scale, double tolerance,
+                                       const std::optional<std::pair<SurfacePoint, SurfacePoint>>& onSheets)
 {
     glm::dvec3 e = glm::cross(nA, nB);
     if (!(glm::length(e) > 0.42)) return std::nullopt; // sheets less than 25 degrees apart
@@ -101,8 +102,10 @@ std::optional<glm::dvec3> snapToCrease(const Tape& tape, GradientEvaluator<doubl
     double delta = 0.25 * scale;
     bool converged = false;
     for (int step = 0; step < 12 && !converged; ++step) {
-        const auto a = sample(tape, gradients, x, nA, nB, delta, tolerance);
-        const auto b = sample(tape, gradients, x, nB, nA, delta, tolerance);
+        // The first step from the sheets' own points where the caller has them.
+        const bool given = step == 0 && onSheets;
+        const auto a = given ? std::optional(onSheets->first) : sample(tape, gradients, x, nA, nB, delta, tolerance);
+        const auto b = given ? std::optional(onSheets->second) : sample(tape, gradients, x, nB, nA, delta, tolerance);
         if (!a || !b) return std::nullopt;
         const glm::dmat3 rows = glm::transpose(glm::dmat3(a->n, b->n, e));
         if (!(std::abs(glm::determinant(rows)) > 1e-6)) return std::nullopt;

@@ -18,6 +18,7 @@
 #include <glm/vec3.hpp>
 
 #include <optional>
+#include <utility>
 
 namespace kerf::mesher {
 
@@ -41,7 +42,15 @@ std::optional<SurfacePoint> projectOntoSurface(const Tape& tape, GradientEvaluat
 /// 25 degrees apart); `scale` is the size of the neighbourhood (mm: a cell, an
 /// edge's length) and `tolerance` how close to the surface the result must
 /// be. Nothing when the sheets cannot be found or do not meet there.
+///
+/// `onSheets`: a point of each sheet the caller knows (a cell polygon's
+/// vertices, root-found, with their normals), for the first step. Sampled
+/// from x instead, a sheet can be missed: a cell's polygon centre 0.87 mm
+/// from one face of a board and 0.88 mm from the other, at 2 mm cells,
+/// projects onto the nearer face from both sides, and a plain box's edges
+/// were cut off by a third of a cell.
 std::optional<glm::dvec3> snapToCrease(const Tape& tape, GradientEvaluator<double>& gradients, const glm::dvec3& x,
-                                       glm::dvec3 nA, glm::dvec3 nB, double scale, double tolerance);
+                                       glm::dvec3 nA, glm::dvec3 nB, double scale, double tolerance,
+                                       const std::optional<std::pair<SurfacePoint, SurfacePoint>>& onSheets = {});
 
 } // namespace kerf::mesher

@@ -379,7 +379,16 @@ std::optional<std::uint32_t> TileMesher::featureVertex(TileShare& st, const I3& 
             if (!(std::abs(field(0.5 * (x + points[i]))) <= meshing_.featureTolerance)) return false;
         return true;
     };
-    if (fit.rank == 3 && inBox(fit.point) && spokesOnSurface(fit.point)) point = fit.point;
+    // A corner up to a whole cell off: the cells around a corner of a turned
+    // box may each see only two of its faces, and the one whose polygon sees
+    // all three can lie a cell away (the corner was cut off 0.1 mm at 0.5 mm
+    // cells, and the collapses cannot make a corner the lattice lacks).
+    const Aabb cornerBox{cellBox.min - 2.0 * grow, cellBox.max + 2.0 * grow};
+    auto inCornerBox = [&](const glm::dvec3& p) {
+        return p.x > cornerBox.min.x && p.y > cornerBox.min.y && p.z > cornerBox.min.z && p.x < cornerBox.max.x &&
+               p.y < cornerBox.max.y && p.z < cornerBox.max.z;
+    };
+    if (fit.rank == 3 && inCornerBox(fit.point) && spokesOnSurface(fit.point)) point = fit.point;
     if (!point) {
         int ia = 0, ib = 1;
         double smallest = 2.0;
@@ -395,7 +404,8 @@ std::optional<std::uint32_t> TileMesher::featureVertex(TileShare& st, const I3& 
             centre += points[i];
         centre /= double(size);
         point = snapToCrease(tape, s.gradients, centre, normals[ia], normals[ib], lattice_.h,
-                             meshing_.featureTolerance);
+                             meshing_.featureTolerance,
+                             std::pair{SurfacePoint{points[ia], normals[ia]}, SurfacePoint{points[ib], normals[ib]}});
         if (!point || !inBox(*point)) return std::nullopt; // (snapped: on the edge, spokes or not)
     }
     // The fan must not turn over: each triangle (point, v_i, v_i+1) faces,
