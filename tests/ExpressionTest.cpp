@@ -305,6 +305,19 @@ TEST(DocumentExpressions, ACountWithinRoundingOfAWholeNumberIsThatNumber)
     EXPECT_NE(loadRefusal(with(kShelfSide, "\"rows\"\n", "\"3.000001\"\n")).find("gives 3.000001"), std::string::npos);
 }
 
+// The application shows features by name; expressions take ids. A newcomer
+// typed "=Apron.size[0]" and was told only that no node 'Apron' exists.
+TEST(DocumentExpressions, ANameWhereAnIdBelongsIsAnsweredWithTheId)
+{
+    const std::string r = loadRefusal(R"({"format":"kerf","version":1,"root":{"id":"u","type":"union","children":[
+        {"id":"box-3","name":"Apron","type":"box","size":[360,20,80]},
+        {"id":"box-4","name":"Tenon","type":"box","size":[25,10,"Apron.size[2] - 20"]}]}})");
+    EXPECT_NE(r.find("the expression \"Apron.size[2] - 20\" refers to the node 'Apron', which does not exist: the "
+                     "feature named Apron has the id 'box-3' (box-3.size[2])"),
+              std::string::npos)
+        << r;
+}
+
 TEST(DocumentExpressions, ExpressionsSurviveSaveAndLoadAsWritten)
 {
     const Document d = load(kShelfSide);
@@ -571,8 +584,12 @@ TEST(ParametricExample, EveryReferableNumberOfEveryExampleResolves)
         const std::vector<std::string> refs = referableNumbers(d);
         ASSERT_GT(refs.size(), 10u) << name;
         const std::size_t before = d.parameters.size();
-        for (std::size_t i = 0; i < refs.size(); ++i)
-            d.parameters.push_back({.name = "ref" + std::to_string(i), .expression = refs[i]});
+        for (std::size_t i = 0; i < refs.size(); ++i) {
+            Parameter p;
+            p.name = "ref" + std::to_string(i);
+            p.expression = refs[i];
+            d.parameters.push_back(p);
+        }
         const Document resolved = Document::parse(d.serialize(), name);
         for (std::size_t i = 0; i < refs.size(); ++i)
             EXPECT_TRUE(std::isfinite(resolved.parameters[before + i].value)) << name << ": " << refs[i];

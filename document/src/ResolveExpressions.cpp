@@ -10,6 +10,7 @@
 #include "FieldPath.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <unordered_map>
 #include <unordered_set>
@@ -54,6 +55,22 @@ std::optional<FieldKind> fieldKind(const Json& node, const std::vector<std::stri
             return FieldKind{f.unit == FieldUnit::Length ? Dimension::Length : Dimension::Plain,
                              f.shape == FieldShape::Counts};
     return std::nullopt;
+}
+
+// Whether a name and an id read the same, case and spaces aside ("Apron"
+// and "apron", "Left stile" and "left_stile").
+bool sameWords(std::string_view name, std::string_view id)
+{
+    auto next = [](std::string_view s, std::size_t& i) {
+        while (i < s.size() && (s[i] == ' ' || s[i] == '_' || s[i] == '-')) ++i;
+        return i < s.size() ? char(std::tolower(static_cast<unsigned char>(s[i++]))) : '\0';
+    };
+    std::size_t i = 0, j = 0;
+    for (;;) {
+        const char a = next(name, i), b = next(id, j);
+        if (a != b) return false;
+        if (a == '\0') return true;
+    }
 }
 
 Quantity asField(double v, Dimension d) { return d == Dimension::Length ? Quantity::lengthMm(v) : Quantity{v, 0, false}; }
@@ -248,7 +265,18 @@ private:
         };
         r.field = [this](std::string_view id, std::string_view path) {
             const auto node = nodes_.find(std::string(id));
-            if (node == nodes_.end()) throw ExpressionError("refers to the node '" + std::string(id) + "', which does not exist");
+            if (node == nodes_.end()) {
+                // A feature's name where its id belongs ("=Apron.size[0]"): the
+                // application shows names, expressions take ids.
+                std::string hint;
+                for (const auto& [otherId, other] : nodes_) {
+                    const auto name = other->find("name");
+                    if (name != other->end() && name->is_string() && sameWords(name->get<std::string>(), id))
+                        hint = ": the feature named " + name->get<std::string>() + " has the id '" + otherId +
+                               "' (" + otherId + "." + std::string(path) + ")";
+                }
+                throw ExpressionError("refers to the node '" + std::string(id) + "', which does not exist" + hint);
+            }
             const std::optional<FieldPath> fp = parseFieldPath(path);
             const std::optional<FieldKind> kind = fp ? fieldKind(*node->second, fp->keys) : std::nullopt;
             const Json* v = fp && kind ? jsonAt(*node->second, *fp) : nullptr;

@@ -527,6 +527,17 @@ void MainWindowTest::refusesBadValuesBesideTheFieldAndChangesNothing()
     typeInto(field(*w, "round"), "2");
     QCOMPARE(w->propertyEditor()->errorFor("round"), QString());
     QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().round, 2.0);
+
+    // Two selected: said so, not "Nothing selected — the part" (a newcomer
+    // with three rows selected read that), and no field of either to edit.
+    w->selectNodes({"cylinder", "box"});
+    QCOMPARE(title->text(), QString("2 features selected"));
+    QVERIFY(!w->propertyEditor()->findChild<QuantityEdit*>("field.radius") ||
+            !w->propertyEditor()->findChild<QuantityEdit*>("field.radius")->isVisible());
+    w->selectNodes({"box"});
+    QCOMPARE(title->text(), QString("Box — box"));
+    w->selectNodes({});
+    QCOMPARE(title->text(), QString("Nothing selected — the part"));
 }
 
 void MainWindowTest::expressionsAndMergedSteps()
@@ -2791,6 +2802,8 @@ void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependen
     QApplication::sendEvent(sizeX2, &focusIn);
     sizeX2->selectAll();
     QTest::keyClicks(sizeX2, "=boa");
+    // No unit after an expression being typed (it read "=apron_h - 20 mm").
+    QCOMPARE(sizeX2->findChild<QLineEdit*>()->text(), QString("=boa"));
     auto* fieldCompleter = sizeX2->findChild<QCompleter*>("nameCompleter");
     QVERIFY(fieldCompleter);
     QVERIFY(fieldCompleter->popup()->isVisible());

@@ -319,7 +319,7 @@ void MainWindow::onSelectionChanged()
 {
     if (resettingTree_) return;
     const std::vector<std::string> ids = selectedNodeIds();
-    properties_->setNode(ids.size() == 1 ? ids.front() : std::string());
+    properties_->setSelection(ids);
     std::unordered_set<std::string> features;
     for (const auto& id : ids)
         if (const Node* n = session_->document().root.find(id)) features.merge(edit::primitiveIdsInSubtree(*n));

@@ -78,7 +78,8 @@ bool MainWindow::deleteSelection()
     // question, with every use (it was refused after the question about the
     // difference, naming one).
     if (const std::vector<std::string> uses = edit::nodeUses(session_->document(), ids); !uses.empty()) {
-        showMessage(tr("Cannot delete: %1 %2 used by %3: change those first.")
+        // Until the next edit: six seconds in the status bar were missed.
+        showMessageUntilEdit(tr("Cannot delete: %1 %2 used by %3: change those first.")
                         .arg(only ? featureName(*only) : tr("these features"), only ? tr("is") : tr("are"),
                              describeExpressionUses(session_->document().root, uses)));
         return false;
@@ -121,7 +122,7 @@ bool MainWindow::deleteSelection()
     QString error;
     const bool ok =
         session_->apply(step, [&](Document& d) { edit::removeNodes(d, ids); }, &error);
-    if (!ok) showMessage(tr("Cannot delete: %1").arg(error));
+    if (!ok) showMessageUntilEdit(tr("Cannot delete: %1").arg(error));
     else if (!emptied.empty()) showMessage(step + tr(" (Undo brings them back)."));
     return ok;
 }

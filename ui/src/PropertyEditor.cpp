@@ -109,8 +109,21 @@ PropertyEditor::PropertyEditor(DocumentSession* session, QWidget* parent) : QWid
 
 void PropertyEditor::setNode(const std::string& nodeId)
 {
-    if (nodeId == nodeId_) return;
+    if (nodeId == nodeId_ && selected_ <= 1) return;
     nodeId_ = nodeId;
+    selected_ = nodeId.empty() ? 0 : 1;
+    rebuild();
+}
+
+void PropertyEditor::setSelection(const std::vector<std::string>& nodeIds)
+{
+    if (nodeIds.size() <= 1) {
+        setNode(nodeIds.empty() ? std::string() : nodeIds.front());
+        return;
+    }
+    if (nodeId_.empty() && selected_ == nodeIds.size()) return;
+    nodeId_.clear();
+    selected_ = nodeIds.size();
     rebuild();
 }
 
@@ -322,8 +335,19 @@ void PropertyEditor::rebuild()
     partFeatureSize_ = nullptr;
     partError_ = nullptr;
     const Node* n = session_->document().root.find(nodeId_);
+    if (!n && selected_ > 1) {
+        title_->setText(tr("%1 features selected").arg(selected_));
+        auto* note = new QLabel(tr("Select one to see and edit its properties. Delete, and Add > Group Selection "
+                                   "Under, take them all."),
+                                this);
+        note->setObjectName("properties.note");
+        note->setWordWrap(true);
+        form_->addRow(note);
+        return;
+    }
     if (!n) {
         nodeId_.clear();
+        selected_ = 0;
         title_->setText(tr("Nothing selected — the part"));
         addPartSettings();
         refresh();

@@ -39,6 +39,10 @@ public:
 
     /// Shows the node with this id (none: an empty editor).
     void setNode(const std::string& nodeId);
+    /// Shows what the selection is: its one node, the part when it is
+    /// empty, or how many are selected (a newcomer with three rows selected
+    /// read "Nothing selected — the part").
+    void setSelection(const std::vector<std::string>& nodeIds);
     const std::string& nodeId() const { return nodeId_; }
     /// The message shown under a field ("" when none), by spec name.
     QString errorFor(const QString& field) const;
@@ -76,6 +80,7 @@ private:
 
     DocumentSession* session_;
     std::string nodeId_;
+    std::size_t selected_ = 0; // more than one: how many (nodeId_ is then empty)
     NodeType shownType_ = NodeType::Union;
     QFormLayout* form_ = nullptr;
     QLabel* title_ = nullptr;

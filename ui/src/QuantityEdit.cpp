@@ -10,6 +10,7 @@
 #include <QKeyEvent>
 #include <QWheelEvent>
 
+#include <algorithm>
 #include <cmath>
 
 namespace kerf::ui {
@@ -34,6 +35,18 @@ QuantityEdit::QuantityEdit(Unit unit, QWidget* parent) : QDoubleSpinBox(parent),
         lineEdit()->setModified(false); // committed: Ctrl+Z now undoes the edit (UndoKeysToWindow)
     });
     UndoKeysToWindow::install(lineEdit(), this);
+    // An expression begun over a number has no unit after it: the field
+    // showed "=apron_h - 20 mm" while it was typed, as if the mm were part
+    // of it (the unit comes back with the number, showEnteredText).
+    connect(lineEdit(), &QLineEdit::textEdited, this, [this](const QString& text) {
+        if (!text.trimmed().startsWith('=') || suffix().isEmpty()) return;
+        const int cursor = lineEdit()->cursorPosition();
+        const QString typed = text.endsWith(suffix()) ? text.chopped(suffix().size()) : text;
+        showUnit(false);
+        lineEdit()->setText(typed);
+        lineEdit()->setCursorPosition(std::min(cursor, int(typed.size())));
+        lineEdit()->setModified(true);
+    });
     // The wheel changes a value only in the field being edited: over any
     // other field it scrolls the panel (a short Properties panel is scrolled
     // past a dozen fields).
