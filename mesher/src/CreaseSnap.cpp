@@ -121,6 +121,11 @@ std::optional<glm::dvec3> snapToCrease(const Tape& tape, GradientEvaluator<doubl
     }
     // Not settled: no edge here (the sheets do not meet, or only far off).
     if (!converged) return std::nullopt;
+    // Settled where the sheets sampled beside it no longer differ by 25
+    // degrees: a rounded edge, whose tangent planes meet on it as the samples
+    // close in, not a sharp one (taken for one, its vertex stood off the
+    // round and left triangles over 0.01 mm on the bookshelf side's rounds).
+    if (!(glm::length(glm::cross(nA, nB)) > 0.42)) return std::nullopt;
     const glm::dvec3 q = x - tape.origin();
     const Dual<double> d = gradients.evaluate(tape, q.x, q.y, q.z);
     if (!(std::abs(d.v) <= tolerance)) return std::nullopt;

@@ -404,8 +404,18 @@ std::optional<std::uint32_t> TileMesher::featureVertex(TileShare& st, const I3& 
             centre += points[i];
         centre /= double(size);
         point = snapToCrease(tape, s.gradients, centre, normals[ia], normals[ib], lattice_.h,
-                             meshing_.featureTolerance,
-                             std::pair{SurfacePoint{points[ia], normals[ia]}, SurfacePoint{points[ib], normals[ib]}});
+                             meshing_.featureTolerance);
+        // Missed from the centre: again from the polygon's own points on the two
+        // sheets (CreaseSnap.hpp says when the centre misses), and then only
+        // where the spokes lie on the surface (near a corner the first step can
+        // settle on the line of two sheets past where they end: a door frame's
+        // rail, stile and groove left triangles 0.023 mm off at 0.01 mm).
+        if (!point || !inBox(*point)) {
+            point = snapToCrease(tape, s.gradients, centre, normals[ia], normals[ib], lattice_.h,
+                                 meshing_.featureTolerance,
+                                 std::pair{SurfacePoint{points[ia], normals[ia]}, SurfacePoint{points[ib], normals[ib]}});
+            if (point && !spokesOnSurface(*point)) point.reset();
+        }
         if (!point || !inBox(*point)) return std::nullopt; // (snapped: on the edge, spokes or not)
     }
     // The fan must not turn over: each triangle (point, v_i, v_i+1) faces,
