@@ -8,9 +8,9 @@
 #include "kerf/mesher/MeshCheck.hpp"
 #include "kerf/mesher/MeshPart.hpp"
 #include "kerf/mesher/MeshFile.hpp"
-#include "kerf/mesher/PointTriangleDistance.hpp"
 #include "kerf/mesher/SelfIntersections.hpp"
 #include "support/MeshFileReader.hpp"
+#include "TriangleClearance.hpp"
 
 #include <gtest/gtest.h>
 
@@ -486,7 +486,7 @@ TEST(ExportedFileSimplified, ABoxsEdgesAndCornersLieWithinTheToleranceOfTheFile)
                     const glm::dvec3 p = from + (to - from) * (double(k) / 64.0);
                     double nearest = std::numeric_limits<double>::infinity();
                     for (const auto& t : read.triangles)
-                        nearest = std::min(nearest, pointTriangleDistance(p, read.vertices[t[0]],
+                        nearest = std::min(nearest, mesher::pointTriangleDistance(p, read.vertices[t[0]],
                                                                                 read.vertices[t[1]], read.vertices[t[2]]));
                     if (nearest > worst) {
                         worst = nearest;
@@ -498,7 +498,9 @@ TEST(ExportedFileSimplified, ABoxsEdgesAndCornersLieWithinTheToleranceOfTheFile)
         EXPECT_LE(worst, tolerance + 1e-6 * glm::length(at + size))
             << read.triangles.size() << " triangles at " << cells << " mm cells; worst at " << worstAt.x << ", "
             << worstAt.y << ", " << worstAt.z;
-        if (!turned) EXPECT_EQ(read.triangles.size(), 12u) << cells << " mm cells";
+        if (!turned) {
+            EXPECT_EQ(read.triangles.size(), 12u) << cells << " mm cells";
+        }
     }
 }
 

@@ -2,9 +2,9 @@
 
 #include "CrossingGuard.hpp"
 #include "SymmetricEigen.hpp"
+#include "TriangleClearance.hpp"
 #include "TriangleTree.hpp"
 #include "TriangleSamples.hpp"
-#include "kerf/mesher/PointTriangleDistance.hpp"
 #include "kerf/mesher/SelfIntersections.hpp"
 
 #include <tbb/blocked_range.h>
