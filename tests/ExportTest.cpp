@@ -485,9 +485,10 @@ TEST(ExportedFileSimplified, ABoxsEdgesAndCornersLieWithinTheToleranceOfTheFile)
                 for (int k = 0; k <= 64; ++k) {
                     const glm::dvec3 p = from + (to - from) * (double(k) / 64.0);
                     double nearest = std::numeric_limits<double>::infinity();
-                    for (const auto& t : read.triangles)
-                        nearest = std::min(nearest, mesher::pointTriangleDistance(p, read.vertices[t[0]],
-                                                                                read.vertices[t[1]], read.vertices[t[2]]));
+                    for (const auto& t : read.triangles) {
+                        const glm::dvec3 u = read.vertices[t[0]], v = read.vertices[t[1]], w = read.vertices[t[2]];
+                        nearest = std::min(nearest, mesher::pointTriangleDistance(p, u, v, w));
+                    }
                     if (nearest > worst) {
                         worst = nearest;
                         worstAt = p;

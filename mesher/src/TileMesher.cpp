@@ -411,9 +411,9 @@ std::optional<std::uint32_t> TileMesher::featureVertex(TileShare& st, const I3& 
         // settle on the line of two sheets past where they end: a door frame's
         // rail, stile and groove left triangles 0.023 mm off at 0.01 mm).
         if (!point || !inBox(*point)) {
+            const std::pair onSheets{SurfacePoint{points[ia], normals[ia]}, SurfacePoint{points[ib], normals[ib]}};
             point = snapToCrease(tape, s.gradients, centre, normals[ia], normals[ib], lattice_.h,
-                                 meshing_.featureTolerance,
-                                 std::pair{SurfacePoint{points[ia], normals[ia]}, SurfacePoint{points[ib], normals[ib]}});
+                                 meshing_.featureTolerance, onSheets);
             if (point && !spokesOnSurface(*point)) point.reset();
         }
         if (!point || !inBox(*point)) return std::nullopt; // (snapped: on the edge, spokes or not)
