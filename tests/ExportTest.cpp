@@ -502,6 +502,10 @@ TEST(ExportedFileSimplified, ABoxsEdgesAndCornersLieWithinTheToleranceOfTheFile)
         if (!turned) {
             EXPECT_EQ(read.triangles.size(), 12u) << cells << " mm cells";
         }
+        // The export's own measure of the part's side (SurfaceCoverage)
+        // says the same: every point the cells found within the tolerance.
+        EXPECT_GT(exported.stats.partSamples, 0u);
+        EXPECT_EQ(exported.stats.partSamplesBeyond, 0u) << "the furthest " << exported.stats.worstPartSample << " mm";
     }
 }
 

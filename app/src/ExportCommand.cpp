@@ -319,6 +319,15 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
                 if (stats.trianglesOverTolerance > 0)
                     j["worst_sample_at_mm"] = {stats.worstSampleAt.x, stats.worstSampleAt.y, stats.worstSampleAt.z};
             }
+            if (fallback.empty() && tolerance > 0.0) {
+                j["part_samples"] = stats.partSamples;
+                j["part_samples_beyond_tolerance"] = stats.partSamplesBeyond;
+                if (stats.partSamplesBeyond > 0) {
+                    j["worst_part_sample_mm"] = stats.worstPartSample;
+                    j["worst_part_sample_at_mm"] = {stats.worstPartSampleAt.x, stats.worstPartSampleAt.y,
+                                                    stats.worstPartSampleAt.z};
+                }
+            }
             j["triangles_over_tolerance"] = stats.trianglesOverTolerance;
             j["area_over_tolerance_mm2"] = stats.areaOverTolerance;
             j["triangles_folded"] = stats.foldedTriangles;
@@ -345,6 +354,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             j["lattice_seconds"] = stats.seconds - stats.simplifySeconds - stats.refineSeconds;
             j["simplify_seconds"] = stats.simplifySeconds;
             j["refine_seconds"] = stats.refineSeconds;
+            j["coverage_seconds"] = stats.coverageSeconds;
             j["crossing_checks"] = stats.crossingChecks;
             j["crossing_redos"] = stats.crossingRedos;
             out << j.dump(2) << "\n";
@@ -357,7 +367,8 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             out << "  tolerance:     none (marching cubes at the feature size)\n";
         else if (fallback.empty())
             out << "  tolerance:     " << mm(tolerance) << " mm" << (toleranceText ? "" : " (default)")
-                << "; samples of every triangle within " << significant(stats.worstSample, 2) << " mm\n";
+                << "; samples of every triangle within " << significant(stats.worstSample, 2) << " mm\n"
+                << "  part's side:   " << describePartSide(stats, tolerance) << "\n";
         else
             out << "  tolerance:     " << mm(tolerance)
                 << " mm not reached (plain marching-cubes mesh written, see the warning)\n";

@@ -5,6 +5,7 @@
 #include "PlanarFans.hpp"
 #include "Seeds.hpp"
 #include "SimplifyToTolerance.hpp"
+#include "SurfaceCoverage.hpp"
 #include "TileMesher.hpp"
 #include "TileShares.hpp"
 #include "ToleranceRefiner.hpp"
@@ -272,10 +273,11 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     // Simplify down to the tolerance (never past it), refine where the
     // marching-cubes triangles stray further, and simplify what the
     // refinement made.
+    auto t0 = Clock::now();
+    const SurfaceSamples partSamples = surfaceSamples(lattice->mesh, lattice->normals, tape, options.tolerance);
     Mesh mesh = std::move(lattice->mesh);
     std::vector<glm::dvec3> normals = std::move(lattice->normals);
     lattice.reset();
-    auto t0 = Clock::now();
     // Flat blocks of the lattice at once, not one collapse at a time.
     if (options.planarFanCells > 0) {
         const PlanarFanStats fans = fanPlanarBlocks(mesh, normals, stats.latticeOrigin, stats.cellSize,
@@ -380,6 +382,13 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
         }
     }
     stats.simplifySeconds += secondsSince(t0);
+    t0 = Clock::now();
+    const CoverageCheck coverage = measureCoverage(partSamples, mesh, options.tolerance, arena);
+    stats.partSamples = coverage.samples;
+    stats.partSamplesBeyond = coverage.samplesBeyond;
+    stats.worstPartSample = coverage.worst;
+    stats.worstPartSampleAt = coverage.worstAt;
+    stats.coverageSeconds = secondsSince(t0);
     stats.crossingChecks = checks.checked;
     stats.crossingRedos = checks.redone;
     work.report(1.0);
@@ -532,6 +541,20 @@ std::string describeVisibleMiss(const MeshStats& stats, double tolerance, double
                     "through a face)";
     if (tryThis > 0.0 && tryThis < stats.cellSize) s += "; export it at " + featureSizeToTry(stats, ownFeatureSize);
     return s;
+}
+
+std::string describePartSide(const MeshStats& stats, double tolerance)
+{
+    if (stats.partSamples == 0) return {};
+    if (stats.partSamplesBeyond == 0)
+        return "all " + grouped(stats.partSamples) + " points of the part's surface that the cells found lie within " +
+               shortNumber(tolerance) + " mm of the mesh";
+    const glm::dvec3& p = stats.worstPartSampleAt;
+    return grouped(stats.partSamplesBeyond) + " of " + grouped(stats.partSamples) +
+           " points of the part's surface that the cells found lie beyond the tolerance of " +
+           shortNumber(tolerance) + " mm from the mesh, the furthest " + shortNumber(stats.worstPartSample) +
+           " mm, at (" + shortNumber(p.x) + ", " + shortNumber(p.y) + ", " + shortNumber(p.z) +
+           ") mm (a triangle across a sharp edge, or a rounded face bowing out between the triangle's samples)";
 }
 
 std::string describeCoarseTolerance(const MeshStats& stats, double tolerance)

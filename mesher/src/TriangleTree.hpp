@@ -66,6 +66,28 @@ public:
         }
     }
 
+    /// Calls visit(t) for triangles whose box meets [lo, hi] until one
+    /// returns true; returns whether one did.
+    template <class Visit> bool queryAny(const glm::dvec3& lo, const glm::dvec3& hi, Visit&& visit) const
+    {
+        bool found = false;
+        if (root_ == kNull) return found;
+        int stack[kMaxDepth];
+        int top = 0;
+        stack[top++] = root_;
+        while (top > 0 && !found) {
+            const Node& n = nodes_[std::size_t(stack[--top])];
+            if (glm::any(glm::lessThan(hi, n.lo)) || glm::any(glm::greaterThan(lo, n.hi))) continue;
+            if (n.leaf()) {
+                found = visit(n.item);
+                continue;
+            }
+            stack[top++] = n.child1;
+            stack[top++] = n.child2;
+        }
+        return found;
+    }
+
 private:
     static constexpr int kNull = -1;
     static constexpr int kMaxDepth = 256;

@@ -92,6 +92,10 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
         s += "\n" + QObject::tr("Every triangle within %1 mm of the exact surface (worst sample %2 mm).")
                         .arg(tolerance)
                         .arg(exported.stats.worstSample, 0, 'g', 2);
+    if (tolerance > 0.0 && exported.simplificationDefects.empty() && exported.stats.partSamples > 0) {
+        const QString side = QString::fromStdString(describePartSide(exported.stats, tolerance));
+        s += "\n" + side.left(1).toUpper() + side.mid(1) + ".";
+    }
     if (!exported.simplificationDefects.empty())
         s += "\n" + QObject::tr("The mesh simplified to %1 mm had %2; the marching-cubes mesh at %3 mm was written "
                                 "instead (closed, sharp edges kept, larger, not held to the tolerance).")

@@ -160,6 +160,14 @@ struct MeshStats {
     std::uint64_t trianglesOverTolerance = 0; // triangles the refinement could not bring within the tolerance
     double areaOverTolerance = 0.0;           // mm^2: their area (a woodworker judges a few square mm, not a count)
     glm::dvec3 worstSampleAt{0.0};        // world mm: the centroid of the triangle with the worst sample
+    /// The part's side (SurfaceCoverage.hpp): points of the exact surface
+    /// the lattice found (its vertices, and its feature vertices on sharp
+    /// edges and corners), how many lie further than the tolerance from the
+    /// mesh, the furthest's distance (0 when none does) and where it is.
+    std::uint64_t partSamples = 0;
+    std::uint64_t partSamplesBeyond = 0;
+    double worstPartSample = 0.0;
+    glm::dvec3 worstPartSampleAt{0.0};
     std::uint64_t unfolds = 0;            // flips that turned a folded triangle the surface's way
     /// Triangles left facing into the part at their centroid (a fold no
     /// flip undid; the mesh is closed and uncrossed all the same).
@@ -170,6 +178,7 @@ struct MeshStats {
     std::uint64_t crossingRedos = 0;
     double simplifySeconds = 0.0;
     double refineSeconds = 0.0;
+    double coverageSeconds = 0.0; // measuring the part's side
     std::size_t vertices = 0;
     std::size_t triangles = 0;
     double seedSeconds = 0.0; // CPU seconds in the voxelizer, summed over threads
@@ -236,6 +245,16 @@ inline constexpr double kVisibleMiss = 0.1;
 /// its show face, 3.4 mm off, and the result called it "a closed solid all
 /// the same".
 std::string describeVisibleMiss(const MeshStats& stats, double tolerance, double ownFeatureSize);
+
+/// The part's side of the tolerance (stats.partSamples, SurfaceCoverage):
+/// how far the part's surface lies from the mesh, in one sentence for
+/// people, for `kerf export` and the export dialog: "all N points of the
+/// part's surface that the cells found lie within T mm of the mesh", or
+/// how many lie beyond, the furthest and where. The triangles' samples measure
+/// the other way; where a triangle cuts a sharp edge off, or a rounded face
+/// bows out between its samples, only this one sees it. Empty when no
+/// points were measured (no tolerance).
+std::string describePartSide(const MeshStats& stats, double tolerance);
 
 /// A tolerance so coarse that the part's features may lose their shape:
 /// above the feature size (stats.cellSize, the smallest feature resolved)
