@@ -186,6 +186,38 @@ BENCHMARK(BM_ChairMeshOnly)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The part's side of the tolerance (SurfaceCoverage.hpp) on every bundled
+// example at the default tolerance: the export with the refinement's last
+// step, the splits for the part's points beyond the tolerance, and without
+// it (the baseline, same run): triangles, the part's points beyond the
+// tolerance and the furthest, triangles left over the tolerance, time.
+void BM_ExamplePartSide(benchmark::State& state)
+{
+    static const char* const examples[] = {"side-chair", "stool", "door-frame", "bookshelf-side", "table-top",
+                                           "turned-leg"};
+    const Document doc = Document::load(std::string(KERF_EXAMPLES_DIR) + "/" + examples[state.range(0)] + ".kerf");
+    MeshOptions options;
+    options.tolerance = double(state.range(1)) / 1000.0;
+    options.coverPartPoints = state.range(2) != 0;
+    MeshStats stats;
+    for (auto _ : state) {
+        std::optional<Mesh> mesh = meshPart(doc, options, {}, &stats);
+        benchmark::DoNotOptimize(mesh->triangles.data());
+    }
+    state.SetLabel(examples[state.range(0)]);
+    state.counters["triangles"] = double(stats.triangles);
+    state.counters["part_beyond"] = double(stats.partSamplesBeyond);
+    state.counters["part_worst_um"] = 1000.0 * stats.worstPartSample;
+    state.counters["tri_over"] = double(stats.trianglesOverTolerance);
+    state.counters["tri_worst_um"] = 1000.0 * stats.worstSample;
+}
+BENCHMARK(BM_ExamplePartSide)
+    ->ArgNames({"example", "tol_um", "cover"})
+    ->ArgsProduct({{0, 1, 2, 3, 4, 5}, {50, 10}, {0, 1}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 // The export a woodworker gets: meshed and simplified to a tolerance (the
 // default 0.05 mm, and 0.01), no check or file, for the thread scaling of
 // the whole simplified path (lattice, simplification, refinement).

@@ -322,6 +322,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             if (fallback.empty() && tolerance > 0.0) {
                 j["part_samples"] = stats.partSamples;
                 j["part_samples_beyond_tolerance"] = stats.partSamplesBeyond;
+                j["part_point_splits"] = stats.partPointSplits;
                 if (stats.partSamplesBeyond > 0) {
                     j["worst_part_sample_mm"] = stats.worstPartSample;
                     j["worst_part_sample_at_mm"] = {stats.worstPartSampleAt.x, stats.worstPartSampleAt.y,
@@ -351,7 +352,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             j["collapses"] = stats.collapses;
             j["splits"] = stats.splits;
             j["seconds"] = seconds;
-            j["lattice_seconds"] = stats.seconds - stats.simplifySeconds - stats.refineSeconds;
+            j["lattice_seconds"] = stats.seconds - stats.simplifySeconds - stats.refineSeconds - stats.coverageSeconds;
             j["simplify_seconds"] = stats.simplifySeconds;
             j["refine_seconds"] = stats.refineSeconds;
             j["coverage_seconds"] = stats.coverageSeconds;

@@ -49,6 +49,20 @@ void addSeconds(std::atomic<std::int64_t>& total, Clock::time_point since)
     total += std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - since).count();
 }
 
+// A later refinement's figures into the export's: its splits added, its
+// judgement of the whole mesh the one reported.
+void takeRefinement(MeshStats& stats, const RefineStats& r)
+{
+    stats.splits += r.splits;
+    stats.creaseSplits += r.creaseSplits;
+    stats.unfolds += r.unfolds;
+    stats.worstSample = r.worstSample;
+    stats.trianglesOverTolerance = r.trianglesOverTolerance;
+    stats.areaOverTolerance = r.areaOverTolerance;
+    stats.worstSampleAt = r.worstAt;
+    stats.foldedTriangles = r.foldedTriangles;
+}
+
 } // namespace
 
 namespace {
@@ -371,24 +385,39 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
         if (last.trianglesOverTolerance < stats.trianglesOverTolerance) {
             mesh = std::move(attempt);
             normals = std::move(attemptNormals);
-            stats.splits += last.splits;
-            stats.creaseSplits += last.creaseSplits;
-            stats.unfolds += last.unfolds;
-            stats.worstSample = last.worstSample;
-            stats.trianglesOverTolerance = last.trianglesOverTolerance;
-            stats.areaOverTolerance = last.areaOverTolerance;
-            stats.worstSampleAt = last.worstAt;
-            stats.foldedTriangles = last.foldedTriangles;
+            takeRefinement(stats, last);
         }
     }
     stats.simplifySeconds += secondsSince(t0);
+    // Last, where the part's own points lie further than the tolerance from
+    // the mesh (a triangle across a sharp edge, a face bowing out between a
+    // large triangle's samples; SurfaceCoverage.hpp), the mesh is split
+    // there, and nothing simplifies after. The triangles' samples are judged
+    // after each pass, leaning triangles turned upright too (without, the
+    // side chair kept 2 triangles over the tolerance that the splits made).
     t0 = Clock::now();
-    const CoverageCheck coverage = measureCoverage(partSamples, mesh, options.tolerance, arena);
+    CoverageCheck coverage = measureCoverage(partSamples, mesh, options.tolerance, arena);
+    stats.coverageSeconds = secondsSince(t0);
+    if (options.coverPartPoints && coverage.samplesBeyond > 0) {
+        t0 = Clock::now();
+        RefineSettings covering = refineSettings;
+        covering.partSamples = &partSamples;
+        covering.maxRounds = 80; // the passes' splits too
+        covering.unfoldLeaning = true;
+        RefineStats covered;
+        if (!refineToTolerance(mesh, normals, tape, covering, arena, covered, work.stage(0.99, 1.0)))
+            return std::nullopt;
+        stats.partPointSplits = covered.partPointSplits;
+        takeRefinement(stats, covered);
+        stats.refineSeconds += secondsSince(t0);
+        t0 = Clock::now();
+        coverage = measureCoverage(partSamples, mesh, options.tolerance, arena);
+        stats.coverageSeconds += secondsSince(t0);
+    }
     stats.partSamples = coverage.samples;
     stats.partSamplesBeyond = coverage.samplesBeyond;
     stats.worstPartSample = coverage.worst;
     stats.worstPartSampleAt = coverage.worstAt;
-    stats.coverageSeconds = secondsSince(t0);
     stats.crossingChecks = checks.checked;
     stats.crossingRedos = checks.redone;
     work.report(1.0);

@@ -87,12 +87,14 @@ SurfaceSamples surfaceSamples(const Mesh& lattice, const std::vector<glm::dvec3>
 }
 
 CoverageCheck measureCoverage(const SurfaceSamples& samples, const Mesh& mesh, double tolerance,
-                              tbb::task_arena& arena, std::vector<std::pair<double, std::uint32_t>>* beyond)
+                              tbb::task_arena& arena, std::vector<std::pair<double, std::uint32_t>>* beyond,
+                              const std::vector<std::uint32_t>* only)
 {
     if (beyond) beyond->clear();
     CoverageCheck check;
-    check.samples = samples.points.size();
-    if (samples.points.empty() || mesh.triangles.empty()) return check;
+    const std::size_t count = only ? only->size() : samples.points.size();
+    check.samples = count;
+    if (count == 0 || mesh.triangles.empty()) return check;
     // The triangles relative to the samples' origin, so the two meet in the
     // same frame without rounding the mesh to float.
     std::vector<glm::dvec3> corners(mesh.vertices.size());
@@ -127,9 +129,10 @@ CoverageCheck measureCoverage(const SurfaceSamples& samples, const Mesh& mesh, d
     tbb::enumerable_thread_specific<std::vector<std::pair<double, std::uint32_t>>> found;
     const Worst worst = arena.execute([&] {
         return tbb::parallel_reduce(
-            tbb::blocked_range<std::size_t>(0, samples.points.size(), 4096), Worst{},
+            tbb::blocked_range<std::size_t>(0, count, 4096), Worst{},
             [&](const tbb::blocked_range<std::size_t>& range, Worst w) {
-                for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                for (std::size_t k = range.begin(); k != range.end(); ++k) {
+                    const std::size_t i = only ? (*only)[k] : k;
                     const glm::dvec3 p(samples.points[i]);
                     const bool within = tree.queryAny(p - glm::dvec3(tolerance), p + glm::dvec3(tolerance),
                                                       [&](std::uint32_t t) { return distanceTo(p, t) <= tolerance; });

@@ -61,9 +61,12 @@ struct CoverageCheck {
 /// triangle comes within it. Distances beyond the tolerance are exact;
 /// within it, a sample only knows that it is within.
 /// `beyond` (optional): the samples further than the tolerance, as
-/// (distance, index), furthest first (then by index).
+/// (distance, index), furthest first (then by index). `only` (optional):
+/// the indices of the samples to measure, in increasing order (the others
+/// are left out, of the count too).
 CoverageCheck measureCoverage(const SurfaceSamples& samples, const Mesh& mesh, double tolerance,
                               tbb::task_arena& arena,
-                              std::vector<std::pair<double, std::uint32_t>>* beyond = nullptr);
+                              std::vector<std::pair<double, std::uint32_t>>* beyond = nullptr,
+                              const std::vector<std::uint32_t>* only = nullptr);
 
 } // namespace kerf::mesher

@@ -4,6 +4,7 @@
 #include "CrossingGuard.hpp"
 #include "RegionTapes.hpp"
 #include "SampleDistance.hpp"
+#include "TriangleClearance.hpp"
 #include "TriangleTree.hpp"
 #include "TriangleSamples.hpp"
 #include "kerf/mesher/SelfIntersections.hpp"
@@ -30,6 +31,39 @@ namespace {
 using Tri = std::array<std::uint32_t, 3>;
 
 constexpr double kCreaseCosine = 0.8660254037844387; // 30 degrees
+
+// No triangle (none found yet).
+constexpr std::uint32_t kNoTriangle = std::numeric_limits<std::uint32_t>::max();
+
+// The point of a sharp edge of the part that edge (u, v) between triangles
+// (u, v, w) and (v, u, x) runs along, in the plane across it through its
+// midpoint: a surface point on each side, a quarter of the edge from the
+// midpoint, and the crease where their tangent planes meet. Nothing where
+// the triangles meet flatter than the crease angle, or where no crease is
+// found there (a round, or sheets that do not meet).
+std::optional<glm::dvec3> creaseAcross(const Tape& tape, GradientEvaluator<double>& gradients, const glm::dvec3& pu,
+                                       const glm::dvec3& pv, const glm::dvec3& pw, const glm::dvec3& px,
+                                       double tolerance)
+{
+    const glm::dvec3 c1 = glm::cross(pv - pu, pw - pu), c2 = glm::cross(pu - pv, px - pv);
+    const double l1 = glm::length(c1), l2 = glm::length(c2), length = glm::length(pv - pu);
+    if (!(l1 > 0.0) || !(l2 > 0.0) || !(length > 0.0)) return std::nullopt;
+    const glm::dvec3 n1 = c1 / l1, n2 = c2 / l2;
+    if (!(glm::dot(n1, n2) < kCreaseCosine)) return std::nullopt;
+    const glm::dvec3 mid = 0.5 * (pu + pv), e = (pv - pu) / length;
+    auto across = [&](const glm::dvec3& apex) {
+        return glm::normalize(apex - (pu + e * glm::dot(apex - pu, e)));
+    };
+    auto onto = [&](glm::dvec3 q, const glm::dvec3& expected) -> std::optional<SurfacePoint> {
+        return projectOntoSurface(tape, gradients, q, length, 1e-4 * tolerance, expected);
+    };
+    const auto s1 = onto(mid + 0.25 * length * across(pw), n1);
+    const auto s2 = onto(mid + 0.25 * length * across(px), n2);
+    if (!s1 || !s2) return std::nullopt;
+    const auto c = snapToCrease(tape, gradients, mid, s1->n, s2->n, length, 0.25 * tolerance);
+    if (!c || !(glm::length(*c - mid) < length)) return std::nullopt;
+    return c;
+}
 
 struct Verdict {
     double worst = 0.0;         // largest distance at a sample (SampleDistance.hpp), mm
@@ -248,27 +282,48 @@ public:
             glm::dvec3 normal(0.0);
             const std::optional<glm::dvec3> p = place(t1, t2, u, v, w, x, crease, normal);
             if (!p) continue;
-            remove(t1);
-            remove(t2);
-            const std::uint32_t m = std::uint32_t(mesh_.vertices.size());
-            mesh_.vertices.push_back(*p);
-            normals_.push_back(normal);
-            const std::uint32_t t3 = std::uint32_t(mesh_.triangles.size()), t4 = t3 + 1;
-            mesh_.triangles[t1] = {u, m, w};
-            mesh_.triangles[t2] = {v, m, x};
-            mesh_.triangles.push_back({m, v, w});
-            mesh_.triangles.push_back({m, u, x});
-            splitThisRound.resize(mesh_.triangles.size(), 0);
-            for (const std::uint32_t t : {t1, t2, t3, t4}) {
-                add(t);
-                splitThisRound[t] = 1;
-                changed.push_back(t);
-            }
+            applyEdgeSplit(t1, t2, u, v, w, x, *p, normal, splitThisRound, changed);
             ++stats.splits;
             if (crease) ++stats.creaseSplits;
             return Outcome::Split;
         }
         return Outcome::Impossible;
+    }
+
+    /// The triangle nearest to point p of the part's surface, where p lies
+    /// further than the tolerance from every triangle, with its edges in
+    /// the order to split them: the one p lies nearest first. Nothing where
+    /// the mesh comes within the tolerance of p.
+    std::optional<std::pair<std::uint32_t, std::array<int, 3>>> missing(const glm::dvec3& p) const
+    {
+        std::uint32_t nearest = kNoTriangle;
+        double best = std::numeric_limits<double>::infinity();
+        for (double r = tolerance_;; r *= 2.0) {
+            grid_.query(p - glm::dvec3(r), p + glm::dvec3(r), [&](std::uint32_t t) {
+                const Tri& tri = mesh_.triangles[t];
+                const double d =
+                    pointTriangleDistance(p, mesh_.vertices[tri[0]], mesh_.vertices[tri[1]], mesh_.vertices[tri[2]]);
+                if (d < best || (d == best && t < nearest)) {
+                    best = d;
+                    nearest = t;
+                }
+            });
+            if (best <= r || r > 1e6) break;
+        }
+        if (nearest == kNoTriangle || best <= tolerance_) return std::nullopt;
+        const Tri& tri = mesh_.triangles[nearest];
+        std::array<double, 3> fromEdge{};
+        for (int e = 0; e < 3; ++e) {
+            const glm::dvec3 a = mesh_.vertices[tri[std::size_t(e)]], b = mesh_.vertices[tri[std::size_t(e + 1) % 3]];
+            const double t = std::clamp(glm::dot(p - a, b - a) / glm::dot(b - a, b - a), 0.0, 1.0);
+            fromEdge[std::size_t(e)] = glm::length(p - (a + t * (b - a)));
+        }
+        std::array<int, 3> order{0, 1, 2};
+        std::sort(order.begin(), order.end(), [&](int a, int b) {
+            return fromEdge[std::size_t(a)] < fromEdge[std::size_t(b)] ||
+                   (fromEdge[std::size_t(a)] == fromEdge[std::size_t(b)] && a < b);
+        });
+        return std::make_pair(nearest, order);
     }
 
     /// Where no split helps (a triangle standing across the surface, a cap
@@ -481,6 +536,39 @@ private:
         return true;
     }
 
+    // Edge (u, v) between triangles t1 = (u, v, w) and t2 = (v, u, x)
+    // split at p (normal: the new vertex's).
+    void applyEdgeSplit(std::uint32_t t1, std::uint32_t t2, std::uint32_t u, std::uint32_t v, std::uint32_t w,
+                        std::uint32_t x, const glm::dvec3& p, const glm::dvec3& normal,
+                        std::vector<std::uint8_t>& splitThisRound, std::vector<std::uint32_t>& changed)
+    {
+        remove(t1);
+        remove(t2);
+        const std::uint32_t m = std::uint32_t(mesh_.vertices.size());
+        mesh_.vertices.push_back(p);
+        normals_.push_back(normal);
+        const std::uint32_t t3 = std::uint32_t(mesh_.triangles.size()), t4 = t3 + 1;
+        mesh_.triangles[t1] = {u, m, w};
+        mesh_.triangles[t2] = {v, m, x};
+        mesh_.triangles.push_back({m, v, w});
+        mesh_.triangles.push_back({m, u, x});
+        splitThisRound.resize(mesh_.triangles.size(), 0);
+        for (const std::uint32_t t : {t1, t2, t3, t4}) {
+            add(t);
+            splitThisRound[t] = 1;
+            changed.push_back(t);
+        }
+    }
+
+    // Whether a new triangle (a, b, c) turns its parent's way (normal
+    // `parent`) and keeps a height.
+    bool fits(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& parent) const
+    {
+        const glm::dvec3 cr = glm::cross(b - a, c - a);
+        const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+        return glm::dot(cr, parent) > 0.0 && glm::length(cr) > minHeight_ * longest;
+    }
+
     // The new vertex of edge (u, v) between triangles (u, v, w) and (v, u, x),
     // on the surface, and its normal (0 on a sharp edge); nothing when no such
     // point keeps the four triangles turning their parents' way.
@@ -495,7 +583,6 @@ private:
         const glm::dvec3 n2 = glm::normalize(glm::cross(pu - pv, px - pv));
         std::array<std::pair<glm::dvec3, glm::dvec3>, 3> candidates; // (position, normal)
         int count = 0;
-        const glm::dvec3 e = (pv - pu) / length;
         // Every query below stays within about two edge lengths of the midpoint.
         const Tape& tape = regions_.near(mid, 4.0 * length);
         auto creasePoint = [&](const glm::dvec3&, const glm::dvec3& g1, const glm::dvec3&,
@@ -509,23 +596,12 @@ private:
         if (normals_[u] != glm::dvec3(0.0) && normals_[v] != glm::dvec3(0.0))
             if (const auto c = creasePoint(pu, normals_[u], pv, normals_[v]))
                 candidates[std::size_t(count++)] = {*c, glm::dvec3(0.0)};
-        if (count == 0 && glm::dot(n1, n2) < kCreaseCosine) {
-            // Perhaps a sharp edge along the edge: a surface point on each
-            // side, and the crease where their tangent planes meet.
-            auto across = [&](const glm::dvec3& apex) { return glm::normalize(apex - (pu + e * glm::dot(apex - pu, e))); };
-            glm::dvec3 q1 = mid + 0.25 * length * across(pw), q2 = mid + 0.25 * length * across(px);
-            glm::dvec3 g1, g2;
-            if (project(tape, q1, length, &g1, n1) && project(tape, q2, length, &g2, n2))
-                if (const auto c = creasePoint(q1, g1, q2, g2)) candidates[std::size_t(count++)] = {*c, glm::dvec3(0.0)};
-        }
+        if (count == 0) // perhaps a sharp edge along the edge
+            if (const auto c = creaseAcross(tape, gradients_, pu, pv, pw, px, tolerance_))
+                candidates[std::size_t(count++)] = {*c, glm::dvec3(0.0)};
         glm::dvec3 p = mid, n(0.0);
         if (project(tape, p, length, &n, glm::normalize(n1 + n2))) candidates[std::size_t(count++)] = {p, n};
         // Each new triangle must turn its parent's way and keep a height.
-        auto fits = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& parent) {
-            const glm::dvec3 cr = glm::cross(b - a, c - a);
-            const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-            return glm::dot(cr, parent) > 0.0 && glm::length(cr) > minHeight_ * longest;
-        };
         for (int i = 0; i < count; ++i) {
             const auto& [at, an] = candidates[std::size_t(i)];
             const std::uint32_t m = std::uint32_t(mesh_.vertices.size());
@@ -571,8 +647,44 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
     std::vector<std::uint8_t> splitThisRound;
     std::vector<std::uint32_t> stuck;
     std::vector<std::uint8_t> touched; // vertices of this round's changed triangles
+    int coveragePass = 0;
+    std::vector<std::pair<double, std::uint32_t>> beyond;
     std::size_t fewestOver = std::numeric_limits<std::size_t>::max();
     int fewestOverRound = 0;
+    // The part's points further than the tolerance from the mesh
+    // (settings.partSamples), furthest first, put into it where the mesh
+    // is still that far when their turn comes; the triangles changed.
+    auto insertFarPoints = [&] {
+        std::vector<std::uint32_t> changed;
+        if (!settings.partSamples || coveragePass >= settings.coveragePasses) return changed;
+        ++coveragePass;
+        // The first pass measures every point; the later ones those the
+        // pass before found beyond, and every point again once those all
+        // keep to the tolerance (a split can take the mesh further from a
+        // point it kept to, rarely).
+        std::vector<std::uint32_t> stillBeyond;
+        for (const auto& [distance, i] : beyond)
+            stillBeyond.push_back(i);
+        std::sort(stillBeyond.begin(), stillBeyond.end());
+        const bool whole = coveragePass == 1 || stillBeyond.empty();
+        measureCoverage(*settings.partSamples, mesh, tolerance, arena, &beyond, whole ? nullptr : &stillBeyond);
+        // Those all kept to now: every point again, once.
+        if (beyond.empty() && !whole) measureCoverage(*settings.partSamples, mesh, tolerance, arena, &beyond);
+        splitThisRound.assign(mesh.triangles.size(), 0);
+        const glm::dvec3 origin = settings.partSamples->origin;
+        for (const auto& [distance, i] : beyond) {
+            const auto miss = splitter.missing(origin + glm::dvec3(settings.partSamples->points[i]));
+            if (!miss) continue;
+            if (splitter.split(miss->first, miss->second, splitThisRound, changed, stats) == Splitter::Outcome::Split)
+                ++stats.partPointSplits;
+        }
+        std::sort(changed.begin(), changed.end());
+        changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+        // The splits answer points, not samples: the patience counts anew.
+        fewestOver = std::numeric_limits<std::size_t>::max();
+        fewestOverRound = stats.rounds;
+        return changed;
+    };
     for (stats.rounds = 0; !dirty.empty(); ++stats.rounds) {
         if (work.cancelled()) return false;
         // (Most refinements are done in a few rounds: the bar then jumps.)
@@ -593,7 +705,24 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
             fewestOver = over;
             fewestOverRound = stats.rounds;
         }
-        if (failing.empty()) break;
+        if (failing.empty()) {
+            // Every triangle keeps to the tolerance; where the part's own
+            // points lie further from the mesh, they go into it.
+            std::vector<std::uint32_t> inserted = insertFarPoints();
+            if (inserted.empty()) break;
+            dirty.swap(inserted);
+            continue;
+        }
+        if (stats.rounds - fewestOverRound >= settings.patienceRounds && stats.rounds < settings.maxRounds &&
+            mesh.triangles.size() < settings.maxTriangles) {
+            // Out of patience with the samples' splits: the part's far
+            // points may still go in, and the patience counts anew.
+            std::vector<std::uint32_t> inserted = insertFarPoints();
+            if (!inserted.empty()) {
+                dirty.swap(inserted);
+                continue;
+            }
+        }
         if (stats.rounds >= settings.maxRounds || mesh.triangles.size() >= settings.maxTriangles ||
             stats.rounds - fewestOverRound >= settings.patienceRounds) {
             stats.gaveUp = true;
@@ -629,7 +758,13 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
                 !splitter.flip(dirty[i], verdicts[i].edges, splitThisRound, changed))
                 stuck.push_back(dirty[i]);
         }
-        if (changed.empty()) break; // nothing could be split
+        if (changed.empty()) {
+            // Nothing could be split: the part's far points may still go in.
+            std::vector<std::uint32_t> inserted = insertFarPoints();
+            if (inserted.empty()) break;
+            dirty.swap(inserted);
+            continue;
+        }
         // A triangle that waited for a neighbour's split is judged again
         // (it may have been changed by that split, or not), and so is one
         // that could not be split when a split or flip touched one of its

@@ -25,8 +25,17 @@
 // their parent's way), so its edge is flipped first, where the flip turns
 // the pair the surface's way and keeps the tolerance.
 //
+// The part's side (RefineSettings::partSamples): a mesh whose every sample
+// keeps to the tolerance can still miss the part, where a triangle cuts a
+// sharp edge off or a curved face bows out between a large triangle's
+// samples. Points of the part the lattice found are measured against the
+// mesh (SurfaceCoverage.hpp), and the edge nearest each point beyond the
+// tolerance is split as any other.
+//
 // Threads: the sampling runs in the arena, per chunk of triangles; the
 // splits are sequential (there are few). Deterministic.
+
+#include "SurfaceCoverage.hpp"
 
 #include "kerf/document/Progress.hpp"
 #include "kerf/evaluator/Tape.hpp"
@@ -58,6 +67,7 @@ struct RefineStats {
     /// Stopped by a limit (rounds, triangles, patience) while triangles were
     /// still to split: the splits were not closing in on the surface.
     bool gaveUp = false;
+    std::uint64_t partPointSplits = 0; // splits for points of the part the mesh missed (RefineSettings::partSamples)
 };
 
 struct RefineSettings {
@@ -84,6 +94,17 @@ struct RefineSettings {
     /// over the tolerance; as the rule throughout, it left a few more over
     /// on the turned leg's default export).
     bool unfoldLeaning = false;
+    /// Points of the part's surface (SurfaceCoverage.hpp) that the mesh
+    /// must come within the tolerance of. Once the triangles' samples keep
+    /// to it (or the splits for them are stuck), each point further from
+    /// the mesh, furthest first, has the edge of its nearest triangle
+    /// nearest to it split, the new vertex on the surface as for any split
+    /// (on the crease where the edge runs along a sharp edge of the part);
+    /// then the triangles' samples again, and another pass, up to this
+    /// many. A pass measures the points the pass before found beyond, and
+    /// every point once those keep to it. Null: none.
+    const SurfaceSamples* partSamples = nullptr;
+    int coveragePasses = 32;
 };
 
 /// Refines `mesh` (world coordinates, outward triangles), the surface of

@@ -1679,6 +1679,10 @@ void MainWindowTest::exportDialogWritesAClosedMesh()
             const QString message = dialog->outcome().message;
             QVERIFY2(message.contains("within 0.5 mm") || message.contains("beyond the tolerance of 0.5 mm"),
                      qPrintable(message));
+            // And the other way: the part's points against the file.
+            QVERIFY2(message.contains(QRegularExpression("points of the part's surface that the cells found lie "
+                                                         "(within|beyond)")),
+                     qPrintable(message));
         }
     }
     // A name the dialog cannot tell the format of is refused, nothing written.

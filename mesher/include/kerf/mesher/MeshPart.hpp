@@ -25,6 +25,12 @@
 //    quiet voxels) are searched for material or a gap thinner than a cell
 //    lying between their corners (HiddenDetail.hpp); what is found is
 //    reported with the feature size that resolves it (MeshStats).
+// 6. With a tolerance: flat blocks become fans (PlanarFans.hpp), the mesh is
+//    simplified to the tolerance (SimplifyToTolerance.hpp) and refined where
+//    its triangles' samples stray further (ToleranceRefiner.hpp); last, the
+//    lattice's own points of the part are measured against the mesh, and
+//    where one lies beyond the tolerance the mesh is split there
+//    (SurfaceCoverage.hpp), so that the tolerance holds both ways.
 //
 // Threading: the work runs in a oneTBB arena (options.threads); tiles are
 // independent within a round, and the result does not depend on the number
@@ -103,6 +109,11 @@ struct MeshOptions {
     /// tolerance (a board 18 x 100 x 100 at 1 mm cells). The default is
     /// irrational in every axis, so that no round coordinate lies on a
     /// plane; 0 keeps the centred lattice (tests of the zero corners).
+    /// With a tolerance: split the mesh where the part's own points lie
+    /// further than the tolerance from it (SurfaceCoverage.hpp; the
+    /// refinement's last step). Off only to measure what it costs; the
+    /// part's side is measured and reported either way.
+    bool coverPartPoints = true;
     glm::dvec3 latticeShift{0.20710678118654752, 0.36602540378443865, 0.11803398874989485};
     CrossingGuard crossingGuard = CrossingGuard::Afterwards;
     /// With a tolerance: blocks of this many cells a side whose lattice
@@ -166,6 +177,7 @@ struct MeshStats {
     /// mesh, the furthest's distance (0 when none does) and where it is.
     std::uint64_t partSamples = 0;
     std::uint64_t partSamplesBeyond = 0;
+    std::uint64_t partPointSplits = 0; // splits the refinement made for points beyond the tolerance
     double worstPartSample = 0.0;
     glm::dvec3 worstPartSampleAt{0.0};
     std::uint64_t unfolds = 0;            // flips that turned a folded triangle the surface's way
