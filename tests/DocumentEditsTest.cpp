@@ -5,6 +5,7 @@
 #include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/NodeBounds.hpp"
+#include "kerf/document/NodePlacement.hpp"
 
 #include <gtest/gtest.h>
 
@@ -297,6 +298,41 @@ TEST(AddFeature, ANewPrimitiveRestsOnTheGrid)
     EXPECT_EQ(edit::placeholderOf(doc, a), a + "-box");
     doc.root.find(a + "-box")->transform.translate = glm::dvec3(0.0);
     EXPECT_EQ(edit::placeholderOf(doc, a), a + "-box");
+    doc.validate();
+}
+
+TEST(AddFeature, AToolAddedToADifferenceCutsTheBodyWhereItIs)
+{
+    // A newcomer's board lay away from the origin; the hole added into its
+    // difference landed on the grid at the origin and cut nothing.
+    Document doc = Document::parse(R"({"format":"kerf","version":1,"root":{"id":"root","type":"union","children":[
+        {"id":"d","type":"difference","children":[
+            {"id":"board","type":"box","size":[300,200,18],"transform":{"translate":[200,100,9]}}]},
+        {"id":"u","type":"union","children":[{"id":"rail","type":"box","size":[10,10,10]}]}]}})",
+                                   "board.kerf");
+    const Aabb board = nodeBounds(*doc.root.find("board"));
+    for (const auto& [type, selected] : {std::pair{NodeType::Cylinder, "d"}, std::pair{NodeType::Box, "cylinder"}}) {
+        const std::string id = edit::addFeature(doc, type, {selected});
+        EXPECT_EQ(edit::locate(doc, id)->parentId, "d") << id;
+        const Aabb tool = nodeBounds(*doc.root.find(id));
+        // Centred on the board's top face, half above it: the cut shows.
+        EXPECT_NEAR(0.5 * (tool.min.x + tool.max.x), 200.0, 1e-9) << id;
+        EXPECT_NEAR(0.5 * (tool.min.y + tool.max.y), 100.0, 1e-9) << id;
+        EXPECT_NEAR(0.5 * (tool.min.z + tool.max.z), board.max.z, 1e-9) << id;
+        EXPECT_TRUE(edit::isSubtracted(doc, id)) << id;
+    }
+    // Into a union a primitive rests on the grid at the origin as always.
+    EXPECT_EQ(edit::addFeature(doc, NodeType::Sphere, {"u"}), "sphere");
+    const Aabb sphere = nodeBounds(*doc.root.find("sphere"));
+    EXPECT_DOUBLE_EQ(sphere.min.z, 0.0);
+    EXPECT_NEAR(sphere.max.x + sphere.min.x, 0.0, 1e-9);
+    // A new difference's placeholder box is its body: a tool added to it
+    // cuts its top.
+    edit::addFeature(doc, NodeType::Difference, {});
+    const std::string tool = edit::addFeature(doc, NodeType::Cylinder, {"difference"});
+    const Aabb placeholder = nodeBounds(*doc.root.find("difference-box"));
+    EXPECT_NEAR(0.5 * (nodeBounds(*doc.root.find(tool)).min.z + nodeBounds(*doc.root.find(tool)).max.z),
+                placeholder.max.z, 1e-9);
     doc.validate();
 }
 

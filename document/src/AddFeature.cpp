@@ -29,6 +29,25 @@ Node newPrimitive(NodeType type, std::string id)
     return n;
 }
 
+// A primitive added to a difference after its body is a tool: it is put
+// where it cuts the body, centred on the body's top face (half of it above,
+// so the cut shows from above), not on the grid at the origin, where a
+// newcomer's first dowel hole into a board placed away from the origin cut
+// nothing and seemed lost. The body: the difference's first visible child
+// (what isSubtracted counts as the material); none, or one without bounds
+// (a half-space), leaves the tool where newPrimitive put it.
+void placeToolOnBody(const Node& difference, std::size_t index, Node& tool)
+{
+    const auto body = std::find_if(difference.children.begin(), difference.children.end(),
+                                   [](const Node& c) { return c.visible; });
+    if (body == difference.children.end() || std::size_t(body - difference.children.begin()) >= index) return;
+    const Aabb b = nodeBounds(*body), t = nodeBounds(tool);
+    if (b.isEmpty() || !b.isBounded() || t.isEmpty() || !t.isBounded()) return;
+    const glm::dvec3 target(0.5 * (b.min.x + b.max.x), 0.5 * (b.min.y + b.max.y), b.max.z);
+    const glm::dvec3 centre = 0.5 * (t.min + t.max);
+    tool.transform.translate += target - centre;
+}
+
 } // namespace
 
 std::string placeholderOf(const Document& doc, const std::string& operationId)
@@ -85,6 +104,8 @@ std::string addFeature(Document& doc, NodeType type, const std::vector<std::stri
         parent = wrapNodes(edited, {edited.root.id}, makeNode(NodeType::Union, uniqueId(edited, "part")));
     Node n = isPrimitive(type) ? newPrimitive(type, id) : makeNode(type, id);
     if (!isPrimitive(type)) n.children.push_back(newPrimitive(NodeType::Box, uniqueId(edited, placeholderBase(id))));
+    if (const Node* into = edited.root.find(parent); isPrimitive(type) && into && into->type == NodeType::Difference)
+        placeToolOnBody(*into, std::min(index, into->children.size()), n);
     insertNode(edited, parent, index, std::move(n));
     doc = std::move(edited);
     return id;

@@ -4,7 +4,9 @@
 // application applies, Qt-free and tested on its own (DocumentEditsTest).
 //
 // - A new primitive rests on the ground grid (its lowest point at z = 0 of
-//   its parent's frame), centred on the Z axis.
+//   its parent's frame), centred on the Z axis; one added to a difference
+//   after its body (a tool: a hole, a groove) is centred on the body's top
+//   face instead, half above it, so that it cuts where the board is.
 // - A primitive goes into the selected boolean, into the selected offset,
 //   shell, array or mirror when it has room, and otherwise right after the
 //   selected feature; with nothing selected, at the end of the root (a root
