@@ -2370,6 +2370,17 @@ void MainWindowTest::theViewKeysAnswerWithTheFeatureTreeInFocus()
     QTest::keyClick(tree, Qt::Key_1);
     QCOMPARE(v->view().yawDegrees(), frontYaw);
     QCOMPARE(v->view().pitchDegrees(), frontPitch);
+    // The opposite views on Ctrl and the same key: back, left, bottom (they
+    // had no key), each as its menu entry puts it.
+    for (const auto& [key, name] : {std::pair{Qt::Key_1, "back"}, std::pair{Qt::Key_3, "left"},
+                                    std::pair{Qt::Key_7, "bottom"}}) {
+        action(w.get(), QString("action.view.") + name)->trigger();
+        const double yaw = v->view().yawDegrees(), pitch = v->view().pitchDegrees();
+        action(w.get(), "action.view.iso")->trigger();
+        QTest::keyClick(tree, key, Qt::ControlModifier);
+        QCOMPARE(v->view().yawDegrees(), yaw);
+        QCOMPARE(v->view().pitchDegrees(), pitch);
+    }
 
     // In the Parameters table a digit starts editing the cell, as typing does.
     action(w.get(), "action.view.iso")->trigger();

@@ -194,10 +194,15 @@ void MainWindow::buildViewMenu()
     commands_.view = menuBar()->addMenu(tr("&View"));
     QMenu* view = commands_.view;
     for (const auto& [name, label, key] :
-         {std::tuple{"iso", tr("&Isometric"), QKeySequence(tr("0"))}, std::tuple{"front", tr("&Front"), QKeySequence(tr("1"))},
-          std::tuple{"back", tr("&Back"), QKeySequence()}, std::tuple{"left", tr("&Left"), QKeySequence()},
-          std::tuple{"right", tr("&Right"), QKeySequence(tr("3"))}, std::tuple{"top", tr("&Top"), QKeySequence(tr("7"))},
-          std::tuple{"bottom", tr("Botto&m"), QKeySequence()}}) {
+         {std::tuple{"iso", tr("&Isometric"), QKeySequence(tr("0"))},
+          std::tuple{"front", tr("&Front"), QKeySequence(tr("1"))},
+          std::tuple{"back", tr("&Back"), QKeySequence(tr("Ctrl+1"))},
+          std::tuple{"right", tr("&Right"), QKeySequence(tr("3"))},
+          std::tuple{"left", tr("&Left"), QKeySequence(tr("Ctrl+3"))},
+          std::tuple{"top", tr("&Top"), QKeySequence(tr("7"))},
+          std::tuple{"bottom", tr("Botto&m"), QKeySequence(tr("Ctrl+7"))}}) {
+        // The opposite view on Ctrl and the same key, as in Blender (a
+        // newcomer looked for a key to see a board's underside).
         // Shown in the menu (a newcomer found the keys only in the README),
         // and answered anywhere in the window as F and 5 are: the action is
         // the window's too (a shortcut of the menu's alone answered only in
