@@ -566,6 +566,20 @@ void MainWindowTest::expressionsAndMergedSteps()
     QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.x, 510.0);
     action(w.get(), "action.undo")->trigger();
     QCOMPARE(w->session()->document().root.find("box")->as<BoxParams>().size.x, 36.0);
+
+    // A refused number typed over a field an expression drives: the field
+    // shows the expression again, as before the typing (it showed the
+    // number, and a newcomer thought the expression gone).
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side-parametric.kerf"));
+    w->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(w.get())); // the focus is the active window's
+    clickRow(*w, "panel");
+    QuantityEdit* thickness = field(*w, "size.x");
+    typeInto(thickness, "-5");
+    QVERIFY(thickness->hasFocus());
+    QVERIFY2(!w->propertyEditor()->errorFor("size.x").isEmpty(), "the refusal is said");
+    QCOMPARE(thickness->findChild<QLineEdit*>()->text(), QString("=thickness"));
+    QCOMPARE(w->session()->document().root.find("panel")->expressions.at("size[0]"), std::string("thickness"));
 }
 
 void MainWindowTest::restoresTheAutosaveAfterACrash()

@@ -221,9 +221,14 @@ void PropertyEditor::commit(std::size_t index, double value, bool step)
         // typed and entered are a step each (510 then 520, undone, is 510).
         &why, step ? QString::fromStdString(id) + "/" + key : QString());
     if (error) showError(error, ok ? QString() : why);
-    // Refused: the field shows the document's value again, the reason stays.
+    // Refused: the field shows the document's value again (and the
+    // expression that drives it), the reason stays.
     if (!ok && edit)
-        if (const Node* now = session_->document().root.find(id)) edit->showValue(get(*now));
+        if (const Node* now = session_->document().root.find(id)) {
+            const auto driven = now->expressions.find(expressionPath(key).toStdString());
+            edit->showDocument(get(*now), driven == now->expressions.end() ? QString()
+                                                                           : QString::fromStdString(driven->second));
+        }
 }
 
 QString PropertyEditor::expressionPath(const QString& key)

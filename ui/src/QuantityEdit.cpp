@@ -86,6 +86,16 @@ void QuantityEdit::setExpression(const QString& expression)
     if (hasFocus() && !lineEdit()->isModified()) showEnteredText();
 }
 
+void QuantityEdit::showDocument(double v, const QString& expression)
+{
+    showValue(v);
+    expression_ = expression;
+    if (hasFocus()) {
+        showEnteredText();
+        lineEdit()->setModified(false);
+    }
+}
+
 void QuantityEdit::showEnteredText()
 {
     if (expression_.isEmpty()) {

@@ -31,6 +31,10 @@ public:
     /// The expression that drives the value ("" when none): shown as
     /// "=expression" while the field has the focus, to be edited there.
     void setExpression(const QString& expression);
+    /// The document's value and expression again after a refused entry:
+    /// what the field showed before the text typed ("=leg" while it has
+    /// the focus, where a refused -5 over it left the number "40 mm").
+    void showDocument(double v, const QString& expression);
     /// Offers `names` (asked each time) as an expression is typed after '=';
     /// text that reads as no number but uses one of them is an expression
     /// too, without the '=' ("thickness / 2").
