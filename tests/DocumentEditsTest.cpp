@@ -301,6 +301,30 @@ TEST(AddFeature, ANewPrimitiveRestsOnTheGrid)
     doc.validate();
 }
 
+TEST(AddFeature, WithNothingSelectedANewPrimitiveIsMaterialBesideThePart)
+{
+    // The side chair's root keeps it above the floor plane (an
+    // intersection): a Box added with nothing selected went to its end and
+    // cut the whole chair down to the box.
+    for (const char* root : {"intersection", "difference"}) {
+        SCOPED_TRACE(root);
+        Document doc = Document::parse(std::string(R"({"format":"kerf","version":1,"root":{"id":"root","type":")") +
+                                           root + R"(","children":[
+            {"id":"seat","type":"box","size":[400,400,20],"transform":{"translate":[0,0,450]}},
+            {"id":"floor","type":"halfspace","normal":[0,0,-1],"offset":0}]}})",
+                                       "chair.kerf");
+        const std::string id = edit::addFeature(doc, NodeType::Box, {});
+        ASSERT_EQ(doc.root.type, NodeType::Union);
+        EXPECT_EQ(childIds(doc.root), (std::vector<std::string>{"root", id}));
+        EXPECT_FALSE(edit::isSubtracted(doc, id));
+        doc.validate();
+        // The root selected, explicitly: into it.
+        Document chosen = Document::parse(doc.serialize(), "chair.kerf");
+        const std::string into = edit::addFeature(chosen, NodeType::Sphere, {"root"});
+        EXPECT_EQ(edit::locate(chosen, into)->parentId, "root");
+    }
+}
+
 TEST(AddFeature, AToolAddedToADifferenceCutsTheBodyWhereItIs)
 {
     // A newcomer's board lay away from the origin; the hole added into its
@@ -379,6 +403,48 @@ TEST(AddFeature, APrimitiveRestingOnTheGridStaysThereAsItsHeightChanges)
     edit::keepResting(c, taller);
     EXPECT_DOUBLE_EQ(nodeBounds(taller).min.z, 0.0);
     EXPECT_DOUBLE_EQ(nodeBounds(taller).max.z, 40.0);
+}
+
+TEST(AddFeature, APrimitiveRestingOnTheGridLiesOnItWhenTurned)
+{
+    // A newcomer's leg, turned to lie along the bench, hung above it.
+    Document doc = edit::emptyDocument();
+    const std::string id = edit::addFeature(doc, NodeType::Box, {});
+    Node leg = *doc.root.find(id);
+    leg.as<BoxParams>().size = {40.0, 40.0, 400.0};
+    leg.transform.translate.z = 200.0;
+    ASSERT_DOUBLE_EQ(nodeBounds(leg).min.z, 0.0);
+    Node lying = leg;
+    lying.transform.rotate.x = 90.0;
+    edit::keepResting(leg, lying);
+    EXPECT_NEAR(nodeBounds(lying).min.z, 0.0, 1e-9);
+    EXPECT_NEAR(nodeBounds(lying).max.z, 40.0, 1e-9);
+    EXPECT_DOUBLE_EQ(lying.transform.translate.x, leg.transform.translate.x);
+    // Turned back up: standing on the grid again.
+    Node standing = lying;
+    standing.transform.rotate.x = 0.0;
+    edit::keepResting(lying, standing);
+    EXPECT_NEAR(nodeBounds(standing).min.z, 0.0, 1e-9);
+    EXPECT_NEAR(nodeBounds(standing).max.z, 400.0, 1e-9);
+    // A cylinder laid on its side.
+    Document d2 = edit::emptyDocument();
+    const Node c = *d2.root.find(edit::addFeature(d2, NodeType::Cylinder, {}));
+    Node side = c;
+    side.transform.rotate.y = 90.0;
+    edit::keepResting(c, side);
+    EXPECT_NEAR(nodeBounds(side).min.z, 0.0, 1e-9);
+    // Not resting (lifted), or turned and moved in one edit: left alone.
+    Node lifted = leg;
+    lifted.transform.translate.z += 10.0;
+    Node liftedTurned = lifted;
+    liftedTurned.transform.rotate.x = 90.0;
+    edit::keepResting(lifted, liftedTurned);
+    EXPECT_DOUBLE_EQ(liftedTurned.transform.translate.z, lifted.transform.translate.z);
+    Node turnedAndMoved = leg;
+    turnedAndMoved.transform.rotate.x = 90.0;
+    turnedAndMoved.transform.translate.x = 5.0;
+    edit::keepResting(leg, turnedAndMoved);
+    EXPECT_DOUBLE_EQ(turnedAndMoved.transform.translate.z, leg.transform.translate.z);
 }
 
 TEST(AddFeature, APanelWhoseThicknessIsAParameterStaysOnTheGridWhenItChanges)

@@ -100,7 +100,14 @@ std::string addFeature(Document& doc, NodeType type, const std::vector<std::stri
     }
     Document edited = doc;
     const Node* target = edited.root.find(parent);
-    if (!target || (target == &edited.root && maxChildren(edited.root.type) <= edited.root.children.size()))
+    // With nothing selected a new feature is new material beside the part:
+    // at the end of a root intersection it cut the whole part down to
+    // itself (a newcomer's Box emptied the side chair, whose root keeps it
+    // above the floor plane), of a root difference it was a cut.
+    const bool rootTakesItAsMaterial = edited.root.type != NodeType::Intersection &&
+                                       edited.root.type != NodeType::Difference;
+    if (!target || (target == &edited.root && (maxChildren(edited.root.type) <= edited.root.children.size() ||
+                                               (!selected && !rootTakesItAsMaterial))))
         parent = wrapNodes(edited, {edited.root.id}, makeNode(NodeType::Union, uniqueId(edited, "part")));
     Node n = isPrimitive(type) ? newPrimitive(type, id) : makeNode(type, id);
     if (!isPrimitive(type)) n.children.push_back(newPrimitive(NodeType::Box, uniqueId(edited, placeholderBase(id))));
@@ -139,11 +146,42 @@ std::optional<std::string> restingExpression(const Node& n)
     return (name ? e : "(" + e + ")") + "/2";
 }
 
+namespace {
+
+// Resting: its bottom on the grid, to the rounding a typed position leaves.
+bool rests(const Aabb& b) { return std::abs(b.min.z) <= 1e-9 * std::max(1.0, b.max.z - b.min.z); }
+
+// Turned where it stands (only its rotation changed): a primitive that
+// rested on the grid lies on it again, by its bounds in its parent's frame.
+// A leg turned to lie along the bench hung 180 mm above it.
+void keepRestingTurned(const Node& before, Node& after)
+{
+    Node unturned = after;
+    unturned.transform.rotate = before.transform.rotate;
+    if (!(unturned == before)) return; // something else changed too: the edit's own
+    const auto placedBy = before.expressions.find(kPositionZ);
+    const bool ours = placedBy != before.expressions.end() && placedBy->second == restingExpression(before);
+    if (placedBy != before.expressions.end() && !ours) return;
+    const Aabb was = nodeBounds(before), now = nodeBounds(after);
+    if (was.isEmpty() || !was.isBounded() || now.isEmpty() || !now.isBounded() || !rests(was)) return;
+    after.transform.translate.z -= now.min.z;
+    if (const auto e = restingExpression(after))
+        after.expressions[kPositionZ] = *e;
+    else
+        after.expressions.erase(kPositionZ);
+}
+
+} // namespace
+
 void keepResting(const Node& before, Node& after)
 {
-    if (!isPrimitive(before.type) || before.type != after.type || !(before.transform == after.transform) ||
-        before.transform.rotate != glm::dvec3(0.0))
+    if (!isPrimitive(before.type) || before.type != after.type) return;
+    if (before.transform.translate == after.transform.translate &&
+        before.transform.rotate != after.transform.rotate) {
+        keepRestingTurned(before, after);
         return;
+    }
+    if (!(before.transform == after.transform) || before.transform.rotate != glm::dvec3(0.0)) return;
     // An expression placing it is the user's rule, not ours, unless it is
     // the one this rule wrote for the height it had (then it follows the new one).
     const auto placedBy = before.expressions.find(kPositionZ);
@@ -152,8 +190,7 @@ void keepResting(const Node& before, Node& after)
     const Aabb was = nodeBounds(before);
     const Aabb now = nodeBounds(after);
     if (was.isEmpty() || !was.isBounded() || now.isEmpty() || !now.isBounded()) return;
-    // Resting: its bottom on the grid, to the rounding a typed position leaves.
-    if (std::abs(was.min.z) > 1e-9 * std::max(1.0, was.max.z - was.min.z)) return;
+    if (!rests(was)) return;
     after.transform.translate.z -= now.min.z;
     // A height set by an expression (Size Z "=thickness") places it by one
     // too, so that it stays on the grid when the parameter changes: a

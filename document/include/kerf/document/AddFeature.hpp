@@ -10,7 +10,8 @@
 // - A primitive goes into the selected boolean, into the selected offset,
 //   shell, array or mirror when it has room, and otherwise right after the
 //   selected feature; with nothing selected, at the end of the root (a root
-//   that takes no more children is first wrapped under a union).
+//   that takes no more children, or would not take it as material, an
+//   intersection or a difference, is first wrapped under a union).
 // - A primitive added to an offset, shell, array or mirror whose only child
 //   is still the box it was given as a placeholder replaces that box.
 // - An operation added while one feature (not the root) is selected puts
@@ -42,6 +43,8 @@ std::string placeholderOf(const Document& doc, const std::string& operationId);
 /// parameters changes its height: a board laid on the bench and made
 /// thinner stays on the bench. Adjusts `after`'s translate z; leaves it
 /// alone when the edit moved the node itself, or it did not rest there.
+/// So does an edit of its rotation alone (a leg turned to lie along the
+/// bench lies on it), by its bounds in the parent's frame.
 /// A height set by an expression (a box's Size Z "=thickness", a cylinder's
 /// Height) places the resting primitive by one too: translate z becomes
 /// "thickness/2", which follows the parameter; an expression this rule
