@@ -47,7 +47,6 @@
 #include <QSettings>
 #include <QDockWidget>
 #include <QSignalSpy>
-#include <QStandardPaths>
 #include <QSlider>
 #include <QTimer>
 #include <QPointer>
@@ -354,7 +353,14 @@ class MainWindowTest : public QObject {
 private slots:
     void initTestCase()
     {
-        QStandardPaths::setTestModeEnabled(true); // settings and data in test folders
+        // Settings and data in folders of this process alone, not the one
+        // folder of Qt's test mode: ctest runs the tests as processes side
+        // by side, and one test's View > Lengths In > Inches reached the
+        // fields of another ("R (in)" where "R (mm)" was due). Set before
+        // anything reads a setting (QSettings keeps the folder it found).
+        QVERIFY(home_.isValid());
+        for (const char* variable : {"XDG_CONFIG_HOME", "XDG_DATA_HOME", "XDG_CACHE_HOME", "XDG_STATE_HOME"})
+            qputenv(variable, (home_.path() + "/" + variable).toLocal8Bit());
         QVERIFY(recovery_.isValid());
         QVERIFY(files_.isValid());
     }
@@ -417,7 +423,7 @@ private slots:
     void theGpuVoxelizesWhenAskedAndTheCpuTakesOverWhenItCannot();
 
 private:
-    QTemporaryDir recovery_, files_;
+    QTemporaryDir home_, recovery_, files_;
 };
 
 void MainWindowTest::buildsAPartFromNothingWithUndoRedoAndSaves()
