@@ -9,7 +9,8 @@
 # also measured against the exact surface (the upper bound of the distance,
 # SurfaceDistance.hpp), and its triangles facing into the part (normal more
 # than 90 degrees from the gradient at the centroid: folds) are counted:
-# the worst sample is each build's own judgement.
+# the worst sample is each build's own judgement. The last column says
+# whether the two builds wrote the same file, byte for byte.
 #
 #   bash bench/export-before-after.sh BEFORE_KERF AFTER_KERF [PART:FEATURE:TOLERANCE ...]
 set -euo pipefail
@@ -33,8 +34,8 @@ distance() { # part file -> "largest distance at a sample (upper bound, mm) tria
     echo "- -"
   fi
 }
-echo "| part | cells mm | tolerance mm | triangles before → after | over tolerance before → after | worst sample mm before → after | distance max mm before → after | facing into the part before → after | time s before → after |"
-echo "|---|---|---|---|---|---|---|---|---|"
+echo "| part | cells mm | tolerance mm | triangles before → after | over tolerance before → after | worst sample mm before → after | distance max mm before → after | facing into the part before → after | time s before → after | same file |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
 for c in "${cases[@]}"; do
   IFS=: read -r part feature tolerance <<<"$c"
   read -r bt bo bw bs1 <<<"$(run "$before" "$part" "$feature" "$tolerance" "$out/before.stl")"
@@ -44,5 +45,7 @@ for c in "${cases[@]}"; do
   bs=$(python3 -c "print(min($bs1, $bs2))") as=$(python3 -c "print(min($as1, $as2))")
   read -r bd bf <<<"$(distance "$part" "$out/before.stl")"
   read -r ad af <<<"$(distance "$part" "$out/after.stl")"
-  echo "| $(basename "$part" .kerf) | $feature | $tolerance | $bt → $at | $bo → $ao | $bw → $aw | $bd → $ad | $bf → $af | $bs → $as |"
+  same=no
+  if cmp -s "$out/before.stl" "$out/after.stl"; then same=yes; fi
+  echo "| $(basename "$part" .kerf) | $feature | $tolerance | $bt → $at | $bo → $ao | $bw → $aw | $bd → $ad | $bf → $af | $bs → $as | $same |"
 done

@@ -78,6 +78,60 @@ TEST(SurfaceCoverage, DistancesBeyondTheToleranceAreExactAndOrdered)
     EXPECT_GT(expectedBeyond, 100u); // the test means something
 }
 
+// Samples in the order the lattice gives them, neighbours after one
+// another, each near a face of the cube and on either side of the
+// tolerance: the triangle that held the last few samples is asked first
+// (measureCoverage), and the answers must still be brute force's, for all
+// the samples and for a subset.
+TEST(SurfaceCoverage, NeighbouringSamplesGetBruteForcesAnswers)
+{
+    const Mesh mesh = chamferedCube(2.0);
+    const double tolerance = 0.05;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> off(-2.0f * float(tolerance), 2.0f * float(tolerance));
+    SurfaceSamples samples;
+    samples.origin = {5.0, 5.0, 5.0};
+    for (int i = 0; i <= 100; ++i)
+        for (int j = 0; j <= 100; ++j) {
+            const float u = 0.1f * float(i), v = 0.1f * float(j);
+            samples.points.push_back(glm::vec3(10.0f + off(rng), u, v) - glm::vec3(samples.origin));
+            samples.points.push_back(glm::vec3(u, 10.0f + off(rng), v) - glm::vec3(samples.origin));
+            samples.points.push_back(glm::vec3(u, v, off(rng)) - glm::vec3(samples.origin));
+        }
+    samples.onSharpEdge.assign(samples.points.size(), 0);
+    std::vector<double> distance(samples.points.size());
+    for (std::size_t i = 0; i < samples.points.size(); ++i) {
+        const glm::dvec3 p = samples.origin + glm::dvec3(samples.points[i]);
+        distance[i] = std::numeric_limits<double>::infinity();
+        for (const auto& t : mesh.triangles)
+            distance[i] = std::min(distance[i], pointTriangleDistance(p, mesh.vertices[t[0]], mesh.vertices[t[1]],
+                                                                      mesh.vertices[t[2]]));
+    }
+    tbb::task_arena arena(2);
+    std::vector<std::uint32_t> odd;
+    for (std::uint32_t i = 1; i < samples.points.size(); i += 2)
+        odd.push_back(i);
+    const std::vector<std::uint32_t>* subsets[] = {nullptr, &odd};
+    for (const std::vector<std::uint32_t>* only : subsets) {
+        std::vector<std::pair<double, std::uint32_t>> beyond;
+        const CoverageCheck check = measureCoverage(samples, mesh, tolerance, arena, &beyond, only);
+        std::vector<std::uint32_t> expected;
+        for (std::uint32_t i = 0; i < samples.points.size(); ++i)
+            if ((!only || i % 2 == 1) && distance[i] > tolerance) expected.push_back(i);
+        std::vector<std::uint32_t> found;
+        for (const auto& [d, i] : beyond) {
+            EXPECT_NEAR(d, distance[i], 1e-9) << "sample " << i;
+            found.push_back(i);
+        }
+        std::sort(found.begin(), found.end());
+        EXPECT_EQ(found, expected);
+        EXPECT_EQ(check.samplesBeyond, expected.size());
+        // Both sides of the tolerance are met, many times (the test means something).
+        EXPECT_GT(expected.size(), 2000u);
+        EXPECT_GT(check.samples - expected.size(), 2000u);
+    }
+}
+
 // The cube's own points: its faces' and edges' points, as the cells find
 // them. The chamfer (the mesh) cuts the edge at x = y = 10 off: every point
 // of the faces is within a hair of the mesh except near that edge, whose

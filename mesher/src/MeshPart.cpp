@@ -396,12 +396,14 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     // after each pass, leaning triangles turned upright too (without, the
     // side chair kept 2 triangles over the tolerance that the splits made).
     t0 = Clock::now();
-    CoverageCheck coverage = measureCoverage(partSamples, mesh, options.tolerance, arena);
+    std::vector<std::pair<double, std::uint32_t>> beyond;
+    CoverageCheck coverage = measureCoverage(partSamples, mesh, options.tolerance, arena, &beyond);
     stats.coverageSeconds = secondsSince(t0);
     if (options.coverPartPoints && coverage.samplesBeyond > 0) {
         t0 = Clock::now();
         RefineSettings covering = refineSettings;
         covering.partSamples = &partSamples;
+        covering.partSamplesBeyond = &beyond;
         covering.maxRounds = 80; // the passes' splits too
         covering.unfoldLeaning = true;
         RefineStats covered;

@@ -131,11 +131,35 @@ CoverageCheck measureCoverage(const SurfaceSamples& samples, const Mesh& mesh, d
         return tbb::parallel_reduce(
             tbb::blocked_range<std::size_t>(0, count, 4096), Worst{},
             [&](const tbb::blocked_range<std::size_t>& range, Worst w) {
+                // The samples come in the lattice's order, neighbours after
+                // one another, and a simplified mesh's triangles are large:
+                // a triangle that held one of the last samples mostly holds
+                // this one too (on either side of an edge they alternate),
+                // and a distance or two answer what a walk of the tree
+                // would (the same answer: either finds a triangle within).
+                constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+                std::array<std::uint32_t, 4> holders;
+                holders.fill(kNone);
+                const auto heldByRecent = [&](const glm::dvec3& p) {
+                    for (std::size_t h = 0; h < holders.size() && holders[h] != kNone; ++h)
+                        if (distanceTo(p, holders[h]) <= tolerance) {
+                            std::rotate(holders.begin(), holders.begin() + std::ptrdiff_t(h),
+                                        holders.begin() + std::ptrdiff_t(h) + 1);
+                            return true;
+                        }
+                    return false;
+                };
                 for (std::size_t k = range.begin(); k != range.end(); ++k) {
                     const std::size_t i = only ? (*only)[k] : k;
                     const glm::dvec3 p(samples.points[i]);
-                    const bool within = tree.queryAny(p - glm::dvec3(tolerance), p + glm::dvec3(tolerance),
-                                                      [&](std::uint32_t t) { return distanceTo(p, t) <= tolerance; });
+                    if (heldByRecent(p)) continue;
+                    const bool within =
+                        tree.queryAny(p - glm::dvec3(tolerance), p + glm::dvec3(tolerance), [&](std::uint32_t t) {
+                            if (!(distanceTo(p, t) <= tolerance)) return false;
+                            std::rotate(holders.begin(), holders.end() - 1, holders.end());
+                            holders[0] = t;
+                            return true;
+                        });
                     if (within) continue;
                     ++w.beyond;
                     const double d = nearest(p);

@@ -652,9 +652,10 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
     std::size_t fewestOver = std::numeric_limits<std::size_t>::max();
     int fewestOverRound = 0;
     // The part's points further than the tolerance from the mesh
-    // (settings.partSamples), furthest first, put into it where the mesh
-    // is still that far when their turn comes; the triangles changed.
-    auto insertFarPoints = [&] {
+    // (settings.partSamples), furthest first: the edge nearest each is
+    // split where the mesh is still that far when its turn comes; the
+    // triangles changed.
+    auto splitWhereFarPoints = [&] {
         std::vector<std::uint32_t> changed;
         if (!settings.partSamples || coveragePass >= settings.coveragePasses) return changed;
         ++coveragePass;
@@ -667,7 +668,10 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
             stillBeyond.push_back(i);
         std::sort(stillBeyond.begin(), stillBeyond.end());
         const bool whole = coveragePass == 1 || stillBeyond.empty();
-        measureCoverage(*settings.partSamples, mesh, tolerance, arena, &beyond, whole ? nullptr : &stillBeyond);
+        const bool measured = coveragePass == 1 && settings.partSamplesBeyond && stats.splits == 0 &&
+                              splitter.flips == 0 && splitter.unfolds == 0;
+        if (measured) beyond = *settings.partSamplesBeyond;
+        else measureCoverage(*settings.partSamples, mesh, tolerance, arena, &beyond, whole ? nullptr : &stillBeyond);
         // Those all kept to now: every point again, once.
         if (beyond.empty() && !whole) measureCoverage(*settings.partSamples, mesh, tolerance, arena, &beyond);
         splitThisRound.assign(mesh.triangles.size(), 0);
@@ -708,7 +712,7 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
         if (failing.empty()) {
             // Every triangle keeps to the tolerance; where the part's own
             // points lie further from the mesh, they go into it.
-            std::vector<std::uint32_t> inserted = insertFarPoints();
+            std::vector<std::uint32_t> inserted = splitWhereFarPoints();
             if (inserted.empty()) break;
             dirty.swap(inserted);
             continue;
@@ -717,7 +721,7 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
             mesh.triangles.size() < settings.maxTriangles) {
             // Out of patience with the samples' splits: the part's far
             // points may still go in, and the patience counts anew.
-            std::vector<std::uint32_t> inserted = insertFarPoints();
+            std::vector<std::uint32_t> inserted = splitWhereFarPoints();
             if (!inserted.empty()) {
                 dirty.swap(inserted);
                 continue;
@@ -760,7 +764,7 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
         }
         if (changed.empty()) {
             // Nothing could be split: the part's far points may still go in.
-            std::vector<std::uint32_t> inserted = insertFarPoints();
+            std::vector<std::uint32_t> inserted = splitWhereFarPoints();
             if (inserted.empty()) break;
             dirty.swap(inserted);
             continue;

@@ -105,6 +105,11 @@ struct RefineSettings {
     /// every point once those keep to it. Null: none.
     const SurfaceSamples* partSamples = nullptr;
     int coveragePasses = 32;
+    /// The points of partSamples beyond the tolerance of the mesh as given
+    /// (measureCoverage's `beyond`), where the caller has measured them: the
+    /// first pass takes them instead of measuring again, if no split or
+    /// flip came before it. Null: the first pass measures.
+    const std::vector<std::pair<double, std::uint32_t>>* partSamplesBeyond = nullptr;
 };
 
 /// Refines `mesh` (world coordinates, outward triangles), the surface of
