@@ -15,6 +15,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <future>
 
 namespace kerf {
 namespace {
@@ -155,6 +156,54 @@ TEST_F(VulkanTracer, BricksUploadedInPiecesDrawTheOldBricksUntilTheLastPiece)
     }
     EXPECT_EQ(frames, int((rows - 1 + rows / 7 - 1) / (rows / 7)));
     EXPECT_NE(old.depth, expected.depth) << "the two parts must look different for this test to say anything";
+    EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
+}
+
+// Bricks prepared on another thread (as the viewport's brick-making task
+// does) go up in rows within the budget they were prepared for without a
+// frame allocating staging memory, and draw as an upload in one piece does;
+// unprepared, the first frame allocates it (what the count says).
+TEST_F(VulkanTracer, PreparedBricksGoUpWithoutAFrameAllocating)
+{
+    const Tape tape = compileTape(Document::parse(R"({"format":"kerf","version":1,"root":{"id":"ball",
+        "type":"sphere","radius":16}})", "part.kerf"));
+    const BrickLeaves leaves =
+        BrickLeaves::fromVoxels(FlatVoxelBuffers::flatten(voxelize(tape, GridLayout::choose(tape.bounds(), 0.5))));
+    const Camera camera = Camera::standardView(Aabb{{-17, -17, -17}, {17, 17, 17}}, "iso", 160, 120,
+                                               Projection::Perspective);
+    vk::BrickRenderer whole(*context);
+    whole.setBricks(leaves);
+    const TraceImage expected = whole.render(camera);
+
+    for (const bool prepared : {true, false}) {
+        SCOPED_TRACE(prepared ? "prepared" : "staged as they are");
+        vk::BrickRenderer renderer(*context);
+        vk::BrickAtlas atlas = vk::BrickAtlas::pack(leaves, renderer.maxImageDimension3D());
+        const std::size_t rows = atlas.rows(), rowBytes = atlas.rowBytes();
+        ASSERT_GT(rows, 20u);
+        const std::size_t budget = (rows / 5) * rowBytes;
+        if (prepared) {
+            vk::PreparedBricks made = std::async(std::launch::async, [&] {
+                                          return vk::BrickRenderer::prepare(*context, leaves.bricks, std::move(atlas),
+                                                                            budget);
+                                      }).get();
+            EXPECT_EQ(made.brickCount(), leaves.bricks.size());
+            EXPECT_GE(made.stagingBytes(), budget);
+            renderer.stage(std::move(made));
+        } else {
+            renderer.stage(leaves.bricks, std::move(atlas));
+        }
+        int frames = 0;
+        for (bool completed = false; !completed; ++frames) {
+            ASSERT_LE(frames, 10);
+            context->submitAndWait([&](VkCommandBuffer cb) { completed = renderer.recordUpload(cb, budget).completed; });
+        }
+        EXPECT_EQ(std::size_t(frames), (rows + rows / 5 - 1) / (rows / 5));
+        EXPECT_EQ(renderer.stagingAllocations(), prepared ? 0u : 1u);
+        const TraceImage drawn = renderer.render(camera);
+        EXPECT_EQ(drawn.depth, expected.depth);
+        EXPECT_EQ(drawn.feature, expected.feature);
+    }
     EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
 }
 

@@ -227,11 +227,15 @@ TradeReport runTradeBench(const Document& doc, const TradeBenchOptions& options)
                 const BrickLeaves leaves = BrickLeaves::fromVoxels(buffers);
                 b.buildMs = msSince(t0);
                 vk::BrickRenderer bricks(*context);
-                // The viewport's way first: rows within its per-frame upload
-                // budget, a submission each (as its frames), then the atlases
-                // go and come back in one piece (kerf render's way).
+                // The viewport's way first: the atlases and the staging
+                // memory made beforehand (its brick-making thread's work),
+                // then rows within its per-frame upload budget, a submission
+                // each (as its frames); then the atlases go and come back in
+                // one piece (kerf render's way).
                 const std::size_t budget = vk::StreamingOptions{}.budgetBytesPerFrame;
-                bricks.stage(leaves.bricks, vk::BrickAtlas::pack(leaves, bricks.maxImageDimension3D()));
+                bricks.stage(vk::BrickRenderer::prepare(*context, leaves.bricks,
+                                                        vk::BrickAtlas::pack(leaves, bricks.maxImageDimension3D()),
+                                                        budget));
                 for (bool done = false; !done;) {
                     const auto f0 = Clock::now();
                     context->submitAndWait([&](VkCommandBuffer cb) {

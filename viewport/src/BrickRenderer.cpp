@@ -88,6 +88,7 @@ struct BrickRenderer::Impl {
     // Kept from one upload to the next (allocating it took a frame tens of
     // milliseconds on an H200); setBricks() releases it.
     GpuBuffer staging;
+    std::uint64_t stagingAllocations = 0;
 
     // Targets.
     int width = 0, height = 0;
@@ -188,22 +189,58 @@ std::uint32_t BrickRenderer::maxImageDimension3D() const
     return impl_->ctx.properties().limits.maxImageDimension3D;
 }
 
+namespace {
+// The staging memory recordUpload() needs for `rows` rows of `atlas`: each
+// atlas's texels of up to three boxes (the rest of a slice, whole slices,
+// the start of one), each at a 16-byte boundary.
+std::size_t stagingBytesFor(const BrickAtlas& atlas, std::size_t rows)
+{
+    return rows * atlas.rowBytes() + 3 * 3 * 16;
+}
+} // namespace
+
+PreparedBricks BrickRenderer::prepare(const Context& ctx, std::vector<Brick> bricks, BrickAtlas atlas,
+                                      std::size_t budgetBytes)
+{
+    PreparedBricks p;
+    p.bricks_ = std::move(bricks);
+    p.atlas_ = std::move(atlas);
+    if (p.bricks_.empty()) return p;
+    const BrickAtlas& a = p.atlas_;
+    const VkExtent3D extent{a.texels.x, a.texels.y, a.texels.z};
+    const VkImageUsageFlags usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    p.distance_ = makeDeviceImage(ctx, extent, kDistanceFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
+    p.normal_ = makeDeviceImage(ctx, extent, kNormalFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
+    p.feature_ = makeDeviceImage(ctx, extent, kFeatureFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
+    if (budgetBytes > 0 && a.rows() > 0) {
+        // As many rows as recordUpload() copies within the budget, one at least.
+        const std::size_t rows = std::clamp<std::size_t>(budgetBytes / a.rowBytes(), 1, a.rows());
+        p.staging_ = GpuBuffer(ctx, stagingBytesFor(a, rows), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                               GpuBuffer::Kind::HostVisible, "brick atlas staging");
+    }
+    return p;
+}
+
 void BrickRenderer::stage(std::vector<Brick> bricks, BrickAtlas atlas)
+{
+    stage(prepare(impl_->ctx, std::move(bricks), std::move(atlas), 0));
+}
+
+void BrickRenderer::stage(PreparedBricks prepared)
 {
     Impl& m = *impl_;
     m.staged.reset(); // its copies have finished (recordUpload's contract)
     Impl::Staged s;
-    s.bricks = std::move(bricks);
-    s.atlas = std::move(atlas);
-    if (!s.bricks.empty()) {
-        const VkExtent3D extent{s.atlas.texels.x, s.atlas.texels.y, s.atlas.texels.z};
-        const VkImageUsageFlags usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-        s.distance = makeDeviceImage(m.ctx, extent, kDistanceFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
-        s.normal = makeDeviceImage(m.ctx, extent, kNormalFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
-        s.feature = makeDeviceImage(m.ctx, extent, kFeatureFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
-    }
+    s.bricks = std::move(prepared.bricks_);
+    s.atlas = std::move(prepared.atlas_);
+    s.distance = std::move(prepared.distance_);
+    s.normal = std::move(prepared.normal_);
+    s.feature = std::move(prepared.feature_);
+    if (prepared.staging_.size() > m.staging.size()) m.staging = std::move(prepared.staging_);
     m.staged = std::move(s);
 }
+
+std::uint64_t BrickRenderer::stagingAllocations() const { return impl_->stagingAllocations; }
 
 bool BrickRenderer::uploading() const { return impl_->staged.has_value(); }
 
@@ -258,9 +295,14 @@ BrickUpload BrickRenderer::recordUpload(VkCommandBuffer cb, std::size_t budgetBy
         std::size_t need = 0;
         for (const Source& src : sources)
             for (const Box& b : boxes) need += aligned(b.rows * width * src.texelBytes);
-        if (m.staging.size() < need)
-            m.staging = GpuBuffer(m.ctx, need, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GpuBuffer::Kind::HostVisible,
-                                  "brick atlas staging");
+        // Made for the most any frame of this many rows needs (their boxes,
+        // and so their padding, vary: sized to each frame's own need, an
+        // upload in equal pieces allocated again on two of its later frames).
+        if (m.staging.size() < need) {
+            m.staging = GpuBuffer(m.ctx, std::max(need, stagingBytesFor(a, rows)), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                  GpuBuffer::Kind::HostVisible, "brick atlas staging");
+            ++m.stagingAllocations;
+        }
         auto* ring = static_cast<std::uint8_t*>(m.staging.mapped());
         struct Piece {
             std::uint8_t* to;

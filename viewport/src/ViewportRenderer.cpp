@@ -48,7 +48,7 @@ struct ViewportRenderer::Impl {
     // bricks of another being made and packed on a thread of their own.
     BrickRenderer bricks;
     std::shared_ptr<const VoxelSnapshot> bricksOf, uploadingBricksOf, makingBricksOf;
-    std::future<std::pair<std::vector<Brick>, BrickAtlas>> makingBricks;
+    std::future<PreparedBricks> makingBricks;
     StreamingOptions streamingOptions;
 
     Impl(const Context& c, VkSurfaceKHR surface, StreamingOptions streaming, std::function<void()> w)
@@ -204,9 +204,9 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
     if (bricksCanDraw && m.bricksOf != shown && m.uploadingBricksOf != shown) {
         if (m.makingBricks.valid() &&
             m.makingBricks.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
-            auto [made, atlas] = m.makingBricks.get();
+            PreparedBricks made = m.makingBricks.get();
             if (m.makingBricksOf == shown) {
-                m.bricks.stage(std::move(made), std::move(atlas));
+                m.bricks.stage(std::move(made));
                 m.uploadingBricksOf = shown;
             }
         }
@@ -215,10 +215,14 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
             // No wake from the task: the owner may be tearing the renderer
             // down (and hold what wake takes) while this future's destructor
             // waits for it. Frames go on instead while it works (upToDate).
-            m.makingBricks = std::async(std::launch::async, [snapshot = shown, side = m.bricks.maxImageDimension3D()] {
+            // The atlases and the staging memory are made there too: a frame
+            // allocates nothing for them (BrickRenderer::prepare).
+            m.makingBricks = std::async(std::launch::async, [snapshot = shown, side = m.bricks.maxImageDimension3D(),
+                                                             &ctx = m.ctx,
+                                                             budget = m.streamingOptions.budgetBytesPerFrame] {
                 BrickLeaves leaves = BrickLeaves::fromVoxels(FlatVoxelBuffers::flatten(*snapshot));
                 BrickAtlas atlas = BrickAtlas::pack(leaves, side);
-                return std::pair{std::move(leaves.bricks), std::move(atlas)};
+                return BrickRenderer::prepare(ctx, std::move(leaves.bricks), std::move(atlas), budget);
             });
         }
     }

@@ -13,7 +13,10 @@
 //
 // In a viewport the atlases go up in pieces (stage, recordUpload): rows of
 // texels within the frame's upload budget, the bricks drawn before drawn
-// until the last row is there, as the voxel streamer does for tiles.
+// until the last row is there, as the voxel streamer does for tiles. What
+// the copies need on the device (the atlases, hundreds of MB, and the
+// staging memory a frame's rows pass through) is made beforehand on the
+// thread that makes the bricks (prepare), so that no frame allocates.
 //
 // Not yet: section planes and the exact-edges refinement (the compute
 // tracer's; the viewport hands such frames to the tracer). Measured 18 to 32
@@ -24,6 +27,8 @@
 
 #include "kerf/tracer/Camera.hpp"
 #include "kerf/viewport/BrickAtlas.hpp"
+#include "kerf/viewport/DeviceImage.hpp"
+#include "kerf/viewport/GpuBuffer.hpp"
 #include "kerf/tracer/Image.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
 #include "kerf/viewport/VulkanContext.hpp"
@@ -38,6 +43,22 @@ struct BrickUpload {
     std::size_t bytes = 0;     // staged and copied by this command buffer (whole rows, within the budget)
     std::size_t rowsLeft = 0;  // atlas rows still to copy after it
     bool completed = false;    // the staged bricks became the ones drawn
+};
+
+/// Bricks ready to be staged (BrickRenderer::prepare): their atlases made
+/// on the device, and the staging memory for a frame's rows of them.
+class PreparedBricks {
+public:
+    std::size_t brickCount() const { return bricks_.size(); }
+    /// Bytes of the staging memory made for the copies (0: none made).
+    std::size_t stagingBytes() const { return staging_.size(); }
+
+private:
+    friend class BrickRenderer;
+    std::vector<Brick> bricks_;
+    BrickAtlas atlas_;
+    DeviceImage distance_, normal_, feature_;
+    GpuBuffer staging_;
 };
 
 class BrickRenderer {
@@ -57,6 +78,19 @@ public:
     /// (VulkanError when the device has no room). A new stage() drops one
     /// still being copied.
     void stage(std::vector<Brick> bricks, BrickAtlas atlas);
+    /// The same for bricks prepared beforehand: nothing is allocated here,
+    /// nor by the recordUpload() calls of at most the budget they were
+    /// prepared for (their staging memory becomes the renderer's, unless
+    /// the renderer's is as large already).
+    void stage(PreparedBricks bricks);
+    /// `bricks` laid out as `atlas` made ready for stage(): the atlases
+    /// made on the device, and staging memory for the rows that
+    /// recordUpload() copies within `budgetBytes` (a row at least; none
+    /// for a budget of 0). Safe on any thread while renderers of `ctx`
+    /// draw: it makes new device objects only. VulkanError when the device
+    /// has no room.
+    static PreparedBricks prepare(const Context& ctx, std::vector<Brick> bricks, BrickAtlas atlas,
+                                  std::size_t budgetBytes);
     bool uploading() const;
     /// Records the copy of the staged atlases' next rows, at most
     /// `budgetBytes` of them (one row over it when `atLeastOneRow`, so that
@@ -75,6 +109,9 @@ public:
     std::uint64_t version() const;
     /// Bytes on the device: the atlases (staged ones too) and the instance records.
     std::size_t residentBytes() const;
+    /// How many times recordUpload() made staging memory, in a frame, for
+    /// want of prepared memory as large as its rows needed.
+    std::uint64_t stagingAllocations() const;
 
     /// Records the drawing of `camera`'s image into the targets, which are
     /// then readable by shaders and transfers. The instances are sorted front
