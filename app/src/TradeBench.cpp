@@ -233,9 +233,11 @@ TradeReport runTradeBench(const Document& doc, const TradeBenchOptions& options)
                 // each (as its frames); then the atlases go and come back in
                 // one piece (kerf render's way).
                 const std::size_t budget = vk::StreamingOptions{}.budgetBytesPerFrame;
-                bricks.stage(vk::BrickRenderer::prepare(*context, leaves.bricks,
-                                                        vk::BrickAtlas::pack(leaves, bricks.maxImageDimension3D()),
-                                                        budget));
+                vk::BrickAtlas atlas = vk::BrickAtlas::pack(leaves, bricks.maxImageDimension3D());
+                t0 = Clock::now();
+                vk::PreparedBricks prepared = vk::BrickRenderer::prepare(*context, leaves.bricks, std::move(atlas), budget);
+                b.prepareMs = msSince(t0);
+                bricks.stage(std::move(prepared));
                 for (bool done = false; !done;) {
                     const auto f0 = Clock::now();
                     context->submitAndWait([&](VkCommandBuffer cb) {
@@ -243,9 +245,14 @@ TradeReport runTradeBench(const Document& doc, const TradeBenchOptions& options)
                         done = bricks.recordUpload(cb, budget, true).completed;
                         b.uploadRecordMs += msSince(r0);
                     });
+                    const double frameMs = msSince(f0);
+                    if (b.uploadFrames == 0) b.uploadFirstFrameMs = frameMs;
+                    if (frameMs > b.uploadFrameMaxMs) {
+                        b.uploadFrameMaxMs = frameMs;
+                        b.uploadLongestFrame = b.uploadFrames;
+                    }
                     ++b.uploadFrames;
-                    b.uploadFrameMaxMs = std::max(b.uploadFrameMaxMs, msSince(f0));
-                    b.uploadFramesMs += msSince(f0);
+                    b.uploadFramesMs += frameMs;
                 }
                 bricks.setBricks(BrickLeaves{});
                 t0 = Clock::now();
@@ -353,6 +360,9 @@ nlohmann::ordered_json tradeReportJson(const TradeReport& r)
                            {"upload_frame_max_ms", row.bricks->uploadFrameMaxMs},
                            {"upload_frames_ms", row.bricks->uploadFramesMs},
                            {"upload_record_ms", row.bricks->uploadRecordMs},
+                           {"upload_first_frame_ms", row.bricks->uploadFirstFrameMs},
+                           {"upload_longest_frame", row.bricks->uploadLongestFrame},
+                           {"prepare_ms", row.bricks->prepareMs},
                            {"picture", picture(row.bricks->drawn.picture)}};
         if (row.exported) {
             const ExportFigures& e = *row.exported;

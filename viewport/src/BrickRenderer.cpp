@@ -82,13 +82,14 @@ struct BrickRenderer::Impl {
         std::vector<Brick> bricks;
         BrickAtlas atlas;
         DeviceImage distance, normal, feature;
+        GpuBuffer instances; // made beforehand (prepare), or empty
         std::size_t rowsDone = 0;
     };
     std::optional<Staged> staged;
     // Kept from one upload to the next (allocating it took a frame tens of
     // milliseconds on an H200); setBricks() releases it.
     GpuBuffer staging;
-    std::uint64_t stagingAllocations = 0;
+    std::uint64_t frameAllocations = 0; // recordUpload()'s, for want of prepared memory
 
     // Targets.
     int width = 0, height = 0;
@@ -190,6 +191,13 @@ std::uint32_t BrickRenderer::maxImageDimension3D() const
 }
 
 namespace {
+// The host-visible records of `count` bricks, rewritten when the eye moves.
+GpuBuffer makeInstanceBuffer(const Context& ctx, std::size_t count)
+{
+    return GpuBuffer(ctx, count * sizeof(gpu::BrickInstance), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                     GpuBuffer::Kind::HostVisible, "brick instances");
+}
+
 // The staging memory recordUpload() needs for `rows` rows of `atlas`: each
 // atlas's texels of up to three boxes (the rest of a slice, whole slices,
 // the start of one), each at a 16-byte boundary.
@@ -212,7 +220,11 @@ PreparedBricks BrickRenderer::prepare(const Context& ctx, std::vector<Brick> bri
     p.distance_ = makeDeviceImage(ctx, extent, kDistanceFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
     p.normal_ = makeDeviceImage(ctx, extent, kNormalFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
     p.feature_ = makeDeviceImage(ctx, extent, kFeatureFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
-    if (budgetBytes > 0 && a.rows() > 0) {
+    if (budgetBytes == 0) return p;
+    // The instance records too: made in the last frame of the upload, they
+    // were its longest (the chair at 0.25 mm, 9.5 MB: 60 to 110 ms on an H200).
+    p.instances_ = makeInstanceBuffer(ctx, p.bricks_.size());
+    if (a.rows() > 0) {
         // As many rows as recordUpload() copies within the budget, one at least.
         const std::size_t rows = std::clamp<std::size_t>(budgetBytes / a.rowBytes(), 1, a.rows());
         p.staging_ = GpuBuffer(ctx, stagingBytesFor(a, rows), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
@@ -236,11 +248,12 @@ void BrickRenderer::stage(PreparedBricks prepared)
     s.distance = std::move(prepared.distance_);
     s.normal = std::move(prepared.normal_);
     s.feature = std::move(prepared.feature_);
+    s.instances = std::move(prepared.instances_);
     if (prepared.staging_.size() > m.staging.size()) m.staging = std::move(prepared.staging_);
     m.staged = std::move(s);
 }
 
-std::uint64_t BrickRenderer::stagingAllocations() const { return impl_->stagingAllocations; }
+std::uint64_t BrickRenderer::frameAllocations() const { return impl_->frameAllocations; }
 
 bool BrickRenderer::uploading() const { return impl_->staged.has_value(); }
 
@@ -301,7 +314,7 @@ BrickUpload BrickRenderer::recordUpload(VkCommandBuffer cb, std::size_t budgetBy
         if (m.staging.size() < need) {
             m.staging = GpuBuffer(m.ctx, std::max(need, stagingBytesFor(a, rows)), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                   GpuBuffer::Kind::HostVisible, "brick atlas staging");
-            ++m.stagingAllocations;
+            ++m.frameAllocations;
         }
         auto* ring = static_cast<std::uint8_t*>(m.staging.mapped());
         struct Piece {
@@ -373,11 +386,11 @@ void BrickRenderer::Impl::adoptStaged()
     feature = std::move(s.feature);
     atlasSlots = s.atlas.slotCount;
     atlasTexels = s.atlas.texels;
-    staged.reset();
     if (bricks.empty()) {
         // Nothing to draw: record() draws nothing, so the descriptor set's
         // stale views are never read.
         instances = {};
+        staged.reset();
         return;
     }
     VkDescriptorImageInfo infos[3] = {{linear, distance.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
@@ -393,8 +406,13 @@ void BrickRenderer::Impl::adoptStaged()
         writes[i].pImageInfo = &infos[i];
     }
     vkUpdateDescriptorSets(ctx.device(), 3, writes, 0, nullptr);
-    instances = GpuBuffer(ctx, bricks.size() * sizeof(gpu::BrickInstance), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                          GpuBuffer::Kind::HostVisible, "brick instances");
+    if (s.instances.size() > 0) {
+        instances = std::move(s.instances);
+    } else {
+        instances = makeInstanceBuffer(ctx, bricks.size());
+        ++frameAllocations;
+    }
+    staged.reset();
 }
 
 std::size_t BrickRenderer::brickCount() const { return impl_->bricks.size(); }

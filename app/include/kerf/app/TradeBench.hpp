@@ -98,6 +98,9 @@ struct BrickFigures {
     double uploadFrameMaxMs = 0.0; // ... and the longest of them (host copy, submission, wait)
     double uploadFramesMs = 0.0;   // ... all of them
     double uploadRecordMs = 0.0;   // ... of which recording (the copies into the staging memory)
+    double uploadFirstFrameMs = 0.0; // ... the first of them
+    int uploadLongestFrame = 0;      // ... which of them was the longest (0: the first)
+    double prepareMs = 0.0; // the atlases and staging memory made beforehand (BrickRenderer::prepare, off the frames)
 };
 
 struct GpuVoxelizeFigures {

@@ -45,8 +45,9 @@ struct BrickUpload {
     bool completed = false;    // the staged bricks became the ones drawn
 };
 
-/// Bricks ready to be staged (BrickRenderer::prepare): their atlases made
-/// on the device, and the staging memory for a frame's rows of them.
+/// Bricks ready to be staged (BrickRenderer::prepare): their atlases and
+/// instance records made on the device, and the staging memory for a
+/// frame's rows of them.
 class PreparedBricks {
 public:
     std::size_t brickCount() const { return bricks_.size(); }
@@ -58,7 +59,7 @@ private:
     std::vector<Brick> bricks_;
     BrickAtlas atlas_;
     DeviceImage distance_, normal_, feature_;
-    GpuBuffer staging_;
+    GpuBuffer instances_, staging_;
 };
 
 class BrickRenderer {
@@ -83,8 +84,8 @@ public:
     /// prepared for (their staging memory becomes the renderer's, unless
     /// the renderer's is as large already).
     void stage(PreparedBricks bricks);
-    /// `bricks` laid out as `atlas` made ready for stage(): the atlases
-    /// made on the device, and staging memory for the rows that
+    /// `bricks` laid out as `atlas` made ready for stage(): the atlases and
+    /// the instance records made on the device, and staging memory for the rows that
     /// recordUpload() copies within `budgetBytes` (a row at least; none
     /// for a budget of 0). Safe on any thread while renderers of `ctx`
     /// draw: it makes new device objects only. VulkanError when the device
@@ -109,9 +110,10 @@ public:
     std::uint64_t version() const;
     /// Bytes on the device: the atlases (staged ones too) and the instance records.
     std::size_t residentBytes() const;
-    /// How many times recordUpload() made staging memory, in a frame, for
-    /// want of prepared memory as large as its rows needed.
-    std::uint64_t stagingAllocations() const;
+    /// How many times recordUpload() made device memory in a frame, for want
+    /// of prepared memory: staging memory as large as its rows needed, the
+    /// instance records of the bricks it completed.
+    std::uint64_t frameAllocations() const;
 
     /// Records the drawing of `camera`'s image into the targets, which are
     /// then readable by shaders and transfers. The instances are sorted front
