@@ -23,7 +23,10 @@
 // times slower than the compute tracer on an H200 (docs/benchmarks.md), so
 // it is offered only on request.
 //
-// Threading: one thread. One frame in flight. The context must outlive it.
+// Threading: one thread, except prepare(), which may run on any (it makes
+// new device objects only); memory the frames are done with is freed on a
+// thread of the renderer's own. One frame in flight. The context must
+// outlive it.
 
 #include "kerf/tracer/Camera.hpp"
 #include "kerf/viewport/BrickAtlas.hpp"
