@@ -87,12 +87,13 @@ public:
     /// prepared for (their staging memory becomes the renderer's, unless
     /// the renderer's is as large already).
     void stage(PreparedBricks bricks);
-    /// `bricks` laid out as `atlas` made ready for stage(): the atlases and
-    /// the instance records made on the device, and staging memory for the rows that
-    /// recordUpload() copies within `budgetBytes` (a row at least; none
-    /// for a budget of 0). Safe on any thread while renderers of `ctx`
-    /// draw: it makes new device objects only. VulkanError when the device
-    /// has no room.
+    /// `bricks` laid out as `atlas` made ready for stage(): the atlases
+    /// made on the device, and for a budget above 0 the instance records
+    /// and staging memory for the rows that recordUpload() copies within
+    /// `budgetBytes` (a row at least; with a budget of 0 the upload makes
+    /// those itself, as the stage() of bricks and atlas does). Safe on any
+    /// thread while renderers of `ctx` draw: it makes new device objects
+    /// only. VulkanError when the device has no room.
     static PreparedBricks prepare(const Context& ctx, std::vector<Brick> bricks, BrickAtlas atlas,
                                   std::size_t budgetBytes);
     bool uploading() const;
