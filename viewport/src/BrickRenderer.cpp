@@ -228,8 +228,8 @@ PreparedBricks BrickRenderer::prepare(const Context& ctx, std::vector<Brick> bri
     p.normal_ = makeDeviceImage(ctx, extent, kNormalFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
     p.feature_ = makeDeviceImage(ctx, extent, kFeatureFormat, usage, VK_IMAGE_ASPECT_COLOR_BIT);
     if (budgetBytes == 0) return p;
-    // The instance records too: made in the last frame of the upload, they
-    // were its longest (the chair at 0.25 mm, 9.5 MB: 60 to 110 ms on an H200).
+    // The instance records too (otherwise made in the upload's last frame;
+    // 9.5 MB for the chair at 0.25 mm).
     p.instances_ = makeInstanceBuffer(ctx, p.bricks_.size());
     if (a.rows() > 0) {
         // As many rows as recordUpload() copies within the budget, one at least.
