@@ -26,6 +26,7 @@
 #include "HiddenDetail.hpp"
 #include "Lattice.hpp"
 #include "LatticeTapes.hpp"
+#include "RegionTapes.hpp"
 
 #include "kerf/evaluator/PointEvaluator.hpp"
 #include "kerf/mesher/EdgeRoots.hpp"
@@ -108,13 +109,14 @@ struct TileShare {
 
 /// Per-thread scratch memory, reused across tiles.
 struct TileScratch {
-    TileScratch(const Tape& tape, const Lattice& lattice) : tapes(tape, lattice) {}
+    TileScratch(const Tape& tape, const Lattice& lattice) : tapes(tape, lattice), near(tape, 4.0 * lattice.h) {}
     struct Pending {
         std::uint64_t block; // tile-relative block key
         std::uint64_t point; // tile-local point key
         std::uint32_t index; // into pointValue
     };
     LatticeTapes tapes;
+    RegionTapes near; // around feature vertices (TileMesher::featureVertex)
     PointEvaluator<double> points;
     GradientEvaluator<double> gradients;
     EdgeRootFinder roots;
