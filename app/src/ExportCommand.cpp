@@ -338,7 +338,11 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
                                       {"thickness_mm", stats.hiddenDetailThickness},
                                       {"at_mm", {stats.hiddenDetailAt.x, stats.hiddenDetailAt.y, stats.hiddenDetailAt.z}},
                                       {"cells", stats.hiddenDetailCells}};
-            if (const double finer = finerFeatureSize(stats); finer > 0.0) j["finer_feature_size_mm"] = finer;
+            // The feature size the warnings advise, where one does (hidden
+            // detail, a visible miss; not a few triangles left just over).
+            if (const double finer = finerFeatureSize(stats);
+                finer > 0.0 && (stats.hiddenDetailCells > 0 || missesVisibly(stats, tolerance)))
+                j["finer_feature_size_mm"] = finer;
             j["file_spacing_mm"] = written.spacing;
             j["file_offset_mm"] = {written.offset.x, written.offset.y, written.offset.z};
             j["fit_collapses"] = written.fit.collapses;

@@ -205,8 +205,9 @@ struct MeshStats {
 /// puts lattice points inside it along its whole length. Triangles beyond
 /// the tolerance (stats.trianglesOverTolerance): a gap, a groove or a rounded
 /// edge smaller than a cell, or a sharp edge whose crease a cell's triangles
-/// cut across and no split could reach; half the cell resolves more of it
-/// (each halving did on the bundled examples: docs/benchmarks.md).
+/// cut across and no split could reach; half the cell, which resolves more
+/// of a miss a woodworker would see (coarse cells on pin holes), though not
+/// of the last few triangles over a fine tolerance (describeTrianglesOverTolerance).
 double finerFeatureSize(const MeshStats& stats);
 
 /// The one feature size the export's sentences advise (the hidden detail,
@@ -236,12 +237,13 @@ std::string describeEmptyPart(const MeshStats& stats, const Aabb& bounds);
 /// The triangles left beyond the tolerance (stats.trianglesOverTolerance)
 /// in one sentence for people: how many, how far, where the worst is, why
 /// and what to try. With hidden detail: the detail finer than the cells.
-/// Without: thin triangles across a sharp or rounded edge that no split can
-/// mend without folding a neighbour; a finer feature size often leaves
-/// fewer (rounded edges), but not always (on a plain panel's shelf-pin
-/// holes, whose rims touch lattice planes, 0.5 mm cells left more than
-/// 1 mm cells). Empty when none. For `kerf export` and the export dialog.
-/// The feature size to try: advisedFeatureSize.
+/// Without: thin triangles across a sharp or rounded edge, or where two
+/// faces meet at a tangent, that no split can mend without folding a
+/// neighbour; no feature size is advised (half the cells left as many or
+/// more on the bundled examples at 0.01 mm, docs/benchmarks.md: a visible
+/// miss gets its advice from describeVisibleMiss). Empty when none. For
+/// `kerf export` and the export dialog. With hidden detail, the feature
+/// size to try: advisedFeatureSize.
 std::string describeTrianglesOverTolerance(const MeshStats& stats, double tolerance, double ownFeatureSize = 0.0);
 
 /// How far a mesh may miss the exact surface before a woodworker would see
@@ -257,6 +259,10 @@ inline constexpr double kVisibleMiss = 0.1;
 /// its show face, 3.4 mm off, and the result called it "a closed solid all
 /// the same".
 std::string describeVisibleMiss(const MeshStats& stats, double tolerance, double ownFeatureSize);
+
+/// Whether the mesh misses the part as describeVisibleMiss says (a
+/// triangle over the tolerance by more than kVisibleMiss and twice it).
+bool missesVisibly(const MeshStats& stats, double tolerance);
 
 /// The part's side of the tolerance (stats.partSamples, SurfaceCoverage):
 /// how far the part's surface lies from the mesh, in one sentence for
