@@ -748,7 +748,8 @@ TEST(ExportMessages, TrianglesJustOverTheToleranceAreNotSentToFinerCells)
     stats.worstSample = 0.0207;
     const std::string said = describeTrianglesOverTolerance(stats, 0.01, 0.5);
     EXPECT_NE(said.find("stay up to 0.0207 mm"), std::string::npos) << said;
-    EXPECT_NE(said.find("every other triangle keeps to the tolerance"), std::string::npos) << said;
+    EXPECT_NE(said.find("every other triangle keeps to the tolerance, and finer cells are no sure cure"),
+              std::string::npos) << said;
     EXPECT_EQ(said.find("feature size of"), std::string::npos) << said;
     EXPECT_FALSE(missesVisibly(stats, 0.01));
     EXPECT_EQ(describeVisibleMiss(stats, 0.01, 0.5), "");
@@ -757,6 +758,10 @@ TEST(ExportMessages, TrianglesJustOverTheToleranceAreNotSentToFinerCells)
     stats.worstSample = 1.3;
     EXPECT_TRUE(missesVisibly(stats, 0.05));
     EXPECT_NE(describeVisibleMiss(stats, 0.05, 1.0).find("a feature size of 1 mm (the part's own)"), std::string::npos);
+    // ... and the sentence on the triangles does not call finer cells no cure beside it.
+    const std::string far = describeTrianglesOverTolerance(stats, 0.05, 1.0);
+    EXPECT_NE(far.find("every other triangle keeps to the tolerance"), std::string::npos) << far;
+    EXPECT_EQ(far.find("no sure cure"), std::string::npos) << far;
 }
 
 TEST(ExportMessages, ATolerancePastTheFeatureSizeIsWarnedOf)
