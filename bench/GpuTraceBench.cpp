@@ -529,6 +529,16 @@ int bricksBench(const std::vector<std::string>& args)
                     contreeMs = std::min(contreeMs, tracer.sustainedMilliseconds(camera, frames, TraceQuality::Voxels));
                     brickMs = std::min(brickMs, renderer.sustainedMilliseconds(camera, frames));
                 }
+                // A section across X through the middle (the bricks draw it
+                // themselves since 2026-12-02; before, the tracer did).
+                const Aabb box = tape.bounds();
+                const Section section = Section::alongAxis(0, 0.5 * (box.min.x + box.max.x));
+                double contreeCutMs = 1e30, brickCutMs = 1e30;
+                for (int round = 0; round < 2; ++round) {
+                    contreeCutMs = std::min(contreeCutMs,
+                                            tracer.sustainedMilliseconds(camera, frames, TraceQuality::Voxels, section));
+                    brickCutMs = std::min(brickCutMs, renderer.sustainedMilliseconds(camera, frames, section));
+                }
                 renderer.render(camera); // a moved eye: the sort's cost
                 const Camera moved = Camera::standardView(tape.bounds(), "front", w, h);
                 renderer.render(moved);
@@ -537,13 +547,16 @@ int bricksBench(const std::vector<std::string>& args)
                             scene.name.c_str(), fs, bricks.bricks.size(), snap.populatedVoxels(),
                             double(snap.bytes()) / 1e6, double(renderer.residentBytes()) / 1e6, voxelizeMs, bricksMs, w,
                             h, contreeMs, brickMs, sortMs);
+                std::printf("    with a section across X through the middle: contree %.3f ms, bricks %.3f ms\n",
+                            contreeCutMs, brickCutMs);
                 std::fflush(stdout);
                 results.push_back({{"scene", scene.name}, {"feature_size", fs}, {"bricks", bricks.bricks.size()},
                                    {"populated_voxels", snap.populatedVoxels()}, {"contree_bytes", snap.bytes()},
                                    {"brick_device_bytes", renderer.residentBytes()}, {"voxelize_ms", voxelizeMs},
                                    {"bricks_from_contree_ms", bricksMs}, {"width", w}, {"height", h},
                                    {"contree_sustained_ms", contreeMs}, {"bricks_sustained_ms", brickMs},
-                                   {"sort_ms", sortMs}});
+                                   {"sort_ms", sortMs}, {"contree_section_sustained_ms", contreeCutMs},
+                                   {"bricks_section_sustained_ms", brickCutMs}});
             }
             if (accuracyWidth > 0) {
                 // Against the exact picture (the exact tracer, 1e-4 voxel), on

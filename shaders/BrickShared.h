@@ -38,11 +38,15 @@ struct BrickPush {
     KERF_VEC4 atlasScale;  // xyz: 1 / the atlas's size in texels
     KERF_U64 instances;    // address of the BrickInstance array
     KERF_U64 pad;
+    // The section plane relative to the eye: xyz its unit normal, w its
+    // offset (the kept side is dot(xyz, p) <= w for p relative to the eye);
+    // a zero normal: no section.
+    KERF_VEC4 section;
 };
 
 #ifdef __cplusplus
 static_assert(sizeof(BrickInstance) == 32);
-static_assert(sizeof(BrickPush) == 112);
+static_assert(sizeof(BrickPush) == 128); // the smallest push-constant space a device may have
 } // namespace kerf::gpu
 #endif
 

@@ -7,6 +7,14 @@
 // the first brick along the ray that found the surface (bricks are
 // disjoint boxes, so a ray leaves them in the order it enters them), and the
 // early depth test drops the bricks behind it before their march.
+//
+// A section plane (BrickPush::section) clips the march to the kept side. A
+// ray that starts on the plane inside the solid reports the cap there: in
+// the brick the plane passes through when its samples are inside at the
+// plane, else in the first brick it enters beyond, when they are inside
+// where it enters (the field changes sign only in populated voxels, which
+// bricks cover, so the cells it crossed between were inside too); the
+// compute tracer's rule (trace.comp, capInsideAtEntry).
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_GOOGLE_include_directive : require
@@ -24,6 +32,9 @@ layout(location = 1) out vec4 outNormal;
 layout(location = 2) out uint outFeature;
 
 const int kBisectionSteps = 10;
+const uint kSectionCap = 0xFFFFFFFEu; // tracer/include/kerf/tracer/Section.hpp
+// Distances are stored in units of this many voxel edges (voxel_format.glsl).
+const float kDistanceRange = 2.0;
 
 vec3 slotOrigin;
 vec3 atlasScale;
@@ -58,8 +69,34 @@ void main()
     const vec3 t0 = (vec3(0.0) - o) * inv, t1 = (vec3(cells) - o) * inv;
     const vec3 tNear = min(t0, t1), tFar = max(t0, t1);
     float tEnter = max(max(max(tNear.x, tNear.y), tNear.z), 0.0);
-    const float tExit = min(min(tFar.x, tFar.y), tFar.z);
+    float tExit = min(min(tFar.x, tFar.y), tFar.z);
+
+    // The section plane keeps dot(n, p) <= offset (trace.comp, traceRay).
+    const vec3 planeNormal = pc.p.section.xyz;
+    bool capPending = false;
+    float tPlane = 0.0;
+    if (planeNormal != vec3(0.0)) {
+        const float denom = dot(planeNormal, dir);
+        const float above = dot(planeNormal, origin) - pc.p.section.w;
+        if (abs(denom) < 1e-12) {
+            if (above > 0.0) discard;
+        } else {
+            tPlane = -above / denom;
+            if (denom > 0.0) {
+                tExit = min(tExit, tPlane);
+            } else if (tPlane > 0.0) {
+                // The ray starts on the plane: until it meets a surface, what
+                // it passes through says whether the plane's point is inside.
+                capPending = true;
+                tEnter = max(tEnter, tPlane);
+            }
+        }
+    }
     if (!(tExit > tEnter)) discard;
+    // A plane on the brick's far face leaves it a stretch of no length,
+    // which the rounding of tPlane can make a little longer: the brick
+    // beyond, which holds the same samples on that face, decides the cap.
+    if (capPending && !(tExit - tEnter > 1e-3 * voxel)) discard;
 
     // Cell by cell, sampling each cell's entry, middle and exit; the first
     // sign change is bisected.
@@ -68,6 +105,29 @@ void main()
     float ta = tEnter;
     float fa = field(o + ta * d);
     float hit = -1.0;
+    if (capPending) {
+        // On the plane in this brick: below zero, or at zero in a cell with
+        // a corner below (a populated voxel: a plane lying on a face of the
+        // part caps it; in a cell with no corner below, zero is outside).
+        // Entered through a face after cells proven wholly inside or
+        // outside: below by more than a thousandth of a voxel (a face of the
+        // part on a lattice plane, met from outside, is no cap).
+        // ReferenceTracer.cpp, CapState.
+        const bool travelled = tEnter - tPlane > 1e-3 * voxel;
+        bool inside = fa < 0.0;
+        if (!travelled && fa == 0.0) {
+            inside = false;
+            for (int c = 0; c < 8; ++c)
+                inside = inside ||
+                         texelFetch(distanceAtlas, ivec3(slotOrigin) + cell + ivec3(c & 1, (c >> 1) & 1, c >> 2), 0).r < 0.0;
+        }
+        if (travelled ? fa < -1e-3 / kDistanceRange : inside) {
+            outDepth = tPlane;
+            outNormal = vec4(planeNormal, 0.0);
+            outFeature = kSectionCap;
+            return;
+        }
+    }
     // Inside is below zero, as the voxelizer counts a corner (ReferenceTracer.cpp, firstCrossing).
     if (fa < 0.0) hit = ta;
     for (int i = 0; i < 3 * int(cells) + 3 && hit < 0.0; ++i) {

@@ -5,6 +5,7 @@
 
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
+#include "kerf/tracer/Section.hpp"
 #include "kerf/viewport/BrickAtlas.hpp"
 #include "kerf/viewport/BrickRenderer.hpp"
 #include "kerf/voxelizer/BrickLeaves.hpp"
@@ -60,6 +61,81 @@ TEST_P(BrickRendererOnEveryExample, MatchesTheCpuReferenceTracer)
             // pixels at the same depth on lavapipe, 252 on an H200.
             EXPECT_GE(double(c.featureSame), 0.95 * double(c.bothHit));
         }
+    EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
+}
+
+// Section planes through the middle of the part along each axis, cutting
+// either way: the bricks cut as the CPU reference tracer cuts, the caps
+// (kSectionCap, the plane's normal, on the plane) where it has them. Each
+// plane passes through full tiles and full nodes, which have no bricks: the
+// cap there comes from the first brick the ray enters beyond the plane.
+TEST_P(BrickRendererOnEveryExample, CutsSectionsAsTheCpuReferenceTracer)
+{
+    const Document doc = Document::load(std::filesystem::path(KERF_EXAMPLES_DIR) / (GetParam() + ".kerf"));
+    const Tape tape = compileTape(doc);
+    const Aabb box = tape.bounds();
+    const double extent = std::max({box.size().x, box.size().y, box.size().z});
+    const GridLayout layout = GridLayout::choose(box, extent / 400.0);
+    const FlatVoxelBuffers buffers = FlatVoxelBuffers::flatten(voxelize(tape, layout));
+    vk::BrickRenderer renderer(*context);
+    renderer.setBricks(BrickLeaves::fromVoxels(buffers));
+    std::size_t capsSeen = 0;
+    int capsViews = 0;
+    for (int axis = 0; axis < 3; ++axis)
+        for (const bool flip : {false, true})
+            for (const bool onLattice : {false, true}) {
+                // Near the middle: a third of a voxel off the lattice, or on a lattice plane.
+                const double middle = 0.5 * (box.min[axis] + box.max[axis]);
+                const double lattice = layout.origin[axis] +
+                                       std::round((middle - layout.origin[axis]) / layout.voxelSize) * layout.voxelSize;
+                const double at = onLattice ? lattice : lattice + layout.voxelSize / 3.0;
+                const Section section = Section::alongAxis(axis, at, flip);
+                // An oblique view from the side cut away, so that the cap faces the eye.
+                glm::dvec3 away(1.0, -1.0, 1.0);
+                away[axis] = section.normal[axis];
+                const glm::dvec3 centre = 0.5 * (box.min + box.max), eye = centre + 2.5 * extent * glm::normalize(away);
+                for (const Projection projection : {Projection::Perspective, Projection::Orthographic}) {
+                    const Camera camera =
+                        projection == Projection::Perspective
+                            ? Camera::perspective(eye, centre, {0.0, 0.0, 1.0}, 30.0, 320, 240)
+                            : Camera::orthographic(eye, centre, {0.0, 0.0, 1.0}, 1.5 * extent, 320, 240);
+                    const TraceImage gpu = renderer.render(camera, nullptr, section);
+                    const TraceImage cpu = traceVoxels(buffers, camera, 0, section, TraceQuality::Voxels);
+                    const Comparison c = compare(gpu, cpu, 0.05 * layout.voxelSize + 1e-4 * extent);
+                    std::size_t capsCpu = 0, capsBoth = 0, capsOnPlane = 0;
+                    for (std::size_t i = 0; i < cpu.depth.size(); ++i) {
+                        if (cpu.hit(i) && cpu.feature[i] == kSectionCap) ++capsCpu;
+                        if (!(gpu.hit(i) && gpu.feature[i] == kSectionCap)) continue;
+                        capsBoth += cpu.hit(i) && cpu.feature[i] == kSectionCap;
+                        const Ray r =
+                            camera.ray(int(i % std::size_t(camera.width())), int(i / std::size_t(camera.width())));
+                        const glm::dvec3 p = r.origin + double(gpu.depth[i]) * r.direction;
+                        capsOnPlane += std::fabs(glm::dot(p, section.normal) - section.offset) < 1e-3 * extent &&
+                                       glm::length(glm::dvec3(gpu.normal[i]) - section.normal) < 1e-6;
+                    }
+                    capsSeen += capsCpu;
+                    capsViews += capsCpu > 50;
+                    SCOPED_TRACE(GetParam() + " axis " + std::to_string(axis) + (flip ? " flipped" : "") +
+                                 (onLattice ? " on the lattice" : "") +
+                                 (projection == Projection::Orthographic ? " orthographic" : " perspective"));
+                    std::printf(
+                        "%s axis %d%s%s%s: %zu hit, holes %zu, extra %zu, depth off %zu, normal off %zu, feature off "
+                        "%zu, caps %zu (both %zu, on the plane %zu)\n",
+                        GetParam().c_str(), axis, flip ? " flipped" : "", onLattice ? " on the lattice" : "",
+                        projection == Projection::Orthographic ? " ortho" : "", c.bothHit, c.holes, c.extra,
+                        c.bothHit - c.depthClose, c.bothHit - c.normalClose, c.bothHit - c.featureSame, capsCpu,
+                        capsBoth, capsOnPlane);
+                    EXPECT_LE(c.holes, c.pixels / 1000) << "pixels where the reference has surface and the bricks none";
+                    EXPECT_LE(c.extra, c.pixels / 1000);
+                    EXPECT_GE(double(c.depthClose), 0.995 * double(c.bothHit));
+                    EXPECT_GE(double(c.normalClose), 0.99 * double(c.bothHit));
+                    EXPECT_GE(double(c.featureSame), 0.95 * double(c.bothHit));
+                    EXPECT_GE(double(capsBoth), 0.99 * double(capsCpu)) << "caps the bricks left out";
+                    EXPECT_EQ(capsOnPlane, capsBoth) << "caps off the plane or with another normal";
+                }
+            }
+    EXPECT_GT(capsSeen, 1000u) << "planes through the middle of a part cut it somewhere";
+    EXPECT_GT(capsViews, 7) << "the caps of at least two planes, seen from both sides";
     EXPECT_EQ(context->validationErrors(), 0) << allMessages(*context);
 }
 

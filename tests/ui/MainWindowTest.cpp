@@ -720,9 +720,10 @@ void MainWindowTest::viewportShowsThePartAndChangesAfterAnEdit()
 }
 
 // View > Brick Renderer: the same part drawn by the brick renderer once its
-// bricks are made, the status saying so; Exact Edges (which the bricks do not
-// draw) hands the part back to the tracer, and turning it off back to the
-// bricks.
+// bricks are made, the status saying so; a section plane the bricks cut as
+// the tracer does (the same picture, caps and all); Exact Edges (which the
+// bricks do not draw) hands the part back to the tracer, and turning it off
+// back to the bricks.
 void MainWindowTest::brickRendererDrawsTheSamePartAndStepsAsideWhereItCannot()
 {
     if (qEnvironmentVariableIsSet("KERF_NO_VULKAN")) QSKIP("the brick renderer needs Vulkan");
@@ -740,6 +741,22 @@ void MainWindowTest::brickRendererDrawsTheSamePartAndStepsAsideWhereItCannot()
     QVERIFY(!bricks.isNull());
     QVERIFY(woodFraction(bricks) > 0.05);
     QVERIFY2(pictureDifference(traced, bricks) < 0.01, "the bricks draw the tracer's picture");
+    // A section through the seat, seen by the tracer and then by the bricks.
+    auto* sectionOn = w->findChild<QCheckBox*>("section.enabled");
+    action(w.get(), "action.brickRenderer")->trigger();
+    QTRY_VERIFY_WITH_TIMEOUT(!w->viewport()->status().bricks, kVoxelTimeoutMs);
+    sectionOn->setChecked(true);
+    QVERIFY(w->viewport()->section().enabled);
+    QTRY_VERIFY2_WITH_TIMEOUT(pictureDifference(traced, w->viewport()->grabFrame()) > 0.01,
+                              "the section changes the picture", kVoxelTimeoutMs);
+    const QImage tracedCut = w->viewport()->grabFrame();
+    action(w.get(), "action.brickRenderer")->trigger();
+    QTRY_VERIFY_WITH_TIMEOUT(w->viewport()->status().bricks, kVoxelTimeoutMs);
+    QTRY_VERIFY(frame->text().contains("bricks"));
+    const QImage bricksCut = w->viewport()->grabFrame();
+    saveScreenshot(*w, "brick-renderer-section");
+    QVERIFY2(pictureDifference(tracedCut, bricksCut) < 0.01, "the bricks cut as the tracer cuts");
+    sectionOn->setChecked(false);
     action(w.get(), "action.exactEdges")->trigger();
     QTRY_VERIFY_WITH_TIMEOUT(!w->viewport()->status().bricks, kVoxelTimeoutMs);
     QTRY_VERIFY(frame->text().contains("trace"));

@@ -243,8 +243,7 @@ void MainWindow::buildViewMenu()
     QAction* bricks = newAction(tr("&Brick Renderer"), "action.brickRenderer");
     bricks->setCheckable(true);
     bricks->setToolTip(tr("Draw the part as bricks of voxels, one cube each, marched by the texture unit (Vulkan; "
-                          "slower than the default tracer; voxels only: a section or Exact Edges switch back to the "
-                          "tracer)"));
+                          "slower than the default tracer; voxels only: Exact Edges switch back to the tracer)"));
     connect(bricks, &QAction::toggled, viewport_, &qt::ViewportWidget::setBrickRenderer);
     view->addActions({grid, axes, commands_.exactEdges, bricks});
     view->addSeparator();

@@ -504,7 +504,7 @@ void BrickRenderer::Impl::ensureTargets(int w, int h)
     targets.height = height = h;
 }
 
-void BrickRenderer::record(VkCommandBuffer cb, const Camera& camera)
+void BrickRenderer::record(VkCommandBuffer cb, const Camera& camera, const Section& section)
 {
     Impl& m = *impl_;
     const int w = camera.width(), h = camera.height();
@@ -538,6 +538,12 @@ void BrickRenderer::record(VkCommandBuffer cb, const Camera& camera)
         push.forward = {float(f.x), float(f.y), float(f.z), camera.projection() == Projection::Orthographic ? 1.0f : 0.0f};
         push.atlasScale = {1.0f / float(m.atlasTexels.x), 1.0f / float(m.atlasTexels.y), 1.0f / float(m.atlasTexels.z), 0.0f};
         push.instances = m.instances.address();
+        if (section.enabled) {
+            // Relative to the eye, as the instances are: dot(n, eye + r) = offset.
+            const glm::dvec3 n = section.normal;
+            const double offset = section.offset - glm::dot(n, camera.eye());
+            push.section = {float(n.x), float(n.y), float(n.z), float(offset)};
+        }
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipeline);
         vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, m.layout, 0, 1, &m.set, 0, nullptr);
         vkCmdPushConstants(cb, m.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push, &push);
@@ -575,21 +581,22 @@ double BrickRenderer::lastGpuMilliseconds() const
 
 double BrickRenderer::lastSortMilliseconds() const { return impl_->sortMilliseconds; }
 
-TraceImage BrickRenderer::render(const Camera& camera, double* gpuMilliseconds)
+TraceImage BrickRenderer::render(const Camera& camera, double* gpuMilliseconds, const Section& section)
 {
     impl_->ensureTargets(camera.width(), camera.height());
-    TraceImage image = readTargets(impl_->ctx, impl_->targets, [&](VkCommandBuffer cb) { record(cb, camera); });
+    TraceImage image =
+        readTargets(impl_->ctx, impl_->targets, [&](VkCommandBuffer cb) { record(cb, camera, section); });
     if (gpuMilliseconds) *gpuMilliseconds = lastGpuMilliseconds();
     return image;
 }
 
-double BrickRenderer::sustainedMilliseconds(const Camera& camera, int frames)
+double BrickRenderer::sustainedMilliseconds(const Camera& camera, int frames, const Section& section)
 {
     frames = std::max(frames, 1);
     const auto batch = [&] {
         const auto t0 = std::chrono::steady_clock::now();
         impl_->ctx.submitAndWait([&](VkCommandBuffer cb) {
-            for (int f = 0; f < frames; ++f) record(cb, camera);
+            for (int f = 0; f < frames; ++f) record(cb, camera, section);
         });
         return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     };

@@ -377,14 +377,15 @@ TraceImage ComputeTracer::trace(const Camera& camera, const VoxelAddresses& addr
     return image;
 }
 
-double ComputeTracer::sustainedMilliseconds(const Camera& camera, int frames, TraceQuality quality)
+double ComputeTracer::sustainedMilliseconds(const Camera& camera, int frames, TraceQuality quality,
+                                             const Section& section)
 {
     frames = std::max(frames, 1);
     const VoxelAddresses addr = voxels();
     const auto batch = [&] {
         const auto t0 = std::chrono::steady_clock::now();
         impl_->ctx.submitAndWait([&](VkCommandBuffer cb) {
-            for (int f = 0; f < frames; ++f) record(cb, camera, addr, {}, quality);
+            for (int f = 0; f < frames; ++f) record(cb, camera, addr, section, quality);
         });
         return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     };

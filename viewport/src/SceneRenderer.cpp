@@ -277,20 +277,20 @@ void SceneRenderer::record(VkCommandBuffer cb, ComputeTracer& tracer, const Voxe
 }
 
 void SceneRenderer::record(VkCommandBuffer cb, BrickRenderer& bricks, const Camera& camera,
-                           const std::vector<Feature>& features, const SceneOptions& options)
+                           const std::vector<Feature>& features, const SceneOptions& options, const Section& section)
 {
     const Impl::TraceKey key{&bricks,      0,                0,              0,            bricks.version(),
                              camera.eye(), camera.forward(), camera.up(),    camera.halfHeight(),
-                             camera.width(), camera.height(), camera.projection() == Projection::Orthographic, Section{},
+                             camera.width(), camera.height(), camera.projection() == Projection::Orthographic, section,
                              TraceQuality::Voxels};
-    impl_->recordFrame(cb, camera, features, options, Section{}, bricks.bounds(), key,
-                       [&](VkCommandBuffer c) { bricks.record(c, camera); }, bricks.targets());
+    impl_->recordFrame(cb, camera, features, options, section, bricks.bounds(), key,
+                       [&](VkCommandBuffer c) { bricks.record(c, camera, section); }, bricks.targets());
 }
 
 RgbaImage SceneRenderer::render(BrickRenderer& bricks, const Camera& camera, const std::vector<Feature>& features,
-                                const SceneOptions& options)
+                                const SceneOptions& options, const Section& section)
 {
-    impl_->ctx.submitAndWait([&](VkCommandBuffer cb) { record(cb, bricks, camera, features, options); });
+    impl_->ctx.submitAndWait([&](VkCommandBuffer cb) { record(cb, bricks, camera, features, options, section); });
     return readPicture();
 }
 

@@ -188,8 +188,7 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
                                                      : VoxelAddresses{};
     // The brick renderer, where it can draw this frame: the bricks of the
     // snapshot on screen, once made (on a thread of their own).
-    const bool bricksCanDraw = scene.bricks && !gpu && shown && resident.valid() && !scene.section.enabled &&
-                               scene.quality == TraceQuality::Voxels;
+    const bool bricksCanDraw = scene.bricks && !gpu && shown && resident.valid() && scene.quality == TraceQuality::Voxels;
     if (!scene.bricks) {
         // Off: the atlases go (the last frame that read them has finished),
         // and so do bricks made or copied for nothing.
@@ -243,7 +242,7 @@ FrameStats ViewportRenderer::drawFrame(const ViewportScene& scene, int width, in
     }
     st.drewBricks = bricksCanDraw && m.bricksOf == shown;
     if (st.drewBricks)
-        m.scene.record(m.cb, m.bricks, camera, features, options);
+        m.scene.record(m.cb, m.bricks, camera, features, options, scene.section);
     else
         m.scene.record(m.cb, m.tracer, voxels, camera, features, options, scene.section);
     st.traced = m.scene.lastFrameTraced();

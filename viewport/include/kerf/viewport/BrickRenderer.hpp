@@ -18,10 +18,17 @@
 // staging memory a frame's rows pass through) is made beforehand on the
 // thread that makes the bricks (prepare), so that no frame allocates.
 //
-// Not yet: section planes and the exact-edges refinement (the compute
-// tracer's; the viewport hands such frames to the tracer). Measured 18 to 32
-// times slower than the compute tracer on an H200 (docs/benchmarks.md), so
-// it is offered only on request.
+// A section plane clips each brick's march to the kept side, and the cap is
+// decided as the compute tracer decides it: a ray that starts on the plane
+// inside the solid meets the solid's samples (below zero) where it enters
+// its first brick, since the field changes sign only in populated voxels,
+// which bricks cover; that brick then reports the cap at the plane. So the
+// full tiles and full nodes, which have no bricks, need none for the cap.
+//
+// Not yet: the exact-edges refinement (the compute tracer's; the viewport
+// hands such frames to the tracer). Measured 18 to 32 times slower than the
+// compute tracer on an H200 (docs/benchmarks.md), so it is offered only on
+// request.
 //
 // Threading: one thread, except prepare(), which may run on any (it makes
 // new device objects only); memory the frames are done with is freed on a
@@ -33,6 +40,7 @@
 #include "kerf/viewport/DeviceImage.hpp"
 #include "kerf/viewport/GpuBuffer.hpp"
 #include "kerf/tracer/Image.hpp"
+#include "kerf/tracer/Section.hpp"
 #include "kerf/viewport/ComputeTracer.hpp"
 #include "kerf/viewport/VulkanContext.hpp"
 #include "kerf/voxelizer/BrickLeaves.hpp"
@@ -122,7 +130,9 @@ public:
     /// Records the drawing of `camera`'s image into the targets, which are
     /// then readable by shaders and transfers. The instances are sorted front
     /// to back (on the host) when the eye moved since the last frame.
-    void record(VkCommandBuffer cb, const Camera& camera);
+    /// `section`, when enabled, cuts the part as the compute tracer does
+    /// (the cap reported with kSectionCap and the plane's normal).
+    void record(VkCommandBuffer cb, const Camera& camera, const Section& section = {});
     const TraceTargets& targets() const;
     /// The last frame's draw on the device, from timestamps.
     double lastGpuMilliseconds() const;
@@ -130,10 +140,10 @@ public:
     double lastSortMilliseconds() const;
 
     /// Draws and reads the image back.
-    TraceImage render(const Camera& camera, double* gpuMilliseconds = nullptr);
+    TraceImage render(const Camera& camera, double* gpuMilliseconds = nullptr, const Section& section = {});
     /// Milliseconds per frame of `frames` draws back to back in one
     /// submission, after a warm-up (as ComputeTracer::sustainedMilliseconds).
-    double sustainedMilliseconds(const Camera& camera, int frames);
+    double sustainedMilliseconds(const Camera& camera, int frames, const Section& section = {});
 
 private:
     struct Impl;

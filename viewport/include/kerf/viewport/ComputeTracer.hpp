@@ -99,7 +99,8 @@ public:
     /// What a viewport drawing continuously sees; a single frame followed by
     /// a wait (lastTiming()) lets the GPU idle and clock down, and its time
     /// swings several-fold from run to run on a discrete GPU.
-    double sustainedMilliseconds(const Camera& camera, int frames, TraceQuality quality = TraceQuality::Voxels);
+    double sustainedMilliseconds(const Camera& camera, int frames, TraceQuality quality = TraceQuality::Voxels,
+                                 const Section& section = {});
 
 private:
     struct Impl;

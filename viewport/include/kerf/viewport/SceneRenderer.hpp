@@ -75,11 +75,11 @@ public:
     void record(VkCommandBuffer cb, ComputeTracer& tracer, const VoxelAddresses& voxels, const Camera& camera,
                 const std::vector<Feature>& features, const SceneOptions& options = {}, const Section& section = {});
     /// The same with the brick renderer's picture of the part (voxels only:
-    /// no section plane, no exact edges; SceneOptions::quality is ignored).
+    /// no exact edges; SceneOptions::quality is ignored).
     RgbaImage render(BrickRenderer& bricks, const Camera& camera, const std::vector<Feature>& features,
-                     const SceneOptions& options = {});
+                     const SceneOptions& options = {}, const Section& section = {});
     void record(VkCommandBuffer cb, BrickRenderer& bricks, const Camera& camera, const std::vector<Feature>& features,
-                const SceneOptions& options = {});
+                const SceneOptions& options = {}, const Section& section = {});
     VkImage colorImage() const;
     /// Reads the last recorded picture back (after its commands finished;
     /// waits for the copy). Empty before the first frame.

@@ -23,8 +23,8 @@
 // (BrickRenderer.hpp) instead of the compute tracer: the bricks of the
 // snapshot on screen are made on a thread of their own and go up in one
 // copy when done; until then (the frame is not up to date, so frames go on)
-// and wherever the bricks cannot draw (a section, exact edges, voxels the
-// GPU built), the tracer draws the part.
+// and wherever the bricks cannot draw (exact edges, voxels the GPU built),
+// the tracer draws the part. A section plane the bricks draw themselves.
 //
 // Threading: one thread (the render thread) uses a renderer; the scene is a
 // value copied in for every frame. One frame in flight: drawFrame() waits
