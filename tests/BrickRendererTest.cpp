@@ -102,10 +102,11 @@ TEST_P(BrickRendererOnEveryExample, CutsSectionsAsTheCpuReferenceTracer)
                     const TraceImage gpu = renderer.render(camera, nullptr, section);
                     const TraceImage cpu = traceVoxels(buffers, camera, 0, section, TraceQuality::Voxels);
                     const Comparison c = compare(gpu, cpu, 0.05 * layout.voxelSize + 1e-4 * extent);
-                    std::size_t capsCpu = 0, capsBoth = 0, capsOnPlane = 0;
+                    std::size_t capsCpu = 0, capsGpu = 0, capsBoth = 0, capsOnPlane = 0;
                     for (std::size_t i = 0; i < cpu.depth.size(); ++i) {
                         if (cpu.hit(i) && cpu.feature[i] == kSectionCap) ++capsCpu;
                         if (!(gpu.hit(i) && gpu.feature[i] == kSectionCap)) continue;
+                        ++capsGpu;
                         capsBoth += cpu.hit(i) && cpu.feature[i] == kSectionCap;
                         const Ray r =
                             camera.ray(int(i % std::size_t(camera.width())), int(i / std::size_t(camera.width())));
@@ -120,10 +121,10 @@ TEST_P(BrickRendererOnEveryExample, CutsSectionsAsTheCpuReferenceTracer)
                                  (projection == Projection::Orthographic ? " orthographic" : " perspective"));
                     std::printf(
                         "%s axis %d%s%s%s: %zu hit, holes %zu, extra %zu, depth off %zu, normal off %zu, feature off "
-                        "%zu, caps %zu (both %zu, on the plane %zu)\n",
+                        "%zu, caps %zu (bricks %zu, both %zu, on the plane %zu)\n",
                         GetParam().c_str(), axis, flip ? " flipped" : "", onLattice ? " on the lattice" : "",
                         projection == Projection::Orthographic ? " ortho" : "", c.bothHit, c.holes, c.extra,
-                        c.bothHit - c.depthClose, c.bothHit - c.normalClose, c.bothHit - c.featureSame, capsCpu,
+                        c.bothHit - c.depthClose, c.bothHit - c.normalClose, c.bothHit - c.featureSame, capsCpu, capsGpu,
                         capsBoth, capsOnPlane);
                     EXPECT_LE(c.holes, c.pixels / 1000) << "pixels where the reference has surface and the bricks none";
                     EXPECT_LE(c.extra, c.pixels / 1000);
@@ -131,7 +132,11 @@ TEST_P(BrickRendererOnEveryExample, CutsSectionsAsTheCpuReferenceTracer)
                     EXPECT_GE(double(c.normalClose), 0.99 * double(c.bothHit));
                     EXPECT_GE(double(c.featureSame), 0.95 * double(c.bothHit));
                     EXPECT_GE(double(capsBoth), 0.99 * double(capsCpu)) << "caps the bricks left out";
-                    EXPECT_EQ(capsOnPlane, capsBoth) << "caps off the plane or with another normal";
+                    EXPECT_EQ(capsOnPlane, capsGpu) << "caps off the plane or with another normal";
+                    // The texture unit's fixed-point weights move a silhouette
+                    // by a pixel here and there (on an H200 up to 3 more cap
+                    // pixels than the reference in a view; none on lavapipe).
+                    EXPECT_LE(capsGpu - capsBoth, capsCpu / 100 + 5) << "caps where the reference has none";
                 }
             }
     EXPECT_GT(capsSeen, 1000u) << "planes through the middle of a part cut it somewhere";
