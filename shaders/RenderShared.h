@@ -31,9 +31,8 @@ struct RMat4 {
 #define KERF_FEATURE_HAS_COLOR 1u
 #define KERF_FEATURE_SELECTED 2u
 
-// The feature id the tracer writes where a section plane cuts the solid
-// (the cap), rather than a surface of the part.
-#define KERF_SECTION_CAP_FEATURE 0xFFFFFFFEu
+// The feature id of a section's cap: KERF_SECTION_CAP_FEATURE.
+#include "kerf/tracer/SectionCap.h"
 
 struct ShadeParams {
     KERF_U64 depth;         // float per pixel, +inf = nothing hit

@@ -19,6 +19,9 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_GOOGLE_include_directive : require
 #include "BrickShared.h"
+#include "kerf/tracer/SectionCap.h"
+// kDistanceRange: distances are stored in units of that many voxel edges.
+#include "voxel_format.glsl"
 
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Instances { BrickInstance b[]; };
 layout(push_constant) uniform Push { BrickPush p; } pc;
@@ -32,9 +35,7 @@ layout(location = 1) out vec4 outNormal;
 layout(location = 2) out uint outFeature;
 
 const int kBisectionSteps = 10;
-const uint kSectionCap = 0xFFFFFFFEu; // tracer/include/kerf/tracer/Section.hpp
-// Distances are stored in units of this many voxel edges (voxel_format.glsl).
-const float kDistanceRange = 2.0;
+const uint kSectionCap = KERF_SECTION_CAP_FEATURE;
 
 vec3 slotOrigin;
 vec3 atlasScale;

@@ -10,6 +10,7 @@
 
 #include "TraceShared.h"
 #include "kerf/tracer/ExactRefinement.h"
+#include "kerf/tracer/SectionCap.h"
 #include "kerf/voxelizer/TileTapeFormat.h"
 #include "voxel_format.glsl"
 
@@ -47,7 +48,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) buffer RefineArgs 
 layout(push_constant) uniform Push { uint64_t params; } pc;
 
 const uint kNoFeature = 0xFFFFFFFFu;
-const uint kSectionCap = 0xFFFFFFFEu;
+const uint kSectionCap = KERF_SECTION_CAP_FEATURE;
 const float kInf = 1.0 / 0.0;
 const int kBisectionSteps = 16;
 

@@ -5,6 +5,8 @@
 // cap) with the plane's normal and the feature kSectionCap, so that it can
 // be shaded apart from the part's own surfaces.
 
+#include "kerf/tracer/SectionCap.h"
+
 #include <glm/vec3.hpp>
 
 #include <cstdint>
@@ -12,7 +14,7 @@
 namespace kerf {
 
 /// The feature id of a section's cut face (kNoFeature - 1).
-inline constexpr std::uint32_t kSectionCap = 0xFFFFFFFEu;
+inline constexpr std::uint32_t kSectionCap = KERF_SECTION_CAP_FEATURE;
 
 struct Section {
     bool enabled = false;
