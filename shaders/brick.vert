@@ -24,7 +24,18 @@ void main()
     const BrickInstance brick = Instances(pc.p.instances).b[gl_InstanceIndex];
     const uint c = kCorners[gl_VertexIndex];
     const vec3 corner = vec3(float(c & 1u), float((c >> 1) & 1u), float(c >> 2));
-    eyeRelative = brick.minEdge.xyz + corner * (brick.minEdge.w * float(brick.slot.w));
+    const float edge = brick.minEdge.w * float(brick.slot.w);
+    eyeRelative = brick.minEdge.xyz + corner * edge;
     instance = uint(gl_InstanceIndex);
     gl_Position = pc.p.clipFromEye * vec4(eyeRelative, 1.0);
+    // A brick wholly on the side a section plane takes away (BrickPush::section:
+    // its corner nearest the kept side is beyond the plane) would discard
+    // every fragment (brick.frag clips its march to the kept side): it gets
+    // no fragments at all. A hundredth of a voxel of slack keeps a brick whose
+    // face lies on the plane, which brick.frag decides as before.
+    const vec3 n = pc.p.section.xyz;
+    if (n != vec3(0.0)) {
+        const vec3 nearest = brick.minEdge.xyz + vec3(lessThan(n, vec3(0.0))) * edge;
+        if (dot(n, nearest) - pc.p.section.w > 0.01 * brick.minEdge.w) gl_Position = vec4(0.0, 0.0, 0.0, -1.0);
+    }
 }
