@@ -68,6 +68,7 @@ std::optional<glm::dvec3> creaseAcross(const Tape& tape, GradientEvaluator<doubl
 struct Verdict {
     double worst = 0.0;         // largest distance at a sample (SampleDistance.hpp), mm
     std::array<int, 3> edges{}; // the edges to try splitting, best first (-1: none more)
+    std::array<int, 3> others{-1, -1, -1}; // the edges that keep to it, longest first (-1: none more)
     double facing = 1.0;        // cosine between the normal and the field's gradient at the centroid
 };
 
@@ -179,9 +180,22 @@ public:
             std::sort(v.edges.begin(), v.edges.end(), [&](int a, int b) {
                 return edgeWorst[a] > edgeWorst[b] || (edgeWorst[a] == edgeWorst[b] && a < b);
             });
-            // Splitting an edge that keeps to the tolerance does not help.
+            // Splitting an edge that keeps to the tolerance does not help
+            // by itself; such edges are tried, longest first, only where
+            // none beyond it splits (RefineSettings::splitOtherEdges).
+            int others = 0;
             for (int k = 0; k < 3; ++k)
-                if (!(edgeWorst[v.edges[std::size_t(k)]] > tolerance)) v.edges[std::size_t(k)] = -1;
+                if (!(edgeWorst[v.edges[std::size_t(k)]] > tolerance)) {
+                    v.others[std::size_t(others++)] = v.edges[std::size_t(k)];
+                    v.edges[std::size_t(k)] = -1;
+                }
+            const auto edgeLength = [&](int e) {
+                return glm::length(mesh.vertices[t[std::size_t(e)]] - mesh.vertices[t[std::size_t(e + 1) % 3]]);
+            };
+            std::sort(v.others.begin(), v.others.begin() + others, [&](int a, int b) {
+                const double la = edgeLength(a), lb = edgeLength(b);
+                return la > lb || (la == lb && a < b);
+            });
             v.facing = facingCosine(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]],
                                     glm::dvec3(gx_[i], gy_[i], gz_[i]));
             verdicts[i] = v;
@@ -759,7 +773,10 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
             const auto outcome = splitter.split(dirty[i], verdicts[i].edges, splitThisRound, changed, stats);
             if (outcome == Splitter::Outcome::Busy) busy.push_back(dirty[i]);
             if (outcome == Splitter::Outcome::Impossible &&
-                !splitter.flip(dirty[i], verdicts[i].edges, splitThisRound, changed))
+                !splitter.flip(dirty[i], verdicts[i].edges, splitThisRound, changed) &&
+                (!settings.splitOtherEdges || verdicts[i].others[0] < 0 ||
+                 splitter.split(dirty[i], verdicts[i].others, splitThisRound, changed, stats) !=
+                     Splitter::Outcome::Split))
                 stuck.push_back(dirty[i]);
         }
         if (changed.empty()) {

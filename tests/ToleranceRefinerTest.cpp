@@ -1,0 +1,98 @@
+// The refinement's last resort (issue 13): where no edge of a triangle over
+// the tolerance can split, one of its other edges does. The patches are the
+// meshes the side's export left around its last triangles over 0.01 mm
+// (three rings of triangles round them, with the vertices' normals), cut
+// out of the bundled examples' exports, so that the case is kept without
+// exporting the whole part.
+
+#include "ToleranceRefiner.hpp"
+
+#include "kerf/evaluator/TapeCompiler.hpp"
+#include "kerf/mesher/FilePrecision.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+namespace kerf::mesher {
+namespace {
+
+struct Patch {
+    Mesh mesh;
+    std::vector<glm::dvec3> normals;
+};
+
+// A patch file: "vertices triangles", then x y z nx ny nz per vertex (mm,
+// the normal 0 on a sharp feature), then three indices per triangle.
+Patch loadPatch(const std::string& path)
+{
+    std::ifstream in(path);
+    std::size_t vertices = 0, triangles = 0;
+    in >> vertices >> triangles;
+    Patch p;
+    for (std::size_t i = 0; i < vertices; ++i) {
+        glm::dvec3 v, n;
+        in >> v.x >> v.y >> v.z >> n.x >> n.y >> n.z;
+        p.mesh.vertices.push_back(v);
+        p.normals.push_back(n);
+    }
+    for (std::size_t i = 0; i < triangles; ++i) {
+        std::array<std::uint32_t, 3> t{};
+        in >> t[0] >> t[1] >> t[2];
+        p.mesh.triangles.push_back(t);
+    }
+    EXPECT_TRUE(in) << path;
+    return p;
+}
+
+// The refinement as the export's last attempt runs it (MeshPart.cpp).
+RefineStats refine(Patch& p, const Tape& tape, double cellSize, bool splitOtherEdges)
+{
+    RefineSettings s;
+    s.tolerance = 0.01;
+    s.minHeight = 4.0 * float32Spacing(tape.bounds());
+    s.clearance = s.minHeight;
+    s.regionSize = 8.0 * cellSize;
+    s.unfoldLeaning = true;
+    s.splitOtherEdges = splitOtherEdges;
+    s.patienceRounds = 3;
+    tbb::task_arena arena(1);
+    RefineStats stats;
+    EXPECT_TRUE(refineToTolerance(p.mesh, p.normals, tape, s, arena, stats, {}));
+    return stats;
+}
+
+void expectOtherEdgesMendIt(const char* example, const char* patchFile, double cellSize)
+{
+    const Tape tape = compileTape(Document::load(std::string(KERF_EXAMPLES_DIR) + "/" + example + ".kerf"));
+    Patch stuck = loadPatch(std::string(KERF_TEST_DATA_DIR) + "/" + patchFile);
+    Patch mended = stuck;
+    const std::size_t before = stuck.mesh.triangles.size();
+    const RefineStats without = refine(stuck, tape, cellSize, false);
+    const RefineStats with = refine(mended, tape, cellSize, true);
+    std::printf("%s: %zu triangles; without: %llu over (worst %.4f mm), %llu splits; with: %llu over (worst %.4f "
+                "mm), %llu splits, %zu triangles\n",
+                example, before, (unsigned long long)without.trianglesOverTolerance, without.worstSample,
+                (unsigned long long)without.splits, (unsigned long long)with.trianglesOverTolerance, with.worstSample,
+                (unsigned long long)with.splits, mended.mesh.triangles.size());
+    EXPECT_GT(without.trianglesOverTolerance, 0u) << "the patch no longer holds the stuck case";
+    EXPECT_EQ(with.trianglesOverTolerance, 0u);
+    EXPECT_LE(with.worstSample, 0.01);
+    EXPECT_EQ(with.foldedTriangles, 0u);
+    // A few splits, not a remeshing of the patch.
+    EXPECT_LE(mended.mesh.triangles.size(), before + 16);
+}
+
+TEST(ToleranceRefiner, SplitsAnotherEdgeWhereTheDoorFramesCreaseTrianglesAreStuck)
+{
+    expectOtherEdgesMendIt("door-frame", "door-frame-crease-patch.txt", 0.5);
+}
+
+TEST(ToleranceRefiner, SplitsAnotherEdgeWhereTheStoolsStretcherNeedlesAreStuck)
+{
+    expectOtherEdgesMendIt("stool", "stool-stretcher-patch.txt", 0.5);
+}
+
+} // namespace
+} // namespace kerf::mesher
