@@ -333,6 +333,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             j["area_over_tolerance_mm2"] = stats.areaOverTolerance;
             j["triangles_folded"] = stats.foldedTriangles;
             j["unfolds"] = stats.unfolds;
+            j["retriangulations"] = stats.retriangulations;
             if (stats.hiddenDetailCells > 0)
                 j["hidden_detail"] = {{"kind", stats.hiddenDetailIsMaterial ? "material" : "gap"},
                                       {"thickness_mm", stats.hiddenDetailThickness},

@@ -3,10 +3,11 @@
 #include "CreaseSnap.hpp"
 #include "CrossingGuard.hpp"
 #include "RegionTapes.hpp"
+#include "RimTriangulation.hpp"
 #include "SampleDistance.hpp"
 #include "TriangleClearance.hpp"
-#include "TriangleTree.hpp"
 #include "TriangleSamples.hpp"
+#include "TriangleTree.hpp"
 #include "kerf/mesher/SelfIntersections.hpp"
 
 #include "kerf/evaluator/IntervalEvaluator.hpp"
@@ -397,10 +398,124 @@ public:
         return true;
     }
 
+    /// Where no split or flip of triangle t1 helps: the disk of triangles
+    /// round it (it, then its neighbours, then theirs, each adding a corner
+    /// to the disk's rim, none inside) triangulated anew on the rim's
+    /// corners (RimTriangulation.hpp), where the new triangulation's worst
+    /// sampled triangle is better than the disk's worst now; every new
+    /// triangle keeps a height, stands upright to the surface, makes no
+    /// edge the mesh has elsewhere and crosses nothing. Where two sharp
+    /// edges of the part meet at a tangent (the turned leg's pommel on its
+    /// cylinder), the cells' triangles reach from one face to the other
+    /// across both edges, with vertices on each edge but no edge along
+    /// either: no split's new vertex mends that, a new triangulation of the
+    /// same vertices does.
+    bool retriangulate(std::uint32_t t1, std::vector<std::uint8_t>& splitThisRound, std::vector<std::uint32_t>& changed)
+    {
+        if (splitThisRound[t1]) return false;
+        std::vector<std::uint32_t> region{t1};
+        const Tri& first = mesh_.triangles[t1];
+        std::vector<std::uint32_t> rim(first.begin(), first.end()); // the disk's rim, in the triangles' winding
+        for (int ring = 0; ring < kRetriangulationRings; ++ring) {
+            // Each edge of the rim as it stands adds the triangle beyond it
+            // where that triangle's third corner is not on the rim yet.
+            const std::vector<std::uint32_t> before = rim;
+            for (std::size_t e = 0; e < before.size() && rim.size() < kRetriangulationCorners; ++e) {
+                const std::uint32_t u = before[e], v = before[(e + 1) % before.size()];
+                const auto pos = std::find(rim.begin(), rim.end(), u);
+                if (rim[std::size_t(pos - rim.begin() + 1) % rim.size()] != v) continue;
+                const auto other = halfedges_.find(halfedgeKey(v, u));
+                if (other == halfedges_.end() || splitThisRound[other->second]) continue;
+                std::uint32_t x = 0;
+                for (const std::uint32_t k : mesh_.triangles[other->second])
+                    if (k != u && k != v) x = k;
+                if (std::find(rim.begin(), rim.end(), x) != rim.end()) continue;
+                region.push_back(other->second);
+                rim.insert(pos + 1, x);
+            }
+            if (rim.size() > before.size() && triangulateAnew(region, rim, splitThisRound, changed)) return true;
+        }
+        return false;
+    }
+
     std::uint64_t flips = 0;
     std::uint64_t unfolds = 0;
+    std::uint64_t retriangulations = 0;
 
 private:
+    static constexpr int kRetriangulationRings = 4;
+    static constexpr std::size_t kRetriangulationCorners = 32;
+
+    // The disk `region` (its triangles' corners all on `rim`) triangulated
+    // anew where that lowers its worst sampled triangle (retriangulate()).
+    bool triangulateAnew(const std::vector<std::uint32_t>& region, const std::vector<std::uint32_t>& rim,
+                         std::vector<std::uint8_t>& splitThisRound, std::vector<std::uint32_t>& changed)
+    {
+        const int n = int(rim.size());
+        glm::dvec3 centre(0.0);
+        for (const std::uint32_t v : rim)
+            centre += mesh_.vertices[v];
+        centre /= double(n);
+        double radius = 0.0;
+        for (const std::uint32_t v : rim)
+            radius = std::max(radius, glm::length(mesh_.vertices[v] - centre));
+        const Tape& tape = regions_.near(centre, radius + distances_.reach(tolerance_));
+        double worstNow = 0.0;
+        for (const std::uint32_t t : region) {
+            const Tri& tri = mesh_.triangles[t];
+            worstNow = std::max(
+                worstNow, sampledError(tape, mesh_.vertices[tri[0]], mesh_.vertices[tri[1]], mesh_.vertices[tri[2]]));
+        }
+        const auto inRegion = [&](std::uint32_t t) {
+            return std::find(region.begin(), region.end(), t) != region.end();
+        };
+        // An edge between corners i and j that the mesh has outside the disk.
+        const auto edgeElsewhere = [&](int i, int j) {
+            if ((j - i + n) % n == 1 || (i - j + n) % n == 1) return false; // the rim's own
+            for (const std::uint64_t key : {halfedgeKey(rim[std::size_t(i)], rim[std::size_t(j)]),
+                                            halfedgeKey(rim[std::size_t(j)], rim[std::size_t(i)])}) {
+                const auto found = halfedges_.find(key);
+                if (found != halfedges_.end() && !inRegion(found->second)) return true;
+            }
+            return false;
+        };
+        const auto triangulation = triangulateRim(n, [&](int i, int k, int j) {
+            const glm::dvec3 a = mesh_.vertices[rim[std::size_t(i)]], b = mesh_.vertices[rim[std::size_t(k)]],
+                             c = mesh_.vertices[rim[std::size_t(j)]];
+            constexpr double kForbidden = std::numeric_limits<double>::infinity();
+            const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+            if (!(glm::length(glm::cross(b - a, c - a)) > minHeight_ * longest)) return kForbidden;
+            if (edgeElsewhere(i, k) || edgeElsewhere(k, j) || edgeElsewhere(i, j)) return kForbidden;
+            if (leans(facing(a, b, c))) return kForbidden;
+            return sampledError(tape, a, b, c);
+        });
+        if (!triangulation || !(triangulation->worst < worstNow)) return false;
+        std::vector<Tri> added;
+        for (const auto& [i, k, j] : triangulation->triangles)
+            added.push_back({rim[std::size_t(i)], rim[std::size_t(k)], rim[std::size_t(j)]});
+        std::vector<NewTriangle> made;
+        for (const Tri& t : added)
+            made.push_back({t, {mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]}});
+        const bool crossing = anyCrossesInGrid(grid_, made.data(), made.size(), clearance_, inRegion,
+                                               [&](std::uint32_t t, glm::dvec3(&q)[3]) {
+                                                   const Tri& b = mesh_.triangles[t];
+                                                   for (int k = 0; k < 3; ++k)
+                                                       q[k] = mesh_.vertices[b[std::size_t(k)]];
+                                                   return b;
+                                               });
+        if (crossing || newTrianglesTooClose(made.data(), made.size(), clearance_)) return false;
+        for (const std::uint32_t t : region)
+            remove(t);
+        for (std::size_t i = 0; i < region.size(); ++i) {
+            mesh_.triangles[region[i]] = added[i];
+            add(region[i]);
+            splitThisRound[region[i]] = 1;
+            changed.push_back(region[i]);
+        }
+        ++retriangulations;
+        return true;
+    }
+
     // How triangle (a, b, c) faces the surface (facingCosine at its centroid).
     double facing(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c)
     {
@@ -770,10 +885,13 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
                     continue;
                 }
             }
-            const auto outcome = splitter.split(dirty[i], verdicts[i].edges, splitThisRound, changed, stats);
+            const auto outcome = settings.splitEdges
+                                     ? splitter.split(dirty[i], verdicts[i].edges, splitThisRound, changed, stats)
+                                     : Splitter::Outcome::Impossible;
             if (outcome == Splitter::Outcome::Busy) busy.push_back(dirty[i]);
             if (outcome == Splitter::Outcome::Impossible &&
                 !splitter.flip(dirty[i], verdicts[i].edges, splitThisRound, changed) &&
+                (!settings.retriangulateStuck || !splitter.retriangulate(dirty[i], splitThisRound, changed)) &&
                 (!settings.splitOtherEdges || verdicts[i].others[0] < 0 ||
                  splitter.split(dirty[i], verdicts[i].others, splitThisRound, changed, stats) !=
                      Splitter::Outcome::Split))
@@ -808,6 +926,7 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
     }
     const ToleranceCheck left = worstOf(mesh, worst, facing, tolerance);
     stats.unfolds = splitter.unfolds;
+    stats.retriangulations = splitter.retriangulations;
     stats.foldedTriangles = left.foldedTriangles;
     stats.worstSample = left.worstSample;
     stats.worstAt = left.worstAt;

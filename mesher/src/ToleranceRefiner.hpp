@@ -64,6 +64,7 @@ struct RefineStats {
     double areaOverTolerance = 0.0;           // mm^2: their area
     std::uint64_t unfolds = 0;                // flips that turned a folded triangle the surface's way
     std::uint64_t foldedTriangles = 0;        // left facing into the part (no flip helped)
+    std::uint64_t retriangulations = 0;       // disks round a stuck triangle triangulated anew
     /// Stopped by a limit (rounds, triangles, patience) while triangles were
     /// still to split: the splits were not closing in on the surface.
     bool gaveUp = false;
@@ -105,6 +106,16 @@ struct RefineSettings {
     /// refinement it left the door frame 1,511 triangles over at 0.01 mm
     /// instead of 2.
     bool splitOtherEdges = false;
+    /// Where no split or flip of a triangle over the tolerance helps (and
+    /// before splitOtherEdges), the disk of triangles round it is
+    /// triangulated anew on its own vertices (the turned leg's pommel at
+    /// 0.01 mm, where two sharp edges meet at a tangent and the triangles
+    /// reach across both).
+    bool retriangulateStuck = false;
+    /// False: no edge is split, only flips and retriangulations change the
+    /// mesh (no new vertex: the refinement cannot dig at detail the cells
+    /// missed, so MeshPart.cpp runs it even where the first refinement gave up).
+    bool splitEdges = true;
     /// Points of the part's surface (SurfaceCoverage.hpp) that the mesh
     /// must come within the tolerance of. Once the triangles' samples keep
     /// to it (or the splits for them are stuck), each point further from

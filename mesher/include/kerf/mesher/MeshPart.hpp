@@ -181,6 +181,7 @@ struct MeshStats {
     double worstPartSample = 0.0;
     glm::dvec3 worstPartSampleAt{0.0};
     std::uint64_t unfolds = 0;            // flips that turned a folded triangle the surface's way
+    std::uint64_t retriangulations = 0;   // disks round a stuck triangle triangulated anew (ToleranceRefiner.hpp)
     /// Triangles left facing into the part at their centroid (a fold no
     /// flip undid; the mesh is closed and uncrossed all the same).
     std::uint64_t foldedTriangles = 0;
