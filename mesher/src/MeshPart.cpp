@@ -49,12 +49,12 @@ void addSeconds(std::atomic<std::int64_t>& total, Clock::time_point since)
     total += std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - since).count();
 }
 
-// A later refinement's figures into the export's: its splits added, its
-// judgement of the whole mesh the one reported.
 // At most this many triangles over the tolerance are "a few stuck", where
 // the first refinement gave up: the last attempt's splits are tried on them.
 constexpr std::uint64_t kFewStuckTriangles = 64;
 
+// A later refinement's figures into the export's: its splits added, its
+// judgement of the whole mesh the one reported.
 void takeRefinement(MeshStats& stats, const RefineStats& r)
 {
     stats.splits += r.splits;
