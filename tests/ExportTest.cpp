@@ -87,13 +87,14 @@ struct FileCase {
     double featureSize;
     double volume; // mm^3, closed form; 0 where there is none
     /// Whether the simplified export keeps every triangle within the
-    /// tolerance. Not yet where bodies touch along an edge or a face, at a
-    /// blend into a face, where faces meet at a tangent, and at some rims
-    /// of holes: the marching cubes cut
-    /// the sharp edge off and no split of the refinement mends the cut
-    /// without folding a neighbour (issue 13, open; the exporter says so,
-    /// and these cases check that what it says is what the file holds).
+    /// tolerance. Not yet where bodies touch along an edge, where faces
+    /// meet at a tangent, and where float32 cannot hold the tolerance (issue
+    /// 13, open; the exporter says so, and these cases check that what it
+    /// says is what the file holds).
     bool holdsTolerance = true;
+    /// The same as 3MF, which writes a part far from the origin next to its
+    /// middle (float32 there steps by nanometres, not micrometres).
+    bool holdsToleranceAs3mf = holdsTolerance;
 };
 void PrintTo(const FileCase& c, std::ostream* os) { *os << c.name; }
 
@@ -107,7 +108,10 @@ std::vector<FileCase> fileCases()
         {"touching_faces", R"({"id":"u","type":"union","children":[
             {"id":"a","type":"box","size":[40,20,18],"transform":{"translate":[-20,0,0]}},
             {"id":"b","type":"box","size":[40,20,18],"transform":{"translate":[20,0,0]}}]})",
-         1.0, 80.0 * 20.0 * 18.0, false},
+         1.0, 80.0 * 20.0 * 18.0},
+        // Two boards that share only an edge: the exact solid is not a
+        // 2-manifold there, and the file (which must be) keeps a few
+        // triangles over the tolerance where it parts the two (16 at 0.01 mm).
         {"touching_edges", R"({"id":"u","type":"union","children":[
             {"id":"a","type":"box","size":[20,20,18],"transform":{"translate":[-10,-10,0]}},
             {"id":"b","type":"box","size":[20,20,18],"transform":{"translate":[10,10,0]}}]})",
@@ -124,7 +128,7 @@ std::vector<FileCase> fileCases()
         {"blend", R"({"id":"u","type":"union","blend":4,"children":[
             {"id":"a","type":"box","size":[40,20,18]},
             {"id":"c","type":"cylinder","radius":6,"height":40,"transform":{"translate":[0,0,20]}}]})",
-         1.0, 0.0, false},
+         1.0, 0.0},
         {"sphere", R"({"id":"s","type":"sphere","radius":10})", 1.0, 4.0 / 3.0 * 3.14159265358979 * 1000.0},
         // A board whose faces and edges lie on the planes and lines of the
         // lattice centred on it: there the marching cubes cut its edges off
@@ -132,8 +136,8 @@ std::vector<FileCase> fileCases()
         // a vertex off the edge, and no split mended those (11 triangles up
         // to 0.22 mm off at 0.01 mm). Now exact, in its 12 triangles
         // (ExportedFileSimplified.ABoardIsItsTwelveTriangles).
-        {"board_on_lattice", R"({"id":"b","type":"box","size":[18,100,100],"transform":{"translate":[0,50,50]}})",
-         1.0, 18.0 * 100.0 * 100.0},
+        {"board_on_lattice", R"({"id":"b","type":"box","size":[18,100,100],"transform":{"translate":[0,50,50]}})", 1.0,
+         18.0 * 100.0 * 100.0},
         // A shelf-pin hole whose rim lies on the face's lattice plane and
         // whose sides touch lattice planes (y = 28 and 33).
         {"pin_hole_on_lattice", R"({"id":"d","type":"difference","children":[
@@ -158,10 +162,15 @@ std::vector<FileCase> fileCases()
     for (const char* at : {"0,0,0", "100000,-100000,100000"}) {
         char buf[512];
         std::snprintf(buf, sizeof buf, plate, at);
-        // Not held at the rim of the hole yet: 5 triangles up to 0.06 mm
-        // (and more 100 m away, where float32 steps by 7.8 um).
-        cases.push_back({at[0] == '0' ? "plate" : "plate_far", buf, 1.0,
-                         60.0 * 40.0 * 18.0 - 3.14159265358979 * 16.0 * 18.0, false});
+        // 100 m away float32 steps by 7.8 um, most of the 0.01 mm
+        // tolerance: STL's coordinates leave triangles over it (17; kerf
+        // export refuses that tolerance for STL and names 3MF). As 3MF it
+        // holds: the mesher keeps its vertices apart by the spacing of the
+        // 3MF's coordinates, written next to the part (17 over before, when
+        // it went by the world's).
+        const bool far = at[0] != '0';
+        cases.push_back(
+            {far ? "plate_far" : "plate", buf, 1.0, 60.0 * 40.0 * 18.0 - 3.14159265358979 * 16.0 * 18.0, !far, true});
     }
     return cases;
 }
@@ -262,7 +271,8 @@ TEST_P(ExportedFile, ReadsBackAsTheClosedSolidInEveryFormat)
         // exporter reports is in the file (sampled at every point the
         // exporter samples and more), not a figure of a mesh before its
         // last pass.
-        if (c.holdsTolerance && stats.hiddenDetailCells == 0 && !run.centred) {
+        if ((format == MeshFileFormat::ThreeMf ? c.holdsToleranceAs3mf : c.holdsTolerance) &&
+            stats.hiddenDetailCells == 0 && !run.centred) {
             EXPECT_EQ(stats.trianglesOverTolerance, 0u) << what;
         }
         if (exported.simplificationDefects.empty()) {

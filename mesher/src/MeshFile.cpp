@@ -1,6 +1,7 @@
 #include "kerf/mesher/MeshFile.hpp"
 
 #include "kerf/document/Limits.hpp"
+#include "kerf/evaluator/TapeCompiler.hpp"
 
 #include "kerf/mesher/FilePrecision.hpp"
 #include "kerf/mesher/SelfIntersections.hpp"
@@ -62,21 +63,29 @@ double spacingAt(double x, MeshFileFormat format)
 
 } // namespace
 
-glm::dvec3 fileOffsetFor(const Mesh& mesh, MeshFileFormat format, double tolerance)
+glm::dvec3 fileOffsetFor(const Aabb& box, MeshFileFormat format, double tolerance)
 {
-    if (format != MeshFileFormat::ThreeMf || mesh.vertices.empty()) return glm::dvec3(0.0);
-    if (spacingAt(largestCoordinate(mesh, glm::dvec3(0.0)), format) <= 0.1 * std::max(tolerance, 1e-4))
-        return glm::dvec3(0.0);
-    glm::dvec3 lo(mesh.vertices[0]), hi(mesh.vertices[0]);
-    for (const glm::dvec3& v : mesh.vertices) {
-        lo = glm::min(lo, v);
-        hi = glm::max(hi, v);
-    }
+    if (format != MeshFileFormat::ThreeMf || box.isEmpty() || !box.isBounded()) return glm::dvec3(0.0);
+    double largest = 0.0;
+    for (int a = 0; a < 3; ++a)
+        largest = std::max({largest, std::abs(box.min[a]), std::abs(box.max[a])});
+    if (spacingAt(largest, format) <= 0.1 * std::max(tolerance, 1e-4)) return glm::dvec3(0.0);
     // A whole number of millimetres: exact in float32 up to 16 km.
-    glm::dvec3 centre = glm::round(0.5 * (lo + hi));
+    glm::dvec3 centre = glm::round(box.center());
     for (int a = 0; a < 3; ++a)
         centre[a] = double(float(centre[a]));
     return centre;
+}
+
+glm::dvec3 fileOffsetFor(const Mesh& mesh, MeshFileFormat format, double tolerance)
+{
+    if (mesh.vertices.empty()) return glm::dvec3(0.0);
+    Aabb box{mesh.vertices[0], mesh.vertices[0]};
+    for (const glm::dvec3& v : mesh.vertices) {
+        box.min = glm::min(box.min, v);
+        box.max = glm::max(box.max, v);
+    }
+    return fileOffsetFor(box, format, tolerance);
 }
 
 namespace {
@@ -150,13 +159,13 @@ std::optional<std::string> toleranceTheFileCannotHold(const Aabb& partBounds, Me
 }
 
 MeshFileReport writeMeshFile(Mesh& mesh, const std::filesystem::path& file, MeshFileFormat format,
-                             const std::string& partName, double tolerance, bool writeOnlyIfSolid,
-                             const Progress& work)
+                             const std::string& partName, double tolerance, bool writeOnlyIfSolid, const Progress& work,
+                             const std::optional<glm::dvec3>& offset)
 {
     MeshFileReport report;
     auto stop = [&] { return report.cancelled = work.cancelled(); };
     const WrittenFormat written = writtenFormatOf(format);
-    report.offset = fileOffsetFor(mesh, format, tolerance);
+    report.offset = offset ? *offset : fileOffsetFor(mesh, format, tolerance);
     report.spacing = spacingAt(largestCoordinate(mesh, report.offset), format);
     report.fit = fitToWritten(mesh, written, report.offset);
     work.report(0.1);
@@ -209,7 +218,12 @@ ExportedPart exportPart(const Document& doc, const MeshOptions& options, const s
     // Meshing is most of the time; checking the file as read back the rest.
     const Progress meshing = work.stage(0.0, 0.85), writing = work.stage(0.85, 1.0);
     ExportedPart out;
-    std::optional<Mesh> mesh = meshPart(doc, options, meshing, &out.stats);
+    // The file's offset from the part's bounds, before meshing: the mesher
+    // keeps its vertices apart by the spacing of the coordinates written.
+    const Tape tape = compileTape(doc);
+    MeshOptions fitted = withDocumentFeatureSize(doc, options);
+    fitted.fileOffset = fileOffsetFor(tape.bounds(), format, options.tolerance);
+    std::optional<Mesh> mesh = meshTape(tape, fitted, meshing, &out.stats);
     if (!mesh) {
         out.cancelled = true;
         return out;
@@ -218,22 +232,22 @@ ExportedPart exportPart(const Document& doc, const MeshOptions& options, const s
         out.empty = true;
         return out;
     }
-    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance, true, writing);
+    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance, true, writing, fitted.fileOffset);
     if (out.report.cancelled) {
         out.cancelled = true;
         return out;
     }
     if (out.report.solid() || options.tolerance == 0.0) return out;
     out.simplificationDefects = describeDefects(out.report);
-    MeshOptions plain = options;
+    MeshOptions plain = fitted;
     plain.tolerance = 0.0;
     out.stats = {};
-    mesh = meshPart(doc, plain, meshing, &out.stats);
+    mesh = meshTape(tape, plain, meshing, &out.stats);
     if (!mesh) {
         out.cancelled = true;
         return out;
     }
-    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance, true, writing);
+    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance, true, writing, fitted.fileOffset);
     out.cancelled = out.report.cancelled;
     return out;
 }

@@ -92,18 +92,23 @@ GridLayout shiftLattice(GridLayout g, const Aabb& part, const glm::dvec3& shift,
 
 // How cells meet the file's precision and the part's exact zeros (see
 // CellMeshing in TileMesher.hpp and FilePrecision.hpp).
-CellMeshing cellMeshing(const Lattice& lattice, const GridLayout& layout, double tolerance, bool findHidden)
+CellMeshing cellMeshing(const Lattice& lattice, const GridLayout& layout, double tolerance, bool findHidden,
+                        const glm::dvec3& fileOffset)
 {
     const Aabb grid{layout.origin, layout.origin + glm::dvec3(layout.dims) * layout.tileSize};
-    double magnitude = 0.0;
-    for (int a = 0; a < 3; ++a)
+    // The file's largest coordinate (every vertex lies in the grid), and
+    // the world's, which the field's rounding goes by.
+    double written = 0.0, magnitude = 0.0;
+    for (int a = 0; a < 3; ++a) {
+        written = std::max({written, std::abs(grid.min[a] - fileOffset[a]), std::abs(grid.max[a] - fileOffset[a])});
         magnitude = std::max({magnitude, std::abs(grid.min[a]), std::abs(grid.max[a])});
+    }
     CellMeshing m;
     const double h = lattice.h;
     // Vertices stay eight float32 spacings from lattice points: two of them
     // on edges that meet at a point where the surface passes then stay
     // apart in the file (and thin bridges and gaps stay open).
-    const double margin = std::max(kEdgeMargin * h, 8.0 * float32Spacing(magnitude));
+    const double margin = std::max(kEdgeMargin * h, 8.0 * float32Spacing(written));
     m.edgeMargin = std::min(0.25, margin / h);
     // "About zero": within rounding of the coordinates; the nudge is far
     // beyond rounding and far below anything the mesh can show.
@@ -128,7 +133,8 @@ std::optional<LatticeMesh> latticeMesh(const Tape& tape, const GridLayout& layou
     if (std::max({lattice.dims.x, lattice.dims.y, lattice.dims.z}) >= kMaxLatticeCellsPerAxis)
         throw std::runtime_error(partTooLongToMesh(tape.bounds(), options.featureSize)
                                      .value_or("the part is too long to mesh at this feature size"));
-    const CellMeshing meshing = cellMeshing(lattice, layout, options.tolerance, options.findHiddenDetail);
+    const CellMeshing meshing =
+        cellMeshing(lattice, layout, options.tolerance, options.findHiddenDetail, options.fileOffset);
     stats.edgeMargin = meshing.edgeMargin * lattice.h;
     const TileMesher mesher(tape, lattice, meshing);
     TileShares states(lattice);
@@ -308,7 +314,8 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     }
     SimplifySettings simplify;
     simplify.rmsDistance = options.tolerance;
-    simplify.minHeight = 4.0 * float32Spacing(tape.bounds());
+    simplify.minHeight =
+        4.0 * float32Spacing(Aabb{tape.bounds().min - options.fileOffset, tape.bounds().max - options.fileOffset});
     simplify.clearance = simplify.minHeight;
     simplify.cube = 64.0 * stats.cellSize;
     simplify.regionSize = 8.0 * stats.cellSize;
@@ -659,16 +666,19 @@ std::string describeCoarseTolerance(const MeshStats& stats, double tolerance)
            shortNumber(kDefaultExportTolerance) + " mm, keeps them)";
 }
 
-std::optional<Mesh> meshPart(const Document& doc, const MeshOptions& options, const Progress& work,
-                             MeshStats* stats)
+MeshOptions withDocumentFeatureSize(const Document& doc, MeshOptions options)
 {
-    MeshOptions o = options;
-    if (!(o.featureSize > 0.0)) {
+    if (!(options.featureSize > 0.0)) {
         if (!doc.settings.featureSize)
             throw std::invalid_argument("mesher: no feature size given and the document sets none");
-        o.featureSize = *doc.settings.featureSize;
+        options.featureSize = *doc.settings.featureSize;
     }
-    return meshTape(compileTape(doc), o, work, stats);
+    return options;
+}
+
+std::optional<Mesh> meshPart(const Document& doc, const MeshOptions& options, const Progress& work, MeshStats* stats)
+{
+    return meshTape(compileTape(doc), withDocumentFeatureSize(doc, options), work, stats);
 }
 
 } // namespace kerf

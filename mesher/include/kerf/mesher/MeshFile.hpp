@@ -42,6 +42,9 @@ WrittenFormat writtenFormatOf(MeshFileFormat format);
 /// for 3MF a float32-exact point near the part once the part is so far from
 /// the origin that float32 would lose more than `tolerance` / 10 there.
 glm::dvec3 fileOffsetFor(const Mesh& mesh, MeshFileFormat format, double tolerance);
+/// The same for a part within `box` (exportPart: from the part's bounds,
+/// before it is meshed).
+glm::dvec3 fileOffsetFor(const Aabb& box, MeshFileFormat format, double tolerance);
 
 /// The finest tolerance a file of `format` can hold for a part within
 /// `partBounds` (mm): twice the step of its written coordinates where the
@@ -87,10 +90,12 @@ struct MeshFileReport {
 /// see as a solid is not written, and the report says why. `work` hears
 /// the steps (fitting, checking, the crossing search, writing); cancelled
 /// (asked between them and during the crossing search) it stops before
-/// anything is written.
+/// anything is written. `offset`: where the file's coordinates start
+/// (fileOffsetFor), where the mesh was made for it (MeshOptions::fileOffset);
+/// else fileOffsetFor(mesh, ...).
 MeshFileReport writeMeshFile(Mesh& mesh, const std::filesystem::path& file, MeshFileFormat format,
                              const std::string& partName, double tolerance, bool writeOnlyIfSolid = true,
-                             const Progress& work = {});
+                             const Progress& work = {}, const std::optional<glm::dvec3>& offset = std::nullopt);
 
 /// The defects of a report in words ("12 open edges, 3 crossing triangle
 /// pairs"), empty when it is a solid.

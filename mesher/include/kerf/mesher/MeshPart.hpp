@@ -115,6 +115,14 @@ struct MeshOptions {
     /// part's side is measured and reported either way.
     bool coverPartPoints = true;
     glm::dvec3 latticeShift{0.20710678118654752, 0.36602540378443865, 0.11803398874989485};
+    /// Where the file's coordinates start (MeshFile.hpp, fileOffsetFor: 3MF
+    /// writes a part far from the origin next to its middle). The mesher
+    /// keeps vertices apart, and its triangles a height, by float32's spacing
+    /// at the coordinates as written, not as they lie in the world: 100 m
+    /// away that spacing is 7.8 um, and kept from the world's origin it held
+    /// vertices 0.06 mm off the lattice's points in a 3MF whose coordinates
+    /// step by 2 nm, which left triangles over a 0.01 mm tolerance.
+    glm::dvec3 fileOffset{0.0};
     CrossingGuard crossingGuard = CrossingGuard::Afterwards;
     /// With a tolerance: blocks of this many cells a side whose lattice
     /// triangles are one flat disk become a fan before the simplification,
@@ -289,6 +297,10 @@ std::string describeCoarseTolerance(const MeshStats& stats, double tolerance);
 /// too large for its feature size.
 std::optional<Mesh> meshPart(const Document& doc, const MeshOptions& options = {}, const Progress& work = {},
                              MeshStats* stats = nullptr);
+
+/// `options` with the document's feature size where they give none (what
+/// meshPart meshes with). Throws std::invalid_argument where neither does.
+MeshOptions withDocumentFeatureSize(const Document& doc, MeshOptions options);
 
 /// The same for a compiled tape (world coordinates; evaluated where it is,
 /// never rebased); options.featureSize must be positive.
