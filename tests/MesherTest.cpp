@@ -402,6 +402,17 @@ TEST(Mesher, APartOneHundredMetresAwayMeshesAsAtTheOrigin)
         EXPECT_GT(sb.edgeMargin, sa.edgeMargin);
         EXPECT_NEAR(ra.volume, rb.volume, 2.0 * sb.edgeMargin * ra.area + 1e-6 * ra.volume);
         EXPECT_LE(worstVertexField(far, b), onSurfaceBound(b, h));
+        // Made for a file whose coordinates start next to the part (3MF),
+        // the vertices keep the margin they keep at the origin.
+        MeshOptions o;
+        o.featureSize = h;
+        o.fileOffset = offset;
+        MeshStats sc;
+        const auto c = meshPart(far, o, {}, &sc);
+        ASSERT_TRUE(c);
+        const MeshReport rc = expectWatertight(*c, "far, for a file next to it");
+        EXPECT_EQ(rc.eulerCharacteristic, ra.eulerCharacteristic);
+        EXPECT_DOUBLE_EQ(sc.edgeMargin, sa.edgeMargin);
     }
 }
 
@@ -661,6 +672,39 @@ TEST(MeshFile, APartTheFileCannotHoldIsRefusedAndTheDefaultIsWhatItHolds)
     EXPECT_DOUBLE_EQ(defaultToleranceFor(huge, MeshFileFormat::BinaryStl), 16.0);
     EXPECT_DOUBLE_EQ(defaultToleranceFor(Aabb{glm::dvec3(-500.0), glm::dvec3(500.0)}, MeshFileFormat::BinaryStl),
                      kDefaultExportTolerance);
+}
+
+TEST(MeshFile, CoarseCoordinatesAreBlamedOnWhatMakesThemCoarse)
+{
+    const Aabb plate{glm::dvec3(-30.0, -20.0, -9.0), glm::dvec3(30.0, 20.0, 9.0)};
+    const double step = std::ldexp(1.0, -19); // float32 at 30 mm: 1.9e-06 mm
+    // Ten steps and more to the tolerance: no word.
+    EXPECT_EQ(describeCoarseCoordinates(plate, MeshFileFormat::BinaryStl, step, glm::dvec3(0.0), 1e-4), "");
+    // The plate at the origin at 0.00001 mm was told to move nearer the
+    // origin (and, as STL, to use 3MF, which steps the same): the step is
+    // float32's at the part's own size, and only the tolerance helps.
+    for (const MeshFileFormat format : {MeshFileFormat::BinaryStl, MeshFileFormat::ThreeMf}) {
+        const std::string s = describeCoarseCoordinates(plate, format, step, glm::dvec3(0.0), 1e-5);
+        EXPECT_NE(s.find("the part reaches 30.0 mm from the origin, where the file's coordinates step by 1.9e-06 mm"),
+                  std::string::npos)
+            << s;
+        EXPECT_NE(s.find("a tolerance of 1.9e-05 mm or coarser"), std::string::npos) << s;
+        EXPECT_EQ(s.find("nearer the origin"), std::string::npos) << s;
+        EXPECT_EQ(s.find(".3mf"), std::string::npos) << s;
+    }
+    // 100 m away an STL steps by 7.8 um: 3MF (round the part's middle) or
+    // moving the part helps.
+    const glm::dvec3 far(1e5, -1e5, 1e5);
+    const Aabb away{plate.min + far, plate.max + far};
+    const std::string stl =
+        describeCoarseCoordinates(away, MeshFileFormat::BinaryStl, std::ldexp(1.0, -7), glm::dvec3(0.0), 0.05);
+    EXPECT_NE(stl.find("the part reaches 100030 mm from the origin, where the file's coordinates step by 0.0078 mm"),
+              std::string::npos)
+        << stl;
+    EXPECT_NE(stl.find("a .3mf file keeps the detail, or move the part nearer the origin"), std::string::npos) << stl;
+    const std::string threeMf = describeCoarseCoordinates(away, MeshFileFormat::ThreeMf, step, far, 1e-5);
+    EXPECT_NE(threeMf.find("the part reaches 30.0 mm from its middle"), std::string::npos) << threeMf;
+    EXPECT_EQ(threeMf.find("nearer the origin"), std::string::npos) << threeMf;
 }
 
 // A simplified mesh spends most of its time simplifying: the progress moves

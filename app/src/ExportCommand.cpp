@@ -262,18 +262,11 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
                 << " mm instead (closed, sharp edges kept, larger, not held to the tolerance)\n";
         const MeshReport& report = written.asRead;
         const double seconds = since(start);
-        // STL cannot hold the part's detail where float32 steps by more than
-        // a tenth of the tolerance.
-        const bool imprecise = written.spacing > 0.1 * (tolerance > 0.0 ? tolerance : 0.01);
-        if (imprecise)
-            err << "kerf export: warning: " << printable(target.string()) << ": the part reaches "
-                << significant(std::max(std::abs(bounds.min.x), std::max(std::abs(bounds.max.x),
-                                        std::max({std::abs(bounds.min.y), std::abs(bounds.max.y),
-                                                  std::abs(bounds.min.z), std::abs(bounds.max.z)}))), 3)
-                << " mm from the origin, where the file's coordinates step by " << significant(written.spacing, 2)
-                << " mm (the tolerance is " << mm(tolerance) << " mm); "
-                << (*format == MeshFileFormat::ThreeMf ? "" : "a .3mf file keeps the detail, or ")
-                << "move the part nearer the origin\n";
+        // Where the file's coordinates leave little room to the tolerance.
+        if (const std::string coarse =
+                describeCoarseCoordinates(bounds, *format, written.spacing, written.offset, tolerance);
+            !coarse.empty())
+            err << "kerf export: warning: " << printable(target.string()) << ": " << coarse << "\n";
         const double ownFeatureSize = doc.settings.featureSize.value_or(defaultFeatureSize(bounds));
         if (const std::string idle = describeToolsCuttingNothing(doc); !idle.empty())
             err << "kerf export: warning: " << idle << "\n";

@@ -130,6 +130,38 @@ std::optional<std::string> partTheFileCannotHold(const Aabb& partBounds, MeshFil
     return std::string(text);
 }
 
+std::string describeCoarseCoordinates(const Aabb& partBounds, MeshFileFormat format, double spacing,
+                                      const glm::dvec3& offset, double tolerance)
+{
+    const double asked = tolerance > 0.0 ? tolerance : 0.01;
+    if (!(spacing > 0.1 * asked) || partBounds.isEmpty() || !partBounds.isBounded()) return {};
+    const bool stl = format != MeshFileFormat::ThreeMf;
+    // 3MF's step: float32's at the part's half extent, or the sixth decimal.
+    const double ownStep = 0.5 * finestTolerance(partBounds, MeshFileFormat::ThreeMf);
+    std::string advice;
+    if (stl && !(ownStep > 0.1 * asked)) {
+        advice = "a .3mf file keeps the detail, or move the part nearer the origin";
+    } else {
+        char coarser[160];
+        std::snprintf(coarser, sizeof coarser,
+                      "that is the step at the part's own size, wherever it lies: a tolerance of %.2g mm or coarser "
+                      "leaves ten steps",
+                      10.0 * std::max(spacing, ownStep));
+        advice = coarser;
+    }
+    double reach = 0.0;
+    for (int a = 0; a < 3; ++a)
+        reach = std::max({reach, std::abs(partBounds.min[a] - offset[a]), std::abs(partBounds.max[a] - offset[a])});
+    char text[512];
+    std::snprintf(text, sizeof text,
+                  "the part reaches %.*f mm from %s, where the file's coordinates step by %.2g mm (the tolerance is "
+                  "%.2g mm); %s",
+                  // The reach in plain digits ("100030", never "1e+05"), to a tenth below 100 mm.
+                  reach < 100.0 ? 1 : 0, reach, offset == glm::dvec3(0.0) ? "the origin" : "its middle", spacing, asked,
+                  advice.c_str());
+    return std::string(text);
+}
+
 double defaultToleranceFor(const Aabb& partBounds, MeshFileFormat format)
 {
     return partBounds.isEmpty() ? kDefaultExportTolerance

@@ -60,7 +60,7 @@ QString megabytes(std::uint64_t bytes)
 
 // What a reader of the file gets, in one paragraph.
 QString describeWritten(const std::filesystem::path& file, MeshFileFormat format, const ExportedPart& exported,
-                        double tolerance, double seconds, double ownFeatureSize)
+                        double tolerance, double seconds, double ownFeatureSize, const Aabb& partBounds)
 {
     const MeshReport& r = exported.report.asRead;
     const QLocale locale;
@@ -115,6 +115,10 @@ QString describeWritten(const std::filesystem::path& file, MeshFileFormat format
                         .arg(QString::fromStdString(describeTrianglesOverTolerance(exported.stats, tolerance, ownFeatureSize)));
     }
     if (const std::string coarse = describeCoarseTolerance(exported.stats, tolerance); !coarse.empty())
+        s += "\n" + QObject::tr("Warning: %1.").arg(QString::fromStdString(coarse));
+    if (const std::string coarse =
+            describeCoarseCoordinates(partBounds, format, exported.report.spacing, exported.report.offset, tolerance);
+        !coarse.empty())
         s += "\n" + QObject::tr("Warning: %1.").arg(QString::fromStdString(coarse));
     if (!exported.stats.note.empty()) s += "\n" + QString::fromStdString(exported.stats.note);
     return s;
@@ -445,7 +449,8 @@ void ExportDialog::start()
                 o.closed = true;
                 o.triangles = exported.report.asRead.triangles;
                 o.simplified = meshTolerance > 0.0 && exported.simplificationDefects.empty();
-                o.message = describeWritten(file, format, exported, meshTolerance, seconds, documentFeatureSize_);
+                o.message = describeWritten(file, format, exported, meshTolerance, seconds, documentFeatureSize_,
+                                            tape.bounds());
                 if (meshTolerance != tolerance)
                     o.message += "\n" + tr("Warning: the default tolerance of %1 mm is finer than this file holds for "
                                            "this part: meshed to %2 mm, the finest it holds.")

@@ -66,6 +66,17 @@ std::optional<std::string> toleranceTheFileCannotHold(const Aabb& partBounds, Me
 /// cross). Says which format holds it.
 std::optional<std::string> partTheFileCannotHold(const Aabb& partBounds, MeshFileFormat format);
 
+/// A warning where the written coordinates, stepping by `spacing` from
+/// `offset` (MeshFileReport::spacing, offset), leave less than ten steps to the tolerance
+/// (none given: 0.01 mm), or nothing. It says where the step comes from and
+/// only what would make it finer: a .3mf file (stored round its own
+/// middle) or moving the part where the step is float32's at the part's
+/// distance from the origin; a coarser tolerance where it is float32's at
+/// the part's own size, which no placement changes (a 60 mm plate at
+/// 0.00001 mm was told to move nearer the origin, on the origin).
+std::string describeCoarseCoordinates(const Aabb& partBounds, MeshFileFormat format, double spacing,
+                                      const glm::dvec3& offset, double tolerance);
+
 /// The tolerance to mesh to when none was asked for: the default, or the
 /// finest the file holds where that is coarser.
 double defaultToleranceFor(const Aabb& partBounds, MeshFileFormat format);
