@@ -256,9 +256,9 @@ ToleranceCheck worstOf(const Mesh& mesh, const std::vector<double>& worst, const
 class Splitter {
 public:
     Splitter(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape& tape, double tolerance, double minHeight,
-             double clearance, double regionSize)
+             double clearance, double regionSize, bool thirdSheet)
         : mesh_(mesh), normals_(normals), regions_(tape, regionSize), tolerance_(tolerance), minHeight_(minHeight),
-          clearance_(clearance)
+          clearance_(clearance), thirdSheet_(thirdSheet)
     {
         halfedges_.reserve(3 * mesh.triangles.size() * 2);
         for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
@@ -710,7 +710,7 @@ private:
         const double length = glm::length(pv - pu);
         const glm::dvec3 n1 = glm::normalize(glm::cross(pv - pu, pw - pu));
         const glm::dvec3 n2 = glm::normalize(glm::cross(pu - pv, px - pv));
-        std::array<std::pair<glm::dvec3, glm::dvec3>, 3> candidates; // (position, normal)
+        std::array<std::pair<glm::dvec3, glm::dvec3>, 4> candidates; // (position, normal)
         int count = 0;
         // Every query below stays within about two edge lengths of the midpoint.
         const Tape& tape = regions_.near(mid, 4.0 * length);
@@ -729,7 +729,17 @@ private:
             if (const auto c = creaseAcross(tape, gradients_, pu, pv, pw, px, tolerance_))
                 candidates[std::size_t(count++)] = {*c, glm::dvec3(0.0)};
         glm::dvec3 p = mid, n(0.0);
-        if (project(tape, p, length, &n, glm::normalize(n1 + n2))) candidates[std::size_t(count++)] = {p, n};
+        const bool projected = project(tape, p, length, &n, glm::normalize(n1 + n2));
+        // A third sheet between the ends: the sharp edges it makes with
+        // each end's sheet, before the point on it (RefineSettings::splitsOnThirdSheet).
+        if (thirdSheet_ && projected && n != glm::dvec3(0.0))
+            for (const std::uint32_t end : {u, v}) {
+                const glm::dvec3 ne = normals_[end];
+                if (ne == glm::dvec3(0.0) || !(glm::dot(ne, n) < kCreaseCosine)) continue;
+                if (const auto c = creasePoint(mid, ne, mid, n))
+                    candidates[std::size_t(count++)] = {*c, glm::dvec3(0.0)};
+            }
+        if (projected) candidates[std::size_t(count++)] = {p, n};
         // Each new triangle must turn its parent's way and keep a height.
         for (int i = 0; i < count; ++i) {
             const auto& [at, an] = candidates[std::size_t(i)];
@@ -751,6 +761,7 @@ private:
     double tolerance_;
     double minHeight_;
     double clearance_;
+    bool thirdSheet_;
     std::unordered_map<std::uint64_t, std::uint32_t> halfedges_;
     TriangleTree grid_;
     std::vector<glm::dvec3> samples_;
@@ -771,7 +782,8 @@ bool refineToTolerance(Mesh& mesh, std::vector<glm::dvec3>& normals, const Tape&
         dirty[t] = t;
     std::vector<double> worst(mesh.triangles.size(), 0.0), facing(mesh.triangles.size(), 1.0);
     tbb::enumerable_thread_specific<Sampler> samplers;
-    Splitter splitter(mesh, normals, tape, tolerance, settings.minHeight, settings.clearance, settings.regionSize);
+    Splitter splitter(mesh, normals, tape, tolerance, settings.minHeight, settings.clearance, settings.regionSize,
+                      settings.splitsOnThirdSheet);
     auto turnsUpright = [&](double cosine) { return settings.unfoldLeaning ? leans(cosine) : folded(cosine); };
     std::vector<std::uint8_t> splitThisRound;
     std::vector<std::uint32_t> stuck;

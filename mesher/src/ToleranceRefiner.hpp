@@ -116,6 +116,17 @@ struct RefineSettings {
     /// mesh (no new vertex: the refinement cannot dig at detail the cells
     /// missed, so MeshPart.cpp runs it even where the first refinement gave up).
     bool splitEdges = true;
+    /// A split's new vertex may also go on the sharp edge between an end's
+    /// sheet and a third sheet met between the ends (the edge's midpoint
+    /// projected onto the surface faces apart from both ends' normals):
+    /// where a square pommel's side touches the turning's cylinder at a
+    /// tangent, the pommel's underside between them is a sliver narrower
+    /// than a cell, the cells' triangles reach across it from the side to
+    /// the cylinder (whose normals are nearly the same), and the split's
+    /// vertex, projected from the midpoint, lands beside the two sharp
+    /// edges and never on them. MeshPart.cpp runs it as a second
+    /// refinement where the first leaves triangles over.
+    bool splitsOnThirdSheet = false;
     /// Points of the part's surface (SurfaceCoverage.hpp) that the mesh
     /// must come within the tolerance of. Once the triangles' samples keep
     /// to it (or the splits for them are stuck), each point further from
