@@ -520,15 +520,19 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     // only on a small mesh: it costs what the first took (the turned leg's
     // 9 k triangles, half a second; the side chair at 1 mm cells, 75 k, 12 s
     // for nothing).
-    Mesh simplified = mesh;
-    std::vector<glm::dvec3> simplifiedNormals = normals;
-    MeshStats simplifiedStats = stats;
+    const bool secondMayRun = stats.hiddenDetailCells == 0 && mesh.triangles.size() <= kSecondRefinementTriangles;
+    Mesh simplified;
+    std::vector<glm::dvec3> simplifiedNormals;
+    if (secondMayRun) {
+        simplified = mesh;
+        simplifiedNormals = normals;
+    }
+    const MeshStats simplifiedStats = stats;
     std::optional<CoverageCheck> coverage = refineAndTidy(mesh, normals, stats, tape, options, simplify, partSamples,
                                                           false, arena, checks, work.stage(0.8, 1.0));
     if (!coverage) return std::nullopt;
-    if ((stats.trianglesOverTolerance > 0 || coverage->samplesBeyond > 0) &&
-        stats.trianglesOverTolerance <= kFewStuckTriangles && stats.hiddenDetailCells == 0 &&
-        simplified.triangles.size() <= kSecondRefinementTriangles) {
+    if (secondMayRun && (stats.trianglesOverTolerance > 0 || coverage->samplesBeyond > 0) &&
+        stats.trianglesOverTolerance <= kFewStuckTriangles) {
         MeshStats other = simplifiedStats;
         const std::optional<CoverageCheck> otherCoverage =
             refineAndTidy(simplified, simplifiedNormals, other, tape, options, simplify, partSamples, true, arena,
