@@ -503,23 +503,22 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     stats.collapses = simplifyToTolerance(mesh, normals, tape, simplify, arena, work.stage(0.15, 0.8), &checks);
     if (work.cancelled()) return std::nullopt;
     stats.simplifySeconds = secondsSince(t0);
-    // The refinement and what follows it. Where it leaves triangles over
-    // the tolerance or points of the part beyond it, the same again from
-    // the simplified mesh with the splits' new vertices also on the sharp
-    // edges of a sheet between an edge's ends (RefineSettings::
+    // The refinement and what follows it. Where it leaves a few triangles
+    // over the tolerance or points of the part beyond it, the same again
+    // from the simplified mesh with the splits' new vertices also on the
+    // sharp edges a third sheet makes with an edge's ends (RefineSettings::
     // splitsOnThirdSheet), kept where it leaves fewer over (then fewer
-    // points beyond) and no more folded. Not in every export: it left the
-    // turned leg at the origin 3 triangles over 0.01 mm (0 without). Not
-    // where many are over either: those are detail the cells missed (the
-    // door frame at 4 mm cells, 4,224 over), which no split mends; nor
-    // where the cells hide detail: there the triangles over show where the
-    // file misses the part, and splits that shrink them do not bring the
-    // detail back (the table top at 8 mm cells: 1.26 mm off became 0.059,
-    // its groove still closed, and the export no longer said the file did
-    // not match the part). And
-    // only on a small mesh: it costs what the first took (the turned leg's
-    // 9 k triangles, half a second; the side chair at 1 mm cells, 75 k, 12 s
-    // for nothing).
+    // points beyond) and no more folded. Not in every export: there it left
+    // the turned leg at the origin 3 triangles over 0.01 mm (0 without).
+    // Not where many are over: that is detail the cells missed (the door
+    // frame at 4 mm cells, 4,224 over), which no split mends. Not where the
+    // cells hide detail: there the triangles over show where the file
+    // misses the part, and splits that shrink them do not bring the detail
+    // back (the table top at 8 mm cells went from 1.26 mm off to 0.059 with
+    // its groove still closed, and the export no longer said that the file
+    // did not match the part). And only on a small mesh: it costs what the
+    // first took (the turned leg's 9 k triangles, half a second; the side
+    // chair at 1 mm cells, 75 k, 12 s for the same file).
     const bool secondMayRun = stats.hiddenDetailCells == 0 && mesh.triangles.size() <= kSecondRefinementTriangles;
     Mesh simplified;
     std::vector<glm::dvec3> simplifiedNormals;
