@@ -528,14 +528,14 @@ std::optional<Mesh> meshTape(const Tape& tape, const MeshOptions& options, const
     }
     const MeshStats simplifiedStats = stats;
     std::optional<CoverageCheck> coverage = refineAndTidy(mesh, normals, stats, tape, options, simplify, partSamples,
-                                                          false, arena, checks, work.stage(0.8, 1.0));
+                                                          false, arena, checks, work.stage(0.8, 0.97));
     if (!coverage) return std::nullopt;
     if (secondMayRun && (stats.trianglesOverTolerance > 0 || coverage->samplesBeyond > 0) &&
         stats.trianglesOverTolerance <= kFewStuckTriangles) {
         MeshStats other = simplifiedStats;
         const std::optional<CoverageCheck> otherCoverage =
             refineAndTidy(simplified, simplifiedNormals, other, tape, options, simplify, partSamples, true, arena,
-                          checks, work.stage(1.0, 1.0));
+                          checks, work.stage(0.97, 1.0));
         if (!otherCoverage) return std::nullopt;
         const bool better = std::pair(other.trianglesOverTolerance, otherCoverage->samplesBeyond) <
                                 std::pair(stats.trianglesOverTolerance, coverage->samplesBeyond) &&
