@@ -7,10 +7,13 @@
 //
 //   kerf_gpu_bench [--quick] [--frames N] [--quality voxels|exact|exact-everywhere|all]
 //                  [--scene chair|showcase] [--feature-size MM]
-//                  [--json OUT.json] [--examples DIR]
+//                  [--json OUT.json] [--examples DIR] [--pipeline-statistics]
 //
 // --scene and --feature-size keep only that scene and that feature size (for
-// slow devices, where the whole run would take hours).
+// slow devices, where the whole run would take hours). --pipeline-statistics
+// prints the compiler's figures for each trace pipeline after its scene
+// (registers, spills, as the driver names them; VK_KHR_pipeline_executable_properties,
+// which NVIDIA's driver has and this machine's lavapipe has not).
 //
 //   kerf_gpu_bench bench FILE.kerf [kerf bench's options but --plot]
 //
@@ -648,10 +651,13 @@ int main(int argc, char** argv)
     std::vector<TraceQuality> qualities{TraceQuality::Voxels, TraceQuality::ExactEverywhere, TraceQuality::Exact};
     std::string onlyScene;
     double onlyFeatureSize = 0.0;
+    bool pipelineStatistics = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--quick")
             quick = true;
+        else if (a == "--pipeline-statistics")
+            pipelineStatistics = true;
         else if (a == "--frames" && i + 1 < argc)
             frames = std::max(1, std::atoi(argv[++i]));
         else if (a == "--json" && i + 1 < argc)
@@ -668,14 +674,19 @@ int main(int argc, char** argv)
             qualities = {*parseTraceQuality(argv[++i])};
         else {
             std::cerr << "usage: kerf_gpu_bench [--quick] [--frames N] [--quality voxels|exact|exact-everywhere|all] "
-                         "[--scene chair|showcase] [--feature-size MM] [--json OUT.json] [--examples DIR]\n"
+                         "[--scene chair|showcase] [--feature-size MM] [--json OUT.json] [--examples DIR] "
+                         "[--pipeline-statistics]\n"
                          "       kerf_gpu_bench bench FILE.kerf [kerf bench options]\n";
             return 2;
         }
     }
     try {
-        vk::Context ctx;
+        vk::ContextOptions options;
+        options.pipelineStatistics = pipelineStatistics;
+        vk::Context ctx(options);
         std::cout << "device: " << ctx.deviceDescription() << "\n";
+        if (pipelineStatistics && !ctx.capturesPipelineStatistics())
+            std::cout << "pipeline statistics: this device has no VK_KHR_pipeline_executable_properties\n";
         struct Scene {
             std::string name;
             Document doc;
@@ -762,6 +773,12 @@ int main(int argc, char** argv)
                                            {"refine_ms", passes.refineMilliseconds},
                                            {"pixels_refined", passes.refinedPixels},
                                            {"refine_lanes", tracer.refineLanes()}});
+                    }
+                if (ctx.capturesPipelineStatistics())
+                    for (const auto& [name, lines] : tracer.pipelineStatistics()) {
+                        std::printf("pipeline %s:", name.c_str());
+                        for (const std::string& line : lines) std::printf(" [%s]", line.c_str());
+                        std::printf("\n");
                     }
             }
         }

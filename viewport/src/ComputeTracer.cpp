@@ -101,6 +101,7 @@ Pipeline ComputeTracer::Impl::makePipeline(bool hybrid, int pass) const
     cpci.stage.pName = "main";
     cpci.stage.pSpecializationInfo = &special;
     cpci.layout = layout;
+    if (ctx.capturesPipelineStatistics()) cpci.flags |= VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
     VkPipeline p;
     check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &cpci, nullptr, &p),
           hybrid ? "vkCreateComputePipelines (trace, hybrid)" : "vkCreateComputePipelines (trace)");
@@ -306,6 +307,20 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
 }
 
 int ComputeTracer::refineLanes() const { return impl_->refineLanes; }
+
+std::vector<std::pair<std::string, std::vector<std::string>>> ComputeTracer::pipelineStatistics() const
+{
+    std::vector<std::pair<std::string, std::vector<std::string>>> out;
+    const auto add = [&](const char* name, const Pipeline& p) {
+        if (p) out.emplace_back(name, impl_->ctx.pipelineStatistics(p));
+    };
+    add("voxels", impl_->voxelPipeline);
+    add("exact-everywhere", impl_->hybridPipeline);
+    add("exact: voxel pass", impl_->voxelPassPipeline);
+    add("exact: check", impl_->checkPipeline);
+    add("exact: listed rays", impl_->listedPipeline);
+    return out;
+}
 
 TraceTiming ComputeTracer::lastTiming() const
 {

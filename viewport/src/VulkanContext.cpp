@@ -182,15 +182,22 @@ Context::Context(const ContextOptions& options) : messages_(std::make_unique<Mes
     VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     f2.pNext = &f12;
     f2.features.shaderInt64 = VK_TRUE;
-    const char* swapchain = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+    std::vector<const char*> deviceExtensions;
+    if (options.presentation) deviceExtensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR executableInfo{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR};
+    if (options.pipelineStatistics && hasDeviceExtension(physical_, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME)) {
+        deviceExtensions.push_back(VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
+        executableInfo.pipelineExecutableInfo = VK_TRUE;
+        f12.pNext = &executableInfo;
+        pipelineStatistics_ = true;
+    }
     VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     dci.pNext = &f2;
     dci.queueCreateInfoCount = 1;
     dci.pQueueCreateInfos = &qci;
-    if (options.presentation) {
-        dci.enabledExtensionCount = 1;
-        dci.ppEnabledExtensionNames = &swapchain;
-    }
+    dci.enabledExtensionCount = std::uint32_t(deviceExtensions.size());
+    dci.ppEnabledExtensionNames = deviceExtensions.data();
     check(vkCreateDevice(physical_, &dci, nullptr, &device_), "vkCreateDevice");
     vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
 
@@ -221,6 +228,41 @@ std::string Context::deviceDescription() const
     return std::string(properties_.deviceName) + " (" + typeName(properties_.deviceType) + ", Vulkan " +
            std::to_string(VK_API_VERSION_MAJOR(v)) + "." + std::to_string(VK_API_VERSION_MINOR(v)) + "." +
            std::to_string(VK_API_VERSION_PATCH(v)) + ")";
+}
+
+std::vector<std::string> Context::pipelineStatistics(VkPipeline pipeline) const
+{
+    std::vector<std::string> lines;
+    if (!pipelineStatistics_) return lines;
+    const auto properties = reinterpret_cast<PFN_vkGetPipelineExecutablePropertiesKHR>(
+        vkGetDeviceProcAddr(device_, "vkGetPipelineExecutablePropertiesKHR"));
+    const auto statistics = reinterpret_cast<PFN_vkGetPipelineExecutableStatisticsKHR>(
+        vkGetDeviceProcAddr(device_, "vkGetPipelineExecutableStatisticsKHR"));
+    if (!properties || !statistics) return lines;
+    VkPipelineInfoKHR info{VK_STRUCTURE_TYPE_PIPELINE_INFO_KHR};
+    info.pipeline = pipeline;
+    std::uint32_t executables = 0;
+    if (properties(device_, &info, &executables, nullptr) != VK_SUCCESS) return lines;
+    for (std::uint32_t e = 0; e < executables; ++e) {
+        VkPipelineExecutableInfoKHR which{VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_INFO_KHR};
+        which.pipeline = pipeline;
+        which.executableIndex = e;
+        std::uint32_t count = 0;
+        if (statistics(device_, &which, &count, nullptr) != VK_SUCCESS) continue;
+        std::vector<VkPipelineExecutableStatisticKHR> stats(count, {VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_STATISTIC_KHR});
+        if (statistics(device_, &which, &count, stats.data()) != VK_SUCCESS) continue;
+        for (const VkPipelineExecutableStatisticKHR& st : stats) {
+            std::string value;
+            switch (st.format) {
+            case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_BOOL32_KHR: value = st.value.b32 ? "yes" : "no"; break;
+            case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_INT64_KHR: value = std::to_string(st.value.i64); break;
+            case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR: value = std::to_string(st.value.u64); break;
+            default: value = std::to_string(st.value.f64); break;
+            }
+            lines.push_back(std::string(st.name) + ": " + value);
+        }
+    }
+    return lines;
 }
 
 int Context::validationErrors() const

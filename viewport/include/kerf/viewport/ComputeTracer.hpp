@@ -25,6 +25,9 @@
 
 #include <functional>
 #include <memory>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace kerf::vk {
 
@@ -101,6 +104,11 @@ public:
     /// swings several-fold from run to run on a discrete GPU.
     double sustainedMilliseconds(const Camera& camera, int frames, TraceQuality quality = TraceQuality::Voxels,
                                  const Section& section = {});
+
+    /// The compiler's statistics of each trace pipeline made so far (its
+    /// name, then Context::pipelineStatistics): empty lists unless the
+    /// context captures them.
+    std::vector<std::pair<std::string, std::vector<std::string>>> pipelineStatistics() const;
 
 private:
     struct Impl;

@@ -33,6 +33,12 @@ struct ContextOptions {
     /// created with the validation layer and VK_EXT_debug_utils, so that
     /// the context counts their messages.
     VkInstance externalInstance = VK_NULL_HANDLE;
+    /// Enable VK_KHR_pipeline_executable_properties where the device has it,
+    /// so that pipelines made with capturesPipelineStatistics() report their
+    /// compiler's figures (registers, spills: kerf_gpu_bench
+    /// --pipeline-statistics). Off elsewhere: capturing may slow pipeline
+    /// creation and keep drivers from caching.
+    bool pipelineStatistics = false;
 };
 
 class Context {
@@ -58,6 +64,14 @@ public:
     int validationErrors() const;
     std::vector<std::string> validationMessages() const;
     bool validationEnabled() const { return validation_; }
+    /// Whether pipelines should be made with
+    /// VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR (ContextOptions::pipelineStatistics
+    /// on a device that has the extension).
+    bool capturesPipelineStatistics() const { return pipelineStatistics_; }
+    /// The compiler's statistics of each executable of `pipeline` ("Register
+    /// Count: 96", ...) as the driver names them; empty unless
+    /// capturesPipelineStatistics() and the pipeline was made with the flag.
+    std::vector<std::string> pipelineStatistics(VkPipeline pipeline) const;
 
     /// Memory type index with the given properties, or throws.
     std::uint32_t memoryType(std::uint32_t typeBits, VkMemoryPropertyFlags flags) const;
@@ -84,6 +98,7 @@ private:
     VkPhysicalDeviceMemoryProperties memory_{};
     std::size_t maxAllocation_ = std::size_t(1) << 30;
     bool validation_ = false;
+    bool pipelineStatistics_ = false;
     bool ownsInstance_ = true;
     mutable std::mutex queueMutex_;
     mutable std::mutex poolMutex_; // submitAndWait's command pool
