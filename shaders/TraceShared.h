@@ -48,7 +48,8 @@ struct TraceParams {
     // tells the others per pixel (vec4: RayHit's passedClearance, nearFrom,
     // nearTo), the pixels the check sends to the refinement (uint,
     // x + width * y), and the indirect dispatch of that refinement (uint
-    // groups, 1, 1, then the count).
+    // groups, 1, 1, then the count, then how many were listed from the
+    // list's front and from its back).
     KERF_U64 outVoxelPass;
     KERF_U64 refineList;
     KERF_U64 refineArgs;
@@ -56,7 +57,7 @@ struct TraceParams {
     KERF_VEC4 eye;       // xyz: camera eye relative to the grid origin (mm); w: tile size (mm)
     KERF_VEC4 forward;   // xyz: unit view direction; w: 1 for orthographic, 0 for perspective
     KERF_VEC4 right;     // xyz: unit image right; w: tan(fovY/2) or half the ortho height (mm)
-    KERF_VEC4 up;        // xyz: unit image up
+    KERF_VEC4 up;        // xyz: unit image up; w: the grid's finest voxel edge (mm)
     KERF_IVEC4 dims;     // xyz: tiles along each axis
     KERF_UVEC4 image;    // x: width, y: height (pixels)
     KERF_VEC4 section;   // xyz: unit normal of the section plane, w: its offset from the grid origin; zero: none

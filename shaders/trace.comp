@@ -7,6 +7,7 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_KHR_shader_subgroup_shuffle : require
+#extension GL_EXT_control_flow_attributes : require
 
 #include "TraceShared.h"
 #include "kerf/tracer/ExactRefinement.h"
@@ -43,6 +44,7 @@ layout(buffer_reference, std430, buffer_reference_align = 4) buffer RefineList {
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer RefineArgs {
     uint groups, y, z; // the refinement's indirect dispatch
     uint count;        // pixels listed
+    uint front, back;  // of which listed from the list's front (long stretches) and its back
 };
 
 layout(push_constant) uniform Push { uint64_t params; } pc;
@@ -151,36 +153,46 @@ float firstCrossing(vec4 c, float wEnd, out float least)
         r1 = r2;
         r2 = tmp;
     }
-    float breaks[4] = float[4](0.0, wEnd, wEnd, wEnd);
-    int count = 1;
-    if (r1 > 0.0 && r1 < wEnd) breaks[count++] = r1;
-    if (r2 > 0.0 && r2 < wEnd && r2 != r1) breaks[count++] = r2;
-    breaks[count++] = wEnd;
+    // The points 0, the extrema inside (0, wEnd) and wEnd, in order, as
+    // ReferenceTracer.cpp's `breaks`; an extremum outside the span repeats
+    // the point before it, a piece of no length that cannot hold the first
+    // crossing, so the decisions are the reference's. Four names, not an
+    // array indexed by a count: NVIDIA's compiler kept such an array in
+    // local memory (kerf_gpu_bench --pipeline-statistics).
+    const float b1 = r1 > 0.0 && r1 < wEnd ? r1 : 0.0;
+    const float b2 = r2 > 0.0 && r2 < wEnd && r2 != r1 ? r2 : b1;
 
     // Inside is below zero, as the voxelizer counts a corner, and a value
     // within the cubic's rounding of zero is zero (ReferenceTracer.cpp says why).
     const float zero = cubicZero(c);
-    float a = breaks[0];
-    float fa = evalCubic(c, a);
-    least = fa;
-    if (fa < -zero) return a;
-    for (int i = 1; i < count; ++i) {
-        const float b = breaks[i];
-        const float fb = evalCubic(c, b);
-        least = min(least, fb);
-        if (fb < -zero) {
-            float lo = a, hi = b;
-            for (int k = 0; k < kBisectionSteps; ++k) {
-                const float mid = 0.5 * (lo + hi);
-                if (evalCubic(c, mid) < -zero) hi = mid;
-                else lo = mid;
-            }
-            return hi;
-        }
-        a = b;
-        fa = fb;
+    const float f0 = evalCubic(c, 0.0), f1 = evalCubic(c, b1), f2 = evalCubic(c, b2), f3 = evalCubic(c, wEnd);
+    float lo, hi;
+    if (f0 < -zero) {
+        least = f0;
+        return 0.0;
+    } else if (f1 < -zero) {
+        least = min(f0, f1);
+        lo = 0.0;
+        hi = b1;
+    } else if (f2 < -zero) {
+        least = min(min(f0, f1), f2);
+        lo = b1;
+        hi = b2;
+    } else if (f3 < -zero) {
+        least = min(min(f0, f1), min(f2, f3));
+        lo = b2;
+        hi = wEnd;
+    } else {
+        least = min(min(f0, f1), min(f2, f3));
+        return -1.0;
     }
-    return -1.0;
+    // Monotone on [lo, hi] with f(lo) >= -zero > f(hi): bisect.
+    for (int k = 0; k < kBisectionSteps; ++k) {
+        const float mid = 0.5 * (lo + hi);
+        if (evalCubic(c, mid) < -zero) hi = mid;
+        else lo = mid;
+    }
+    return hi;
 }
 
 float nonZero(float v) { return abs(v) < 1e-20 ? (v < 0.0 ? -1e-20 : 1e-20) : v; }
@@ -510,7 +522,7 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
             const uint ld0 = word(P.leafData, ldIndex * 2u), ld1 = word(P.leafData, ldIndex * 2u + 1u);
             uint vtx[8];
             float d[8];
-            for (int q = 0; q < 8; ++q) {
+            [[unroll]] for (int q = 0; q < 8; ++q) {
                 const uint corner = ((q < 4 ? ld0 : ld1) >> (8 * (q & 3))) & 0xFFu;
                 vtx[q] = eVertex + liVertex + corner;
                 d[q] = decodeDistance(word(P.vertices, vtx[q] * 2u + 1u), voxelMm);
@@ -538,7 +550,7 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
                 // ReferenceTracer.cpp, cornerClearance.
                 const vec3 first = decodeNormal(word(P.vertices, vtx[0] * 2u));
                 float cosine = 1.0;
-                for (int q = 1; q < 8; ++q) cosine = min(cosine, dot(first, decodeNormal(word(P.vertices, vtx[q] * 2u))));
+                [[unroll]] for (int q = 1; q < 8; ++q) cosine = min(cosine, dot(first, decodeNormal(word(P.vertices, vtx[q] * 2u))));
                 allowed = clamp(float(KERF_EDGE_CHECK_CLEARANCE_PER_RADIAN) * acos(clamp(cosine, -1.0, 1.0)),
                                 float(KERF_EDGE_CHECK_SMOOTH_CLEARANCE), float(KERF_EDGE_CHECK_CLEARANCE));
                 clearance = least / voxelMm / allowed;
@@ -576,7 +588,7 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
                 vec3 nrm = vec3(0.0);
                 float nearest = kInf;
                 uint feature = kNoFeature;
-                for (int q = 0; q < 8; ++q) {
+                [[unroll]] for (int q = 0; q < 8; ++q) {
                     const uint nw = word(P.vertices, vtx[q] * 2u);
                     const uint dw = word(P.vertices, vtx[q] * 2u + 1u);
                     const vec3 corner = vec3(float(q & 1), float((q >> 1) & 1), float(q >> 2));
@@ -686,9 +698,13 @@ Hit traceRay(vec3 origin, vec3 direction, float from, float to)
     const vec3 tDelta = abs(invDir) * tileSize;
     vec3 tNext = ((vec3(tile) + vec3(greaterThan(dir, vec3(0.0)))) * tileSize - origin) * invDir;
     const int maxTileSteps = dims.x + dims.y + dims.z + 3;
+    // Vectors are indexed by axis through selections, never tNext[axis]: a
+    // vector indexed by a variable went to local memory on NVIDIA
+    // (kerf_gpu_bench --pipeline-statistics).
     for (int i = 0; i < maxTileSteps; ++i) {
         const int axis = tNext.x <= tNext.y && tNext.x <= tNext.z ? 0 : (tNext.y <= tNext.z ? 1 : 2);
-        const float tExitTile = tNext[axis];
+        const bvec3 isAxis = equal(ivec3(axis), ivec3(0, 1, 2));
+        const float tExitTile = min(tNext.x, min(tNext.y, tNext.z));
         const uint value = word(P.tiles, uint(tile.x + dims.x * (tile.y + dims.y * tile.z)));
         if (value == kFullTile && capPending) {
             hitCap(hit);
@@ -698,8 +714,7 @@ Hit traceRay(vec3 origin, vec3 direction, float from, float to)
         if (value == kEmptyTile && tExitTile - tEnter > 1e-3 * tileSize) capPending = false;
         if (value == kFullTile) {
             hit.depth = tEnter;
-            hit.normal = vec3(0.0);
-            hit.normal[enterAxis] = -float(stepDir[enterAxis]);
+            hit.normal = mix(vec3(0.0), -vec3(stepDir), equal(ivec3(enterAxis), ivec3(0, 1, 2)));
             hit.feature = kNoFeature;
             return hit;
         }
@@ -716,10 +731,10 @@ Hit traceRay(vec3 origin, vec3 direction, float from, float to)
         }
         if (tExitTile >= tLeave) break;
         tEnter = max(tEnter, tExitTile);
-        tile[axis] += stepDir[axis];
-        tNext[axis] += tDelta[axis];
+        tile += stepDir * ivec3(isAxis);
+        tNext = mix(tNext, tNext + tDelta, isAxis);
         enterAxis = axis;
-        if (tile[axis] < 0 || tile[axis] >= dims[axis]) break;
+        if (any(lessThan(tile, ivec3(0))) || any(greaterThanEqual(tile, dims))) break;
     }
     return hit;
 }
@@ -836,7 +851,8 @@ void checkPixel(uvec2 px)
     h.depth = ReadFloats(P.outDepth).f[i];
     h.normal = ReadVec4s(P.outNormal).v[i].xyz;
     h.feature = Words(P.outFeature).w[i];
-    h.clearance = ReadVec4s(P.outVoxelPass).v[i].x;
+    const vec4 voxelPass = ReadVec4s(P.outVoxelPass).v[i];
+    h.clearance = voxelPass.x;
     const vec3 dir = nonZero(direction);
     const int verdict = checkVoxelHit(origin, dir, h);
     if (verdict == kVerdictConfirm) {
@@ -844,10 +860,18 @@ void checkPixel(uvec2 px)
         Vec4s(P.outNormal).v[i] = vec4(h.normal, 0.0);
         Uints(P.outFeature).u[i] = h.feature;
     } else if (verdict == kVerdictRefine) {
-        const uint slot = atomicAdd(RefineArgs(P.refineArgs).count, 1u);
+        const uint listed = atomicAdd(RefineArgs(P.refineArgs).count, 1u);
+        // A ray's refinement searches a window at every populated voxel of its
+        // stretch: rays with long stretches take the most rounds. They go to
+        // the list's front, the rest to its back, so that the refinement's
+        // first workgroups, which the GPU starts first, take the long ones and
+        // the frame does not wait on a long ray started last.
+        const bool longStretch = voxelPass.z - voxelPass.y > float(KERF_EDGE_REFINE_LONG) * P.up.w;
+        const uint slot = longStretch ? atomicAdd(RefineArgs(P.refineArgs).front, 1u)
+                               : P.image.x * P.image.y - 1u - atomicAdd(RefineArgs(P.refineArgs).back, 1u);
         RefineList(P.refineList).pixel[slot] = i;
         // One more workgroup of the refinement's indirect dispatch per 64 lanes listed.
-        if (slot % uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE / kRefineLanes) == 0u)
+        if (listed % uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE / kRefineLanes) == 0u)
             atomicAdd(RefineArgs(P.refineArgs).groups, 1u);
     }
 }
@@ -863,7 +887,8 @@ void main()
         const uint slot = (gl_WorkGroupID.x * uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) +
                            gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID) / lanes;
         if (slot >= RefineArgs(P.refineArgs).count) return; // the same for the ray's every lane
-        const uint listed = RefineList(P.refineList).pixel[slot];
+        const uint front = RefineArgs(P.refineArgs).front;
+        const uint listed = RefineList(P.refineList).pixel[slot < front ? slot : P.image.x * P.image.y - 1u - (slot - front)];
         tracePixel(uvec2(listed % P.image.x, listed / P.image.x));
         return;
     }

@@ -183,7 +183,7 @@ ComputeTracer::ComputeTracer(const Context& ctx) : impl_(std::make_unique<Impl>(
     impl_->params = GpuBuffer(ctx, sizeof(gpu::TraceParams),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                               GpuBuffer::Kind::DeviceLocal, "trace params");
-    impl_->refineArgs = GpuBuffer(ctx, 4 * sizeof(std::uint32_t),
+    impl_->refineArgs = GpuBuffer(ctx, 8 * sizeof(std::uint32_t),
                                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                       VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                                   GpuBuffer::Kind::DeviceLocal, "refinement dispatch");
@@ -255,7 +255,7 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
     p.eye = {float(eye.x), float(eye.y), float(eye.z), float(addr.grid.tileSize)};
     p.forward = {float(camera.forward().x), float(camera.forward().y), float(camera.forward().z), ortho ? 1.0f : 0.0f};
     p.right = {float(camera.right().x), float(camera.right().y), float(camera.right().z), float(halfHeight)};
-    p.up = {float(camera.up().x), float(camera.up().y), float(camera.up().z), 0.0f};
+    p.up = {float(camera.up().x), float(camera.up().y), float(camera.up().z), float(addr.grid.voxelSize)};
     // With nothing resident the grid is empty: every ray misses.
     p.dims = {addr.tiles ? addr.grid.dims.x : 0, addr.tiles ? addr.grid.dims.y : 0, addr.tiles ? addr.grid.dims.z : 0, 0};
     p.image = {std::uint32_t(w), std::uint32_t(h), 0, 0};
@@ -276,7 +276,7 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
                              VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                          VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &reuse, 0, nullptr, 0, nullptr);
     vkCmdUpdateBuffer(cb, impl_->params.buffer(), 0, sizeof p, &p);
-    const std::uint32_t noneListed[4] = {0, 1, 1, 0}; // groups, y, z, count
+    const std::uint32_t noneListed[6] = {0, 1, 1, 0, 0, 0}; // groups, y, z, count, front, back
     vkCmdUpdateBuffer(cb, impl_->refineArgs.buffer(), 0, sizeof noneListed, noneListed);
     VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     before.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;

@@ -81,5 +81,11 @@
 // lanes"): tighter ones lose the edges' normals on the sharp part.
 #define KERF_EDGE_REFINE_WINDOW_ROUNDS 20
 #define KERF_EDGE_REFINE_ROUNDS 12u
+// The GPU starts the refinement of rays whose stretch (where the voxels met
+// the surface or came near it) is longer than this (finest voxel edges)
+// before the others: they search the most windows (trace.comp, checkPixel).
+// Measured against 0 (the order listed), 2 and 8 in docs/benchmarks.md
+// ("The voxel trace out of local memory, long rays refined first").
+#define KERF_EDGE_REFINE_LONG 4.0
 
 #endif
