@@ -2,19 +2,10 @@
 # Voxels before and after; exact before, then the after build with the list's order
 # at each KERF_EXPERIMENT_LONG (0: the order listed), as ms, times the after voxels,
 # and the refinement's pass.
-import re, sys
-rows = {}
-cur = None
-for line in open(sys.argv[1]):
-    m = re.match(r'== round (\d) (\w+) ([\d.]+) (\w+) (\w+)', line)
-    if m:
-        cur = m.groups()
-        continue
-    if not line.strip() or cur is None:
-        continue
-    parts = line.split()
-    p = re.search(r'passes ([\d.]+) \+ ([\d.]+) \+ ([\d.]+) ms, (\d+) pixels', line)
-    rows.setdefault((cur[1], cur[2], parts[6]), {}).setdefault((cur[3], cur[4]), []).append((float(parts[10]), p.groups() if p else None))
+import os, sys
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import gpu_bench_runs
+rows = gpu_bench_runs.read(sys.argv[1])
 variants = ['before', '0', '2', '4', '8']
 print('| scene | feature size | size | voxels before | voxels after | ' + ' | '.join(f'exact {v}' for v in variants) + ' |')
 print('|---' * (5 + len(variants)) + '|')

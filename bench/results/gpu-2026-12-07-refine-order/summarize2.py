@@ -2,19 +2,10 @@
 # Voxels from the three builds; exact before (times its own voxels) and from the last
 # build in the order listed (0) and long stretches first (4), times that build's voxels,
 # with the passes (voxel pass + check + refinement).
-import re, sys
-rows = {}
-cur = None
-for line in open(sys.argv[1]):
-    m = re.match(r'== round (\d) (\w+) ([\d.]+) (\w+) (\w+)', line)
-    if m:
-        cur = m.groups()
-        continue
-    if not line.strip() or cur is None:
-        continue
-    parts = line.split()
-    p = re.search(r'passes ([\d.]+) \+ ([\d.]+) \+ ([\d.]+) ms', line)
-    rows.setdefault((cur[1], cur[2], parts[6]), {}).setdefault((cur[3], cur[4]), []).append((float(parts[10]), p.groups() if p else None))
+import os, sys
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import gpu_bench_runs
+rows = gpu_bench_runs.read(sys.argv[1])
 print('| scene | feature size | size | voxels before | voxels, first run\'s build | voxels after | exact before | exact after, order listed | exact after, long first |')
 print('|---' * 9 + '|')
 for k, v in rows.items():
@@ -23,5 +14,5 @@ for k, v in rows.items():
     for var in ['before', '0', '4']:
         b = min(v[('exact', var)], key=lambda x: x[0])
         base = vb if var == 'before' else va
-        out += f" | {b[0]:.3f} ({b[0] / base:.2f}x), {' + '.join(b[1])}"
+        out += f" | {b[0]:.3f} ({b[0] / base:.2f}x), {' + '.join(b[1][:3])}"
     print(out + ' |')
