@@ -7,6 +7,7 @@
 #include "kerf/mesher/SelfIntersections.hpp"
 #include "kerf/mesher/StlWriter.hpp"
 #include "kerf/mesher/ThreeMfWriter.hpp"
+#include "kerf/voxelizer/WorkerArena.hpp"
 
 #include <glm/glm.hpp>
 
@@ -264,7 +265,15 @@ ExportedPart exportPart(const Document& doc, const MeshOptions& options, const s
         out.empty = true;
         return out;
     }
-    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance, true, writing, fitted.fileOffset);
+    // The checks of the file as read back run on the export's threads too.
+    tbb::task_arena arena = workerArena(options.threads);
+    auto write = [&] {
+        arena.execute([&] {
+            out.report =
+                writeMeshFile(*mesh, file, format, partName, options.tolerance, true, writing, fitted.fileOffset);
+        });
+    };
+    write();
     if (out.report.cancelled) {
         out.cancelled = true;
         return out;
@@ -279,7 +288,7 @@ ExportedPart exportPart(const Document& doc, const MeshOptions& options, const s
         out.cancelled = true;
         return out;
     }
-    out.report = writeMeshFile(*mesh, file, format, partName, options.tolerance, true, writing, fitted.fileOffset);
+    write();
     out.cancelled = out.report.cancelled;
     return out;
 }

@@ -4,11 +4,13 @@
 // closed 2-manifold by its connectivity but crosses itself does not bound a
 // solid: a slicer fills it wrongly.
 //
-// Method: a bounding volume hierarchy over the triangles' boxes, and for
-// each pair whose boxes meet, exact-sign tests in double: an edge of one
-// crossing the other (triangles sharing a vertex: only the edges away from
-// it), or, for triangles in one plane, overlap in that plane. Threads:
-// oneTBB over triangles; the count does not depend on them.
+// Method: a bounding volume hierarchy over the triangles' boxes (in the
+// Morton order of their centres), walked against itself so that every pair
+// of boxes that meet is met once, and for each such pair exact-sign tests
+// in double: an edge of one crossing the other (triangles sharing a vertex:
+// only the edges away from it), or, for triangles in one plane, overlap in
+// that plane. Threads: oneTBB (the caller's arena), in the building and
+// the walk; the count does not depend on them.
 
 #include "kerf/document/Progress.hpp"
 #include "kerf/mesher/Mesh.hpp"
@@ -44,7 +46,16 @@ SelfIntersections findTrianglesCloserThan(const Mesh& mesh, double clearance, st
 
 /// Whether triangles A and B (vertex indices, and their positions a[3], b[3])
 /// intersect other than along the vertices or the edge they share by index.
+/// Quick rejections first: the corners of one that the other does not share
+/// beyond the other's plane on one side, or (in one plane) an edge's line
+/// with the other triangle beyond it.
 bool trianglesCross(const std::array<std::uint32_t, 3>& A, const glm::dvec3* a, const std::array<std::uint32_t, 3>& B,
                     const glm::dvec3* b);
+
+/// The same test without the quick rejections: every edge against the
+/// other triangle (in one plane, every pair of edges and every corner). The
+/// reference the tests hold trianglesCross to.
+bool trianglesCrossExhaustively(const std::array<std::uint32_t, 3>& A, const glm::dvec3* a,
+                                const std::array<std::uint32_t, 3>& B, const glm::dvec3* b);
 
 } // namespace kerf

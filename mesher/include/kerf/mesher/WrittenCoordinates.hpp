@@ -17,6 +17,12 @@
 // file's precision away from what it met. readBack() then gives what a
 // reader sees: the written coordinates, welded by position (STL) or kept
 // by index (3MF).
+//
+// Threads: both run their passes over the vertices and triangles in the
+// caller's oneTBB arena (the weld sorts, in parallel, instead of a hash
+// table); the result does not depend on them. The repairs themselves are
+// sequential and run only where writing breaks something, which the
+// mesher's spacing of vertices (FilePrecision.hpp) makes rare.
 
 #include "kerf/mesher/Mesh.hpp"
 
