@@ -139,6 +139,10 @@ TEST(WrittenFileChecks, TheHierarchyFindsEveryPairBruteForceFinds)
             const SelfIntersections near = findTrianglesCloserThan(soup.mesh, kClearance, close.size() + 1);
             EXPECT_EQ(near.pairs, close.size()) << threads << " threads";
             EXPECT_EQ(near.examples, close) << threads << " threads";
+            // Fewer examples than pairs: the lowest, whatever order the
+            // threads met them in.
+            const std::vector<std::array<std::uint32_t, 2>> lowest(crossing.begin(), crossing.begin() + 10);
+            EXPECT_EQ(findSelfIntersections(soup.mesh, 10).examples, lowest) << threads << " threads";
         });
     }
     EXPECT_GT(close.size(), crossing.size());

@@ -415,8 +415,19 @@ SelfIntersections findPairs(const Mesh& mesh, double margin, std::size_t example
             const glm::dvec3 b[3] = {mesh.vertices[B[0]], mesh.vertices[B[1]], mesh.vertices[B[2]]};
             if (!hit(A, a, B, b)) return;
             ++pairs;
+            if (examples == 0) return;
+            // The lowest pairs, kept in a max-heap: the same examples
+            // whatever order the threads find them in.
+            const std::array<std::uint32_t, 2> pair{std::min(s, t), std::max(s, t)};
             std::lock_guard lock(mutex);
-            if (out.examples.size() < examples) out.examples.push_back({std::min(s, t), std::max(s, t)});
+            if (out.examples.size() < examples) {
+                out.examples.push_back(pair);
+                std::push_heap(out.examples.begin(), out.examples.end());
+            } else if (pair < out.examples.front()) {
+                std::pop_heap(out.examples.begin(), out.examples.end());
+                out.examples.back() = pair;
+                std::push_heap(out.examples.begin(), out.examples.end());
+            }
         },
         [&] {
             if (stop.load(std::memory_order_relaxed)) return true;

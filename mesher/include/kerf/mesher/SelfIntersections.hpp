@@ -27,7 +27,7 @@ namespace kerf {
 
 struct SelfIntersections {
     std::size_t pairs = 0;                               // intersecting triangle pairs
-    std::vector<std::array<std::uint32_t, 2>> examples; // the first few (triangle indices)
+    std::vector<std::array<std::uint32_t, 2>> examples; // the lowest few (triangle indices), sorted
     bool stopped = false;                                // cancelled before the end
 };
 
