@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <map>
 #include <random>
 #include <tuple>
@@ -146,6 +147,33 @@ TEST(WrittenFileChecks, TheHierarchyFindsEveryPairBruteForceFinds)
         });
     }
     EXPECT_GT(close.size(), crossing.size());
+}
+
+// The search reports how far it is, in steps, from its threads, up to 1;
+// cancelled, it stops and says so.
+TEST(WrittenFileChecks, TheCrossingSearchReportsProgressAndStops)
+{
+    const Soup soup = clusteredSoup(600, 250, 23); // 150,000 triangles
+    for (const int threads : {1, 2}) {
+        tbb::task_arena arena(threads);
+        arena.execute([&] {
+            std::vector<double> seen;
+            const SelfIntersections all =
+                findSelfIntersections(soup.mesh, 0, Progress([&](double f) { seen.push_back(f); }));
+            EXPECT_FALSE(all.stopped);
+            ASSERT_FALSE(seen.empty());
+            EXPECT_EQ(seen.back(), 1.0);
+            EXPECT_GE(std::count_if(seen.begin(), seen.end(), [](double f) { return f > 0.0 && f < 1.0; }), 4)
+                << threads << " threads";
+
+            // Cancelled once the search is a quarter through.
+            std::atomic<bool> quarter{false};
+            const SelfIntersections part = findSelfIntersections(
+                soup.mesh, 0, Progress([&](double f) { quarter = quarter || f >= 0.25; }, [&] { return quarter.load(); }));
+            EXPECT_TRUE(part.stopped) << threads << " threads";
+            EXPECT_LT(part.pairs, all.pairs) << threads << " threads";
+        });
+    }
 }
 
 // The weld of an STL reader: vertices whose float32 points are the same

@@ -122,10 +122,15 @@ public:
 
     /// Calls visit(s, t) once for every unordered pair of distinct boxes
     /// that meet (s, t: their indices), from the arena's threads; stops
-    /// early once `stop` returns true (asked now and then).
-    template <class Visit, class Stop> void forEachMeetingPair(Visit&& visit, Stop&& stop) const
+    /// early once `stop` returns true (asked now and then). searched(k):
+    /// the pairs within k more boxes are all visited (the pairs across the
+    /// largest subtrees, fewer, come on top), about once per 30,000 boxes.
+    template <class Visit, class Stop, class Searched>
+    void forEachMeetingPair(Visit&& visit, Stop&& stop, Searched&& searched) const
     {
-        if (!nodes_.empty()) within(0, visit, stop);
+        if (nodes_.empty()) return;
+        within(0, visit, stop, searched);
+        if (nodes_[0].size <= kParallelRange) searched(nodes_[0].size);
     }
 
 private:
@@ -151,7 +156,9 @@ private:
     }
 
     // The pairs within node n: those within each child, then those across.
-    template <class Visit, class Stop> void within(std::uint32_t n, Visit& visit, Stop& stop) const
+    // A child searched on one thread is counted as searched when done.
+    template <class Visit, class Stop, class Searched>
+    void within(std::uint32_t n, Visit& visit, Stop& stop, Searched& searched) const
     {
         const Node& node = nodes_[n];
         if (node.count > 0) {
@@ -162,12 +169,15 @@ private:
         }
         if (stop()) return;
         const std::uint32_t l = node.first, r = node.first + 1;
-        if (node.size > kParallelRange)
-            tbb::parallel_invoke([&] { within(l, visit, stop); }, [&] { within(r, visit, stop); },
-                                 [&] { across(l, r, visit, stop); });
-        else {
-            within(l, visit, stop);
-            within(r, visit, stop);
+        if (node.size > kParallelRange) {
+            auto child = [&](std::uint32_t c) {
+                within(c, visit, stop, searched);
+                if (nodes_[c].size <= kParallelRange) searched(nodes_[c].size);
+            };
+            tbb::parallel_invoke([&] { child(l); }, [&] { child(r); }, [&] { across(l, r, visit, stop); });
+        } else {
+            within(l, visit, stop, searched);
+            within(r, visit, stop, searched);
             across(l, r, visit, stop);
         }
     }
@@ -407,6 +417,7 @@ SelfIntersections findPairs(const Mesh& mesh, double margin, std::size_t example
     std::atomic<std::size_t> pairs{0};
     std::mutex mutex;
     std::atomic<bool> stop{false};
+    std::atomic<std::size_t> searched{0};
     hierarchy.forEachMeetingPair(
         [&](std::uint32_t s, std::uint32_t t) {
             const auto& A = mesh.triangles[s];
@@ -433,9 +444,15 @@ SelfIntersections findPairs(const Mesh& mesh, double margin, std::size_t example
             if (stop.load(std::memory_order_relaxed)) return true;
             if (work.cancelled()) stop = true;
             return stop.load(std::memory_order_relaxed);
+        },
+        [&](std::uint32_t count) {
+            const std::size_t done = searched.fetch_add(count, std::memory_order_relaxed) + count;
+            // (the pairs across the largest subtrees may still be running)
+            work.report(0.95 * double(done) / double(mesh.triangles.size()));
         });
     out.pairs = pairs;
     out.stopped = stop;
+    if (!out.stopped) work.report(1.0);
     std::sort(out.examples.begin(), out.examples.end());
     return out;
 }

@@ -32,7 +32,8 @@ struct SelfIntersections {
 };
 
 /// `work`, asked now and then from the worker threads, stops the
-/// search early (the count is then incomplete and `stopped` is set).
+/// search early (the count is then incomplete and `stopped` is set); it
+/// hears the part of the triangles searched, from those threads too.
 SelfIntersections findSelfIntersections(const Mesh& mesh, std::size_t examples = 8,
                                         const Progress& work = {});
 
