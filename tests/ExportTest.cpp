@@ -747,6 +747,41 @@ TEST(ExportMessages, AFileFarFromThePartSaysSoAndNamesTheFeatureSizeToUse)
     EXPECT_EQ(describeVisibleMiss(stats, 0.05, 1.0), "");
 }
 
+// A 10 mm ball 10 km from the origin: STL's float32 steps by 1 mm there,
+// which the ball's size passes (ten steps across) but its 0.25 mm cells do
+// not: their vertices round onto each other. The export is refused, and the
+// user was told "internal error"; now what makes it fail and what holds it.
+// As 3MF (round its own middle) the same export is a closed solid.
+TEST(ExportMessages, CellsFinerThanTheFilesStepAreBlamedOnTheFile)
+{
+    const Document doc = parse(R"({"id":"ball","type":"sphere","radius":5,"transform":{"translate":[1e7,0,0]}})");
+    MeshOptions o;
+    o.featureSize = 0.25;
+    o.tolerance = 0.0;
+    const auto stl = scratch("far-ball.stl");
+    const ExportedPart refused = exportPart(doc, o, stl, MeshFileFormat::BinaryStl, "ball");
+    ASSERT_FALSE(refused.report.solid());
+    EXPECT_FALSE(std::filesystem::exists(stl));
+    const std::string why = describeNotWritten(refused, MeshFileFormat::BinaryStl);
+    EXPECT_EQ(why.rfind("a reader of the file would not get a closed solid (", 0), 0u) << why;
+    EXPECT_NE(why.find("the file's coordinates step by 1 mm where the part reaches, too coarse for cells of 0.25 mm"),
+              std::string::npos)
+        << why;
+    EXPECT_NE(why.find("a .3mf file keeps the detail"), std::string::npos) << why;
+    EXPECT_EQ(why.find("internal error"), std::string::npos) << why;
+
+    const auto threeMf = scratch("far-ball.3mf");
+    const ExportedPart written = exportPart(doc, o, threeMf, MeshFileFormat::ThreeMf, "ball");
+    EXPECT_TRUE(written.report.solid()) << describeDefects(written.report);
+    EXPECT_TRUE(test::readMeshFile(threeMf).triangles.size() > 1000u);
+
+    // Where the step is far below the cells, a mesh that does not read back
+    // as a solid is the mesher's fault, and says so.
+    ExportedPart broken = refused;
+    broken.report.spacing = 1e-6;
+    EXPECT_EQ(describeNotWritten(broken, MeshFileFormat::BinaryStl).rfind("internal error: a reader", 0), 0u);
+}
+
 // A report names one feature size to try. The door frame at 8 mm cells
 // said "a gap 0.5 mm wide … a feature size of 0.2 mm resolves it" and then
 // "export it at a feature size of 0.5 mm (the part's own)": both true (half

@@ -231,6 +231,24 @@ TEST(WrittenFileChecks, ReadBackWeldsByTheFloat32Points)
     EXPECT_EQ(kept.triangles, mesh.triangles);
 }
 
+// Far from the origin float32 writes whole regions of a part to one point:
+// the weld takes the vertices of one point together, each numbered as the
+// first written there, in a sort (compared pairwise, these three runs of
+// 66,667 equal points would be 6.7 billion comparisons).
+TEST(WrittenFileChecks, ReadBackWeldsManyVerticesWrittenToFewPoints)
+{
+    Mesh mesh;
+    const glm::dvec3 far(1e9, 0.0, 0.0); // float32's step there: 64 mm
+    for (int v = 0; v < 200000; ++v)
+        mesh.vertices.push_back(far + glm::dvec3(double(v % 3) * 100.0 + 1e-3 * double(v % 1000), 0.0, 0.0));
+    for (std::uint32_t v = 0; v + 2 < mesh.vertices.size(); v += 3)
+        mesh.triangles.push_back({v, v + 1, v + 2});
+    const Mesh read = readBack(mesh, WrittenFormat::Float32, true);
+    ASSERT_EQ(read.vertices.size(), 3u); // 1e9, 1e9 + 128 and 1e9 + 192 mm
+    for (std::size_t t = 0; t < read.triangles.size(); ++t)
+        ASSERT_EQ(read.triangles[t], (Tri{0, 1, 2})) << t;
+}
+
 // A mesh that writing does not break is only compacted: the vertices the
 // triangles use, in the order they first use them, nothing moved.
 TEST(WrittenFileChecks, AMeshWritingDoesNotBreakIsOnlyCompacted)

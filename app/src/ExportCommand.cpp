@@ -251,9 +251,8 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
         const MeshFileReport& written = exported.report;
         const std::string& fallback = exported.simplificationDefects;
         if (!written.solid()) {
-            err << "kerf export: " << printable(file) << ": internal error: a reader of the file would not get a "
-                << "closed solid (" << describeDefects(written) << "); " << printable(target.string())
-                << " not written\n";
+            err << "kerf export: " << printable(file) << ": " << describeNotWritten(exported, *format) << "; "
+                << printable(target.string()) << " not written\n";
             return 1;
         }
         if (!fallback.empty())

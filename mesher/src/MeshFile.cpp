@@ -153,13 +153,15 @@ std::string describeCoarseCoordinates(const Aabb& partBounds, MeshFileFormat for
     double reach = 0.0;
     for (int a = 0; a < 3; ++a)
         reach = std::max({reach, std::abs(partBounds.min[a] - offset[a]), std::abs(partBounds.max[a] - offset[a])});
+    char measure[96];
+    std::snprintf(measure, sizeof measure,
+                  tolerance > 0.0 ? "the tolerance is %.2g mm" : "no tolerance asked: judged against %.2g mm", asked);
     char text[512];
     std::snprintf(text, sizeof text,
-                  "the part reaches %.*f mm from %s, where the file's coordinates step by %.2g mm (the tolerance is "
-                  "%.2g mm); %s",
+                  "the part reaches %.*f mm from %s, where the file's coordinates step by %.2g mm (%s); %s",
                   // The reach in plain digits ("100030", never "1e+05"), to a tenth below 100 mm.
-                  reach < 100.0 ? 1 : 0, reach, offset == glm::dvec3(0.0) ? "the origin" : "its middle", spacing, asked,
-                  advice.c_str());
+                  reach < 100.0 ? 1 : 0, reach, offset == glm::dvec3(0.0) ? "the origin" : "its middle", spacing,
+                  measure, advice.c_str());
     return std::string(text);
 }
 
@@ -297,6 +299,28 @@ ExportedPart exportPart(const Document& doc, const MeshOptions& options, const s
     write();
     out.cancelled = out.report.cancelled;
     return out;
+}
+
+std::string describeNotWritten(const ExportedPart& exported, MeshFileFormat format)
+{
+    const MeshFileReport& report = exported.report;
+    const std::string defects =
+        "a reader of the file would not get a closed solid (" + describeDefects(report) + ")";
+    // The cells keep their vertices eight coordinate steps from the lattice's
+    // points, and so apart in the file, only in cells of 32 steps or more
+    // (cellMeshing, MeshPart.cpp); in finer cells writing may join them.
+    const double cell = exported.stats.cellSize;
+    if (!(report.spacing > 0.0 && cell > 0.0 && cell < 32.0 * report.spacing)) return "internal error: " + defects;
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  ": the file's coordinates step by %.2g mm where the part reaches, too coarse for cells of %.2g mm; "
+                  "%s",
+                  report.spacing, cell,
+                  format != MeshFileFormat::ThreeMf
+                      ? "a .3mf file keeps the detail (stored round the part's own middle), or move the part nearer "
+                        "the origin, or a coarser feature size"
+                      : "a coarser feature size keeps the cells apart in it");
+    return defects + text;
 }
 
 } // namespace kerf

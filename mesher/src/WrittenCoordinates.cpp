@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <compare>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +16,7 @@
 #include <functional>
 #include <limits>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace kerf {
@@ -47,7 +49,7 @@ double nextWritten(double w, bool up, WrittenFormat format)
 
 struct Bits {
     std::uint64_t x, y, z;
-    bool operator==(const Bits&) const = default;
+    auto operator<=>(const Bits&) const = default;
 };
 struct BitsHash {
     std::size_t operator()(const Bits& b) const
@@ -85,8 +87,11 @@ std::vector<glm::dvec3> writtenPoints(const Mesh& mesh, WrittenFormat format, co
 std::vector<std::uint32_t> firstAtSamePoint(const std::vector<glm::dvec3>& q, const std::vector<std::uint8_t>& counts)
 {
     // Sorted by (hash of the point, vertex): equal points are in one run of
-    // equal hashes, in vertex order; a run (nearly always of one) is split
-    // by the points themselves.
+    // equal hashes. A run longer than one (points written to one place, or
+    // a collision) is sorted again by (point, vertex), so that each point's
+    // vertices stand together, lowest first: a part whose vertices float32
+    // rounds to a few points (far from the origin) costs a sort, not the
+    // square of the run.
     std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
     keyed.reserve(q.size());
     for (std::uint32_t v = 0; v < q.size(); ++v)
@@ -96,14 +101,15 @@ std::vector<std::uint32_t> firstAtSamePoint(const std::vector<glm::dvec3>& q, co
     for (std::size_t begin = 0, end = 0; begin < keyed.size(); begin = end) {
         while (end < keyed.size() && keyed[end].first == keyed[begin].first)
             ++end;
+        if (end - begin > 1)
+            std::sort(keyed.begin() + std::ptrdiff_t(begin), keyed.begin() + std::ptrdiff_t(end),
+                      [&](const auto& a, const auto& b) {
+                return std::pair(bitsOf(q[a.second]), a.second) < std::pair(bitsOf(q[b.second]), b.second);
+            });
         for (std::size_t i = begin; i < end; ++i) {
             const std::uint32_t v = keyed[i].second;
-            first[v] = v;
-            for (std::size_t j = begin; j < i; ++j)
-                if (bitsOf(q[keyed[j].second]) == bitsOf(q[v])) {
-                    first[v] = first[keyed[j].second];
-                    break;
-                }
+            const bool samePoint = i > begin && bitsOf(q[keyed[i - 1].second]) == bitsOf(q[v]);
+            first[v] = samePoint ? first[keyed[i - 1].second] : v;
         }
     }
     return first;

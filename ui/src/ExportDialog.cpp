@@ -442,8 +442,8 @@ void ExportDialog::start()
                 sentence[0] = char(std::toupper(static_cast<unsigned char>(sentence[0])));
                 o.message = tr("%1; nothing was written.").arg(QString::fromStdString(sentence));
             } else if (!exported.report.solid()) {
-                o.message = tr("Not exported: a reader of the file would not get a closed solid (%1).")
-                                .arg(QString::fromStdString(describeDefects(exported.report)));
+                o.message =
+                    tr("Not exported: %1.").arg(QString::fromStdString(describeNotWritten(exported, format)));
             } else {
                 o.written = true;
                 o.closed = true;

@@ -129,4 +129,10 @@ struct ExportedPart {
 ExportedPart exportPart(const Document& doc, const MeshOptions& options, const std::filesystem::path& file,
                         MeshFileFormat format, const std::string& partName, const Progress& work = {});
 
+/// Why an export that would not read back as a solid was not written, as
+/// the user is told it: the defects, and where the file's coordinates step
+/// too coarsely for the cells (a part far from the origin in STL's float32)
+/// that cause and what holds the part; else "internal error: ...".
+std::string describeNotWritten(const ExportedPart& exported, MeshFileFormat format);
+
 } // namespace kerf
