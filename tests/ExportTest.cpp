@@ -20,6 +20,7 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -780,6 +781,57 @@ TEST(ExportMessages, CellsFinerThanTheFilesStepAreBlamedOnTheFile)
     ExportedPart broken = refused;
     broken.report.spacing = 1e-6;
     EXPECT_EQ(describeNotWritten(broken, MeshFileFormat::BinaryStl).rfind("internal error: a reader", 0), 0u);
+}
+
+// A 3MF export is reproducible: lib3mf drew new UUIDs for the object, the
+// build item and the build on every export, so the same part never gave
+// the same bytes (a file under version control, a CAM program's cache keyed
+// by the file, all changed with nothing changed). Now they come from what
+// the file holds: the same part, the same file; another part, other UUIDs;
+// every one a well-formed version 8 UUID as lib3mf reads it back.
+TEST(ExportedThreeMf, TheSamePartIsTheSameFileByteForByte)
+{
+    auto exported = [&](const std::string& radius, const std::string& name) {
+        const Document doc = parse(R"({"id":"d","type":"difference","children":[{"id":"b","type":"box","size":[60,40,18]},)"
+                                   R"({"id":"c","type":"cylinder","transform":{"translate":[5.3,2.1,4]},"radius":)" +
+                                   radius + R"(,"height":20}]})");
+        MeshOptions o;
+        o.featureSize = 1.0;
+        const auto file = scratch(name);
+        const ExportedPart part = exportPart(doc, o, file, MeshFileFormat::ThreeMf, "holed board");
+        EXPECT_TRUE(part.report.solid()) << describeDefects(part.report);
+        return file;
+    };
+    auto bytes = [](const std::filesystem::path& file) {
+        std::ifstream in(file, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    const auto first = exported("4", "same-1.3mf");
+    const auto second = exported("4", "same-2.3mf");
+    const auto other = exported("4.5", "other.3mf");
+    ASSERT_FALSE(bytes(first).empty());
+    EXPECT_TRUE(bytes(first) == bytes(second));
+
+    const std::vector<std::string> uuids = test::readThreeMfUuids(first);
+    ASSERT_EQ(uuids.size(), 3u); // the build, its one item, the item's object
+    for (const std::string& uuid : uuids) {
+        ASSERT_EQ(uuid.size(), 36u) << uuid;
+        for (std::size_t i = 0; i < uuid.size(); ++i) {
+            if (i == 8 || i == 13 || i == 18 || i == 23)
+                EXPECT_EQ(uuid[i], '-') << uuid;
+            else
+                EXPECT_TRUE(std::isxdigit(static_cast<unsigned char>(uuid[i]))) << uuid;
+        }
+        EXPECT_EQ(uuid[14], '8') << uuid;                                  // version 8
+        EXPECT_NE(std::string("89ab").find(uuid[19]), std::string::npos) << uuid; // RFC 9562 variant
+    }
+    EXPECT_NE(uuids[0], uuids[1]);
+    EXPECT_NE(uuids[1], uuids[2]);
+    EXPECT_NE(uuids[0], uuids[2]);
+    const std::vector<std::string> others = test::readThreeMfUuids(other);
+    ASSERT_EQ(others.size(), 3u);
+    for (std::size_t i = 0; i < 3; ++i)
+        EXPECT_NE(others[i], uuids[i]);
 }
 
 // A report names one feature size to try. The door frame at 8 mm cells

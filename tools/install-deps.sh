@@ -11,6 +11,8 @@ packages=(
   nlohmann-json3-dev libtbb-dev libglm-dev libopenmesh-dev libstb-dev
   # 3MF export (lib3mf) and the files its pkg-config names (libzip, zlib)
   lib3mf-dev libzip-dev zlib1g-dev
+  # the 3MF file's UUIDs drawn from its content (xxHash, used header-only)
+  libxxhash-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   # the fuzzer and the ThreadSanitizer build (tools/fuzz.sh, tools/tsan.sh):

@@ -4,6 +4,15 @@
 
 #include <Model/COM/NMR_DLLInterfaces.h>
 
+// Header-only (Debian's libxxhash-dev): nothing to link, nothing for the
+// package to depend on.
+#define XXH_INLINE_ALL
+#include <xxhash.h>
+
+#include <array>
+#include <cstdio>
+#include <cstring>
+#include <new>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -31,6 +40,49 @@ private:
 void check(LIB3MFRESULT result, const std::filesystem::path& file, const char* what)
 {
     if (result != LIB3MF_OK) throw std::runtime_error(file.string() + ": lib3mf could not " + what);
+}
+
+// What the file holds, hashed: the coordinates and triangles as written, the
+// part's name and where the build item puts it.
+XXH128_hash_t hashContent(const std::vector<NMR::MODELMESHVERTEX>& vertices,
+                          const std::vector<NMR::MODELMESHTRIANGLE>& triangles, const std::string& partName,
+                          const NMR::MODELTRANSFORM& transform)
+{
+    XXH3_state_t* state = XXH3_createState();
+    if (!state) throw std::bad_alloc();
+    XXH3_128bits_reset(state);
+    XXH3_128bits_update(state, vertices.data(), vertices.size() * sizeof(NMR::MODELMESHVERTEX));
+    XXH3_128bits_update(state, triangles.data(), triangles.size() * sizeof(NMR::MODELMESHTRIANGLE));
+    XXH3_128bits_update(state, partName.data(), partName.size());
+    XXH3_128bits_update(state, &transform, sizeof transform);
+    const XXH128_hash_t hash = XXH3_128bits_digest(state);
+    XXH3_freeState(state);
+    return hash;
+}
+
+// A UUID drawn from the content instead of at random (lib3mf's default), so
+// that the same part exported twice is the same file byte for byte, and a
+// different part a different UUID. RFC 9562's version 8 (its bits are the
+// application's); `role` tells the object, the build item and the build
+// apart.
+std::string contentUuid(const XXH128_hash_t& content, const char* role)
+{
+    const XXH128_hash_t h = XXH3_128bits_withSeed(&content, sizeof content, XXH64(role, std::strlen(role), 0));
+    std::array<unsigned char, 16> bytes{};
+    for (int i = 0; i < 8; ++i) {
+        bytes[std::size_t(i)] = static_cast<unsigned char>(h.high64 >> (56 - 8 * i));
+        bytes[std::size_t(8 + i)] = static_cast<unsigned char>(h.low64 >> (56 - 8 * i));
+    }
+    bytes[6] = static_cast<unsigned char>((bytes[6] & 0x0f) | 0x80); // version 8
+    bytes[8] = static_cast<unsigned char>((bytes[8] & 0x3f) | 0x80); // RFC variant
+    std::string text;
+    char digits[3];
+    for (std::size_t i = 0; i < bytes.size(); ++i) {
+        if (i == 4 || i == 6 || i == 8 || i == 10) text += '-';
+        std::snprintf(digits, sizeof digits, "%02x", bytes[i]);
+        text += digits;
+    }
+    return text;
 }
 
 } // namespace
@@ -70,6 +122,12 @@ void writeThreeMf(const Mesh& mesh, const std::filesystem::path& file, const std
     NMR::PLib3MFModelBuildItem* item = nullptr;
     check(NMR::lib3mf_model_addbuilditem(model, object, &transform, &item), file, "add the build item");
     const Released releaseItem(item);
+    const XXH128_hash_t content = hashContent(vertices, triangles, partName, transform);
+    check(NMR::lib3mf_object_setuuidutf8(object, contentUuid(content, "object").c_str()), file, "set the object's UUID");
+    check(NMR::lib3mf_builditem_setuuidutf8(item, contentUuid(content, "build item").c_str()), file,
+          "set the build item's UUID");
+    check(NMR::lib3mf_model_setbuilduuidutf8(model, contentUuid(content, "build").c_str()), file,
+          "set the build's UUID");
     check(NMR::lib3mf_model_addmetadatautf8(model, "Application", "Kerf"), file, "add metadata");
 
     NMR::PLib3MFModelWriter* writer = nullptr;

@@ -88,34 +88,57 @@ Mesh readStl(const std::filesystem::path& file)
     return binary ? readBinaryStl(bytes, file) : readAsciiStl(bytes, file);
 }
 
-Mesh readThreeMf(const std::filesystem::path& file)
+namespace {
+
+struct Released {
+    NMR::PLib3MFBase* p;
+    ~Released()
+    {
+        if (p) NMR::lib3mf_release(p);
+    }
+};
+
+std::runtime_error threeMfFailure(const std::filesystem::path& file, const char* what)
 {
-    auto fail = [&](const char* what) { return std::runtime_error(file.string() + ": lib3mf: " + what); };
+    return std::runtime_error(file.string() + ": lib3mf: " + what);
+}
+
+// Reads the file into a model and calls `withItem(item, object)` for each
+// build item, in order.
+template <typename WithModel, typename WithItem>
+void readThreeMfItems(const std::filesystem::path& file, WithModel withModel, WithItem withItem)
+{
+    auto fail = [&](const char* what) { return threeMfFailure(file, what); };
     NMR::PLib3MFModel* model = nullptr;
     if (NMR::lib3mf_createmodel(&model) != LIB3MF_OK) throw fail("createmodel");
-    struct Release {
-        NMR::PLib3MFBase* p;
-        ~Release()
-        {
-            if (p) NMR::lib3mf_release(p);
-        }
-    } releaseModel{model};
+    const Released releaseModel{model};
     NMR::PLib3MFModelReader* reader = nullptr;
     if (NMR::lib3mf_model_queryreader(model, "3mf", &reader) != LIB3MF_OK) throw fail("queryreader");
-    const Release releaseReader{reader};
+    const Released releaseReader{reader};
     if (NMR::lib3mf_reader_readfromfileutf8(reader, file.string().c_str()) != LIB3MF_OK) throw fail("read");
+    withModel(model);
     NMR::PLib3MFModelBuildItemIterator* items = nullptr;
     if (NMR::lib3mf_model_getbuilditems(model, &items) != LIB3MF_OK) throw fail("getbuilditems");
-    const Release releaseItems{items};
-    Mesh out;
+    const Released releaseItems{items};
     BOOL more = false;
     while (NMR::lib3mf_builditemiterator_movenext(items, &more) == LIB3MF_OK && more) {
         NMR::PLib3MFModelBuildItem* item = nullptr;
         if (NMR::lib3mf_builditemiterator_getcurrent(items, &item) != LIB3MF_OK) throw fail("getcurrent");
-        const Release releaseItem{item};
+        const Released releaseItem{item};
         NMR::PLib3MFModelObjectResource* object = nullptr;
         if (NMR::lib3mf_builditem_getobjectresource(item, &object) != LIB3MF_OK) throw fail("getobjectresource");
-        const Release releaseObject{object};
+        const Released releaseObject{object};
+        withItem(item, object);
+    }
+}
+
+} // namespace
+
+Mesh readThreeMf(const std::filesystem::path& file)
+{
+    auto fail = [&](const char* what) { return threeMfFailure(file, what); };
+    Mesh out;
+    readThreeMfItems(file, [](NMR::PLib3MFModel*) {}, [&](NMR::PLib3MFModelBuildItem* item, NMR::PLib3MFModelObjectResource* object) {
         NMR::MODELTRANSFORM transform{};
         for (int r = 0; r < 3; ++r)
             transform.m_fFields[r][r] = 1.0f;
@@ -143,8 +166,33 @@ Mesh readThreeMf(const std::filesystem::path& file)
         }
         for (const auto& t : triangles)
             out.triangles.push_back({first + t.m_nIndices[0], first + t.m_nIndices[1], first + t.m_nIndices[2]});
-    }
+    });
     return out;
+}
+
+std::vector<std::string> readThreeMfUuids(const std::filesystem::path& file)
+{
+    auto fail = [&](const char* what) { return threeMfFailure(file, what); };
+    std::vector<std::string> uuids;
+    // lib3mf's form: 36 characters and the terminator.
+    auto take = [&](BOOL has, const char* text) { uuids.push_back(has ? std::string(text) : std::string()); };
+    readThreeMfItems(
+        file,
+        [&](NMR::PLib3MFModel* model) {
+            BOOL has = false;
+            char text[64] = {};
+            if (NMR::lib3mf_model_getbuilduuidutf8(model, &has, text) != LIB3MF_OK) throw fail("getbuilduuid");
+            take(has, text);
+        },
+        [&](NMR::PLib3MFModelBuildItem* item, NMR::PLib3MFModelObjectResource* object) {
+            BOOL has = false;
+            char text[64] = {};
+            if (NMR::lib3mf_builditem_getuuidutf8(item, &has, text) != LIB3MF_OK) throw fail("builditem uuid");
+            take(has, text);
+            if (NMR::lib3mf_object_getuuidutf8(object, &has, text) != LIB3MF_OK) throw fail("object uuid");
+            take(has, text);
+        });
+    return uuids;
 }
 
 Mesh readMeshFile(const std::filesystem::path& file)

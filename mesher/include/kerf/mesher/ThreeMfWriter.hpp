@@ -2,7 +2,10 @@
 // Writes a mesh as 3MF through lib3mf (Debian's lib3mf-dev, 1.8): one mesh
 // object with the part's name, indexed triangles (no welding by position:
 // a reader gets exactly the vertices and triangles written), millimetres,
-// one build item. lib3mf prints coordinates as float32 with six decimals
+// one build item. The object's, the build item's and the build's UUIDs
+// (the production extension's p:UUID) are hashed from what the file holds,
+// not drawn at random, so the same part gives the same file byte for byte.
+// lib3mf prints coordinates as float32 with six decimals
 // (WrittenFormat::Float32SixDecimals).
 //
 // `offset` is subtracted from every vertex and becomes the build item's
