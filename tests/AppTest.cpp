@@ -8,6 +8,7 @@
 #include "kerf/app/TypicalEdit.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -63,6 +64,37 @@ TEST(Commands, AnOutputThatIsTheDocumentIsRefusedAndTheDocumentKept)
     }
     EXPECT_FALSE(fs::exists(dir / "same"));
     fs::remove_all(dir);
+}
+
+// kerf check names each field it does not know on stderr, and lists them
+// in its JSON with the field each is probably a misspelling of.
+TEST(Commands, CheckNamesMisspeltFields)
+{
+    const std::string file = std::string(KERF_CLI_DATA_DIR) + "/misspelt-fields.kerf";
+    std::ostringstream out, err;
+    ASSERT_EQ(runCheck({file, "--json"}, out, err), 0) << err.str();
+    const auto j = nlohmann::json::parse(out.str());
+    const auto& unknown = j.at("unknown_fields");
+    ASSERT_EQ(unknown.size(), 4u) << unknown.dump();
+    EXPECT_EQ(unknown[0].at("owner"), "document");
+    EXPECT_EQ(unknown[0].at("field"), "settings.featuresize");
+    EXPECT_EQ(unknown[0].at("did_you_mean"), "feature_size");
+    EXPECT_EQ(unknown[1].at("id"), "top");
+    EXPECT_EQ(unknown[1].at("did_you_mean"), "blend");
+    EXPECT_EQ(unknown[2].at("field"), "Round");
+    EXPECT_EQ(unknown[3].at("owner"), "feature");
+    EXPECT_EQ(unknown[3].at("id"), "leg");
+    EXPECT_EQ(unknown[3].at("field"), "transfom");
+    EXPECT_EQ(unknown[3].at("did_you_mean"), "transform");
+    EXPECT_NE(err.str().find("kerf check: warning: feature 'leg': field 'transfom' is not one Kerf knows"),
+              std::string::npos)
+        << err.str();
+
+    // A bundled example has none, and no warning.
+    std::ostringstream exampleOut, exampleErr;
+    ASSERT_EQ(runCheck({std::string(KERF_EXAMPLES_DIR) + "/stool.kerf", "--json"}, exampleOut, exampleErr), 0);
+    EXPECT_TRUE(nlohmann::json::parse(exampleOut.str()).at("unknown_fields").empty());
+    EXPECT_EQ(exampleErr.str().find("warning"), std::string::npos) << exampleErr.str();
 }
 
 TEST(TypicalEdit, TheChairMovesADowelHole)

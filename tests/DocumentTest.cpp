@@ -4,6 +4,7 @@
 
 #include "kerf/document/Document.hpp"
 #include "kerf/document/DocumentError.hpp"
+#include "kerf/document/UnknownFields.hpp"
 
 #include <gtest/gtest.h>
 
@@ -222,6 +223,77 @@ TEST(Document, RoundTripKeepsEverythingIncludingUnknownFields)
         EXPECT_NE(text.find(kept), std::string::npos) << kept;
 }
 
+// The format keeps fields it does not know; each is named, where it is, so
+// that a misspelt one is not a field the part silently goes without.
+TEST(UnknownFieldsOfADocument, AreListedWhereTheyAreInDocumentOrder)
+{
+    using Owner = UnknownField::Owner;
+    const std::vector<UnknownField> expected = {{Owner::Document, "", "x_top", ""},
+                                                {Owner::Document, "", "settings.vendor_setting", ""},
+                                                {Owner::Feature, "root", "x_note", ""},
+                                                {Owner::Feature, "board", "transform.x_t", ""},
+                                                {Owner::Mesh, "hinge", "x_m", ""}};
+    EXPECT_EQ(unknownFields(valid()), expected);
+}
+
+TEST(UnknownFieldsOfADocument, AMisspeltFieldNamesTheOneItIsProbablyAMisspellingOf)
+{
+    const Document d = Document::parse(R"({"format":"kerf","version":1,"settings":{"featuresize":1},
+        "parameters":[{"name":"w","expression":"20","units":"length","comments":"width"}],
+        "root":{"id":"top","type":"union","blnd":3,"children":[
+          {"id":"board","type":"box","size":[300,200,18],"Round":2},
+          {"id":"foot","type":"cone","radius_bottom":10,"radius_top":5,"radius_Top":8,"height":20},
+          {"id":"leg","type":"cylinder","radius":15,"height":450,"transfom":{"translate":[0,0,-225]},
+           "transform":{"rotate":[0,0,0],"tranlsate":[1,2,3]},"colour":"#ff0000","x":1,"notes":"glue"}]},
+        "meshes":[{"id":"scan","path":"s.stl","pth":"t.stl"}]})",
+                                       "misspelt.kerf");
+    using Owner = UnknownField::Owner;
+    const std::vector<UnknownField> expected = {
+        {Owner::Document, "", "settings.featuresize", "feature_size"},
+        {Owner::Document, "", "parameters.w.units", "unit"},
+        {Owner::Document, "", "parameters.w.comments", "comment"},
+        {Owner::Feature, "top", "blnd", "blend"},
+        {Owner::Feature, "board", "Round", "round"},
+        {Owner::Feature, "foot", "radius_Top", "radius_top"},
+        {Owner::Feature, "leg", "transfom", "transform"},
+        {Owner::Feature, "leg", "colour", "color"},
+        {Owner::Feature, "leg", "x", ""},     // a short key is within two edits of any short one
+        {Owner::Feature, "leg", "notes", ""}, // a field of the user's own, no known one near
+        {Owner::Feature, "leg", "transform.tranlsate", "translate"},
+        {Owner::Mesh, "scan", "pth", "path"}};
+    EXPECT_EQ(unknownFields(d), expected);
+    EXPECT_EQ(describeUnknownField(expected[6]),
+              "feature 'leg': field 'transfom' is not one Kerf knows: it is kept when saved but not used "
+              "(did you mean 'transform'?)");
+    EXPECT_EQ(describeUnknownField(expected[0]),
+              "the document: field 'settings.featuresize' is not one Kerf knows: it is kept when saved but not used "
+              "(did you mean 'feature_size'?)");
+    EXPECT_EQ(describeUnknownField(expected.back()),
+              "reference mesh 'scan': field 'pth' is not one Kerf knows: it is kept when saved but not used "
+              "(did you mean 'path'?)");
+    EXPECT_EQ(describeUnknownField(expected[9]),
+              "feature 'leg': field 'notes' is not one Kerf knows: it is kept when saved but not used");
+    // The status bar's sentence on opening: the first probable misspelling.
+    EXPECT_EQ(summarizeUnknownFields(expected),
+              "'settings.featuresize' is no field Kerf knows (did you mean 'feature_size'?), kept but "
+              "not used; 11 more such fields (kerf check lists them)");
+    EXPECT_EQ(summarizeUnknownFields({expected[9], expected[6]}),
+              "'transfom' in feature 'leg' is no field Kerf knows (did you mean 'transform'?), kept but not used; 1 "
+              "more such field (kerf check lists them)");
+    EXPECT_EQ(summarizeUnknownFields({expected[9]}), "'notes' in feature 'leg' is no field Kerf knows, kept but not used");
+    EXPECT_EQ(summarizeUnknownFields({}), "");
+}
+
+TEST(UnknownFieldsOfADocument, TheClosestKnownFieldIsWithinTwoEditsAndAThirdOfItsLength)
+{
+    EXPECT_EQ(closestKnownField("raduis", {"radius", "height"}), "radius"); // neighbours swapped: one edit
+    EXPECT_EQ(closestKnownField("HEIGHT", {"radius", "height"}), "height");
+    EXPECT_EQ(closestKnownField("hieghts", {"radius", "height"}), "height"); // two edits
+    EXPECT_EQ(closestKnownField("hgihts", {"radius", "height"}), "");       // three
+    EXPECT_EQ(closestKnownField("idx", {"id", "type"}), "");                // one edit, but a third of three letters
+    EXPECT_EQ(closestKnownField("radius_tp", {"radius_top", "radius_bottom"}), "radius_top");
+}
+
 class TempDir : public ::testing::Test {
 protected:
     void SetUp() override
@@ -309,6 +381,7 @@ TEST(Examples, EveryBundledExampleLoadsAndRoundTrips)
         SCOPED_TRACE(entry.path().string());
         const Document d = Document::load(entry.path());
         EXPECT_EQ(Document::parse(d.serialize(), "again"), d);
+        EXPECT_TRUE(unknownFields(d).empty());
     }
     EXPECT_GE(count, 5);
 }

@@ -6,9 +6,11 @@
 #include "kerf/app/DocumentSummary.hpp"
 #include "kerf/app/Failure.hpp"
 #include "kerf/app/Format.hpp"
+#include "kerf/app/UnknownFieldWarnings.hpp"
 #include "kerf/app/VoxelizeProgress.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/PrintableText.hpp"
+#include "kerf/document/UnknownFields.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/voxelizer/RequestBudget.hpp"
 #include "kerf/voxelizer/Voxelize.hpp"
@@ -39,6 +41,10 @@ Options:
                    expression, like 19 or 3/4in) for this check; repeatable
   --help           show this help
 
+Fields Kerf does not know are kept when the document is saved, but the part
+goes without them: each is named in a warning on stderr, with the field it is
+probably a misspelling of.
+
 Exit status: 0 valid, 2 bad usage or a refused document (the reason, naming
 the file, the node id and the field, goes to stderr).
 )";
@@ -58,6 +64,8 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
         if (a.positional().size() != 1) throw UsageError("expects exactly one FILE.kerf");
         const std::filesystem::path file = a.positional()[0];
         const Document doc = Document::load(file, a.defines());
+        warnOfUnknownFields(doc, "kerf check", err);
+        const std::vector<UnknownField> unknown = unknownFields(doc);
         const DocumentSummary s = summarize(doc, file.parent_path().string());
 
         // The viewport's voxel memory: estimated first (a coarse voxelization
@@ -116,6 +124,17 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
                 if (p.unit) pj["unit"] = *p.unit;
                 if (p.comment) pj["comment"] = *p.comment;
                 j["parameters"].push_back(std::move(pj));
+            }
+            j["unknown_fields"] = nlohmann::ordered_json::array();
+            for (const UnknownField& u : unknown) {
+                nlohmann::ordered_json uj;
+                uj["owner"] = u.owner == UnknownField::Owner::Feature ? "feature"
+                              : u.owner == UnknownField::Owner::Mesh  ? "mesh"
+                                                                      : "document";
+                if (!u.id.empty()) uj["id"] = u.id;
+                uj["field"] = u.field;
+                if (!u.suggestion.empty()) uj["did_you_mean"] = u.suggestion;
+                j["unknown_fields"].push_back(std::move(uj));
             }
             j["meshes"] = s.meshes;
             j["missing_meshes"] = s.missingMeshes;

@@ -12,6 +12,7 @@
 #include "kerf/app/ExportPreflight.hpp"
 #include "kerf/app/Failure.hpp"
 #include "kerf/app/Format.hpp"
+#include "kerf/app/UnknownFieldWarnings.hpp"
 #include "kerf/document/AtomicFile.hpp"
 #include "kerf/document/DocumentError.hpp"
 #include "kerf/document/NodeBounds.hpp"
@@ -167,6 +168,7 @@ int runExport(const std::vector<std::string>& args, std::ostream& out, std::ostr
             return 1;
         };
         const Document whole = Document::load(file, a.defines());
+        warnOfUnknownFields(whole, "kerf export", err);
         // The part's own feature size, also for one feature of it.
         const Aabb wholeBounds = partBounds(whole);
         std::string partName = std::filesystem::path(file).stem().string();

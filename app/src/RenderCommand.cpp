@@ -8,6 +8,7 @@
 #include "kerf/app/DocumentSummary.hpp"
 #include "kerf/app/Failure.hpp"
 #include "kerf/app/Format.hpp"
+#include "kerf/app/UnknownFieldWarnings.hpp"
 #include "kerf/app/VoxelizeProgress.hpp"
 #include "kerf/document/AtomicFile.hpp"
 #include "kerf/document/DocumentError.hpp"
@@ -131,6 +132,7 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
         }
 
         const Document doc = Document::load(file, a.defines());
+        warnOfUnknownFields(doc, "kerf render", err);
         const Tape tape = compileTape(doc);
         const double featureSize =
             requested ? requestedSize : doc.settings.featureSize.value_or(defaultFeatureSize(tape.bounds()));

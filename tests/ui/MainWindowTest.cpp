@@ -409,6 +409,7 @@ private slots:
     void escapeInAFieldTakesBackWhatWasTyped();
     void aNewPartIsSavedWithItsParametersBeforeItsFirstFeature();
     void aFileThatIsNoKerfDocumentIsRefusedBeforeAskingToSave();
+    void aMisspeltFieldIsNamedOnOpening();
     void deletingAMirroredLegTakesTheEmptiedMirrorAlong();
     void aMirrorTurnsToAnotherAxisInOneClick();
     void theGizmoLeavesACoordinateSetByAnExpression();
@@ -2219,6 +2220,35 @@ void MainWindowTest::aNewPartIsSavedWithItsParametersBeforeItsFirstFeature()
     QCOMPARE(saved.parameters.at(0).expression, std::string("500mm"));
     QVERIFY(w->openFile(file.toStdString()));
     QCOMPARE(w->session()->document().parameters.at(0).value, 500.0);
+}
+
+// A file with a misspelt field ("transfom") opens, as the format keeps
+// fields it does not know, and the leg stands where no transform puts it:
+// the status bar names the field and the one it probably means, until the
+// part is next changed.
+void MainWindowTest::aMisspeltFieldIsNamedOnOpening()
+{
+    const QString doc = files_.path() + "/misspelt.kerf";
+    QVERIFY(writeTestFile(doc, R"({"format":"kerf","version":1,"root":{"id":"top","type":"union","children":[
+        {"id":"board","type":"box","size":[300,200,18]},
+        {"id":"leg","type":"cylinder","radius":15,"height":450,"transfom":{"translate":[0,0,-225]}}]}})"));
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(doc.toStdString()));
+    const QString message = w->statusBar()->currentMessage();
+    QVERIFY2(message == "Opened misspelt.kerf, but 'transfom' in feature 'leg' is no field Kerf knows (did you mean "
+                        "'transform'?), kept but not used",
+             qPrintable(message));
+    QVERIFY(waitForViewport(*w));
+    saveWidgetShot(*w, "misspelt-field-on-opening");
+    QCOMPARE(w->statusBar()->currentMessage(), message); // the view's build does not push it out
+    w->selectNodes({"board"});
+    typeInto(field(*w, "size.x"), "320");
+    QVERIFY2(!w->statusBar()->currentMessage().contains("transfom"), qPrintable(w->statusBar()->currentMessage()));
+    // Saved again, the field is kept as it was written.
+    QVERIFY(w->saveAs(doc.toStdString()));
+    QFile saved(doc);
+    QVERIFY(saved.open(QIODevice::ReadOnly));
+    QVERIFY(saved.readAll().contains("\"transfom\""));
 }
 
 void MainWindowTest::aFileThatIsNoKerfDocumentIsRefusedBeforeAskingToSave()

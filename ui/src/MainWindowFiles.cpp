@@ -7,6 +7,7 @@
 #include "RecentFilesMenu.hpp"
 #include "kerf/document/DocumentEdits.hpp"
 #include "kerf/document/DocumentError.hpp"
+#include "kerf/document/UnknownFields.hpp"
 #include "kerf/viewport/qt/ViewportWidget.hpp"
 
 #include <QCloseEvent>
@@ -98,6 +99,9 @@ bool MainWindow::openFile(const fs::path& file)
     }
     if (!maybeSave()) return false;
     {
+        // A misspelt field ("transfom") loads, and the part goes without it:
+        // said on opening, until the first edit.
+        const std::vector<UnknownField> unknown = unknownFields(doc);
         // A bundled example opens as an untitled copy: Save asks where to
         // keep it instead of overwriting the installed file.
         const bool example = isBundledExample(file);
@@ -105,9 +109,14 @@ bool MainWindow::openFile(const fs::path& file)
         untitledStem_ = example ? QString::fromStdString(file.stem().string()) : QStringLiteral("part");
         recovery_->clearAutosave();
         if (!example) recentFiles_->add(file);
-        showMessage(example ? tr("Opened a copy of the example %1: Save asks where to keep it.")
-                                  .arg(QString::fromStdString(file.filename().string()))
-                            : tr("Opened %1").arg(QString::fromStdString(file.string())));
+        if (unknown.empty())
+            showMessage(example ? tr("Opened a copy of the example %1: Save asks where to keep it.")
+                                      .arg(QString::fromStdString(file.filename().string()))
+                                : tr("Opened %1").arg(QString::fromStdString(file.string())));
+        else
+            showMessageUntilEdit(tr("Opened %1, but %2")
+                                     .arg(QString::fromStdString(file.filename().string()),
+                                          QString::fromStdString(summarizeUnknownFields(unknown))));
         tree_->collapseAll();
         tree_->expandToDepth(1);
         QTimer::singleShot(0, viewport_, [this] { viewport_->setStandardView("iso"); });
