@@ -13,6 +13,7 @@
 #include "kerf/document/NodeBounds.hpp"
 #include "kerf/document/PrintableText.hpp"
 #include "kerf/document/ProfileCheck.hpp"
+#include "kerf/document/UnknownFields.hpp"
 #include "kerf/evaluator/CutList.hpp"
 #include "kerf/evaluator/IntervalEvaluator.hpp"
 #include "kerf/evaluator/PointEvaluator.hpp"
@@ -278,6 +279,7 @@ TEST(HostileInput, UnknownFieldsLoadAndSaveInLinearTime)
         const Document d = Document::parse(text, "t");
         EXPECT_EQ(d.root.extra.size(), std::size_t(count));
         EXPECT_EQ(Document::parse(d.serialize(), "t2"), d);
+        EXPECT_EQ(unknownFields(d).size(), std::size_t(count)); // what kerf check and the application name
         return std::chrono::duration<double>(Clock::now() - t0).count();
     };
     // The fastest of three of each: a busy machine only ever adds time, and
@@ -286,6 +288,22 @@ TEST(HostileInput, UnknownFieldsLoadAndSaveInLinearTime)
     const double small = fastest(20000), large = fastest(320000);
     EXPECT_LT(large, 64.0 * small + 0.05) << small << " s then " << large << " s: quadratic somewhere";
     EXPECT_LT(large, 5.0 * kSlow);
+}
+
+// A key of megabytes is named, shortened, without comparing it letter by
+// letter with the known fields (a table of its length by theirs).
+TEST(HostileInput, AnUnknownKeyOfMegabytesIsNamedAtOnce)
+{
+    const std::string key(4 << 20, 'q');
+    const auto t0 = Clock::now();
+    const Document d = Document::parse(document(R"({"id":"b","type":"box","size":[1,1,1],")" + key + R"(":0})"), "t");
+    const std::vector<UnknownField> fields = unknownFields(d);
+    ASSERT_EQ(fields.size(), 1u);
+    EXPECT_EQ(fields[0].suggestion, "");
+    const std::string said = describeUnknownField(fields[0]);
+    EXPECT_LT(said.size(), 400u) << said.size();
+    EXPECT_NE(said.find("feature 'b': field 'qqq"), std::string::npos) << said.substr(0, 100);
+    EXPECT_LT(std::chrono::duration<double>(Clock::now() - t0).count(), kSlow);
 }
 
 TEST(HostileInput, ManyOutOfRangeNumbersTakeOnePass)

@@ -75,9 +75,13 @@ std::string closestKnownField(const std::string& key, const std::vector<std::str
     std::string best;
     std::size_t bestDistance = 3;
     for (const std::string& candidate : known) {
+        // The distance is at least the difference in length: a key of a
+        // megabyte is not compared letter by letter.
+        const std::size_t longer = std::max(k.size(), candidate.size());
+        if (longer - std::min(k.size(), candidate.size()) >= bestDistance) continue;
         const std::size_t d = editDistance(k, lowered(candidate));
         // Short keys are within two edits of everything ("x" of "id").
-        if (d < bestDistance && 3 * d < std::max(k.size(), candidate.size())) {
+        if (d < bestDistance && 3 * d < longer) {
             best = candidate;
             bestDistance = d;
         }
