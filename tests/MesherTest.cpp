@@ -17,6 +17,7 @@
 #include "kerf/mesher/OpenMeshAdapter.hpp"
 #include "kerf/mesher/SelfIntersections.hpp"
 #include "kerf/mesher/StlWriter.hpp"
+#include "kerf/mesher/ThreeMfWriter.hpp"
 #include "kerf/mesher/Triangulate.hpp"
 #include "support/RandomShapes.hpp"
 
@@ -33,6 +34,7 @@
 #include <optional>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <set>
 
@@ -798,6 +800,59 @@ TEST_F(StlFiles, BinaryRoundTripsThroughOpenMesh)
     const glm::dvec3 n(rec[0], rec[1], rec[2]), a(rec[3], rec[4], rec[5]);
     EXPECT_NEAR(glm::length(n), 1.0, 1e-6);
     EXPECT_GT(glm::dot(n, a), 0.0);
+}
+
+// A flat grid of `side` x `side` quads: what a writer sees is only counts.
+Mesh gridOfTriangles(std::uint32_t side)
+{
+    Mesh mesh;
+    for (std::uint32_t y = 0; y <= side; ++y)
+        for (std::uint32_t x = 0; x <= side; ++x)
+            mesh.vertices.emplace_back(0.5 * x, 0.5 * y, 0.0);
+    for (std::uint32_t y = 0; y < side; ++y)
+        for (std::uint32_t x = 0; x < side; ++x) {
+            const std::uint32_t a = y * (side + 1) + x, b = a + 1, c = a + side + 1, d = c + 1;
+            mesh.triangles.push_back({a, b, d});
+            mesh.triangles.push_back({a, d, c});
+        }
+    return mesh;
+}
+
+// Writing a large file takes seconds (9.5 M triangles: about 2.8 s as
+// binary STL): the bar moves while it is written, and a cancel stops it
+// with the old file untouched and no temporary file left, in every format.
+TEST_F(StlFiles, WritingReportsProgressAndACancelLeavesTheOldFile)
+{
+    const Mesh mesh = gridOfTriangles(400); // 320,000 triangles, 160,801 vertices
+    const std::vector<std::pair<const char*, std::function<bool(const std::filesystem::path&, const Progress&)>>>
+        writers = {
+            {"part.stl", [&](const auto& f, const Progress& p) { return writeStl(mesh, f, StlFormat::Binary, p); }},
+            {"ascii.stl", [&](const auto& f, const Progress& p) { return writeStl(mesh, f, StlFormat::Ascii, p); }},
+            {"part.3mf", [&](const auto& f, const Progress& p) { return writeThreeMf(mesh, f, "grid", {}, p); }},
+        };
+    for (const auto& [name, write] : writers) {
+        SCOPED_TRACE(name);
+        const auto file = dir_ / name;
+        std::vector<double> reports;
+        ASSERT_TRUE(write(file, Progress([&](double f) { reports.push_back(f); })));
+        EXPECT_GT(std::filesystem::file_size(file), 1000000u);
+        const auto between = std::count_if(reports.begin(), reports.end(), [](double f) { return f > 0.0 && f < 1.0; });
+        EXPECT_GE(between, 3) << reports.size() << " reports";
+
+        {
+            std::ofstream old(file, std::ios::trunc);
+            old << "old contents";
+        }
+        bool reported = false;
+        const Progress cancelAfterFirst([&](double) { reported = true; }, [&] { return reported; });
+        EXPECT_FALSE(write(file, cancelAfterFirst));
+        std::ifstream in(file);
+        EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "old contents");
+    }
+    std::size_t entries = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir_))
+        ++entries;
+    EXPECT_EQ(entries, writers.size()); // no temporary file remains
 }
 
 TEST_F(StlFiles, AsciiOnRequest)

@@ -96,6 +96,23 @@ protected:
         return traits_type::not_eof(c);
     }
     int sync() override { return flushBuffer() ? 0 : -1; }
+    // Writers that go back to patch what they wrote (a ZIP's local headers:
+    // lib3mf's 3MF) seek the file itself, after what is buffered is written.
+    pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode which) override
+    {
+        if (!(which & std::ios_base::out) || !flushBuffer()) return pos_type(off_type(-1));
+        const int whence = dir == std::ios_base::beg ? SEEK_SET : dir == std::ios_base::cur ? SEEK_CUR : SEEK_END;
+        const off_t at = ::lseek(fd_, off_t(off), whence);
+        if (at < 0) {
+            error_ = errno;
+            return pos_type(off_type(-1));
+        }
+        return pos_type(off_type(at));
+    }
+    pos_type seekpos(pos_type pos, std::ios_base::openmode which) override
+    {
+        return seekoff(off_type(pos), std::ios_base::beg, which);
+    }
 
 private:
     bool flushBuffer()

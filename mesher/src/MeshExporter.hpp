@@ -6,6 +6,7 @@
 // colour, texture coordinate, status and halfedge query returns a neutral
 // value. Written against OpenMesh 9.0's BaseExporter (Debian 12).
 
+#include "kerf/document/Progress.hpp"
 #include "kerf/mesher/Mesh.hpp"
 
 #include <OpenMesh/Core/IO/exporter/BaseExporter.hh>
@@ -16,7 +17,13 @@ namespace kerf::mesher {
 
 class MeshExporter : public OpenMesh::IO::BaseExporter {
 public:
-    explicit MeshExporter(const Mesh& mesh) : mesh_(mesh) {}
+    /// Thrown from inside OpenMesh's writer when `work` is cancelled.
+    struct Cancelled {};
+
+    /// `work` hears how far the writer is through the triangles (OpenMesh's
+    /// writers ask for each triangle's corners once, in order), and stops it
+    /// by MeshExporter::Cancelled.
+    explicit MeshExporter(const Mesh& mesh, const Progress& work = {}) : mesh_(mesh), work_(work) {}
 
     OpenMesh::Vec3f point(OpenMesh::VertexHandle v) const override
     {
@@ -47,6 +54,11 @@ public:
 
     unsigned int get_vhandles(OpenMesh::FaceHandle f, std::vector<OpenMesh::VertexHandle>& out) const override
     {
+        // Every 65,536 triangles: a tenth of a second of writing.
+        if ((f.idx() & 0xffff) == 0 && f.idx() > 0) {
+            if (work_.cancelled()) throw Cancelled{};
+            work_.report(double(f.idx()) / double(mesh_.triangles.size()));
+        }
         const auto& t = mesh_.triangles[std::size_t(f.idx())];
         out.assign(
             {OpenMesh::VertexHandle(int(t[0])), OpenMesh::VertexHandle(int(t[1])), OpenMesh::VertexHandle(int(t[2]))});
@@ -103,6 +115,7 @@ public:
 
 private:
     const Mesh& mesh_;
+    Progress work_;
 };
 
 } // namespace kerf::mesher

@@ -220,10 +220,15 @@ MeshFileReport writeMeshFile(Mesh& mesh, const std::filesystem::path& file, Mesh
         return report;
     }
     if (writeOnlyIfSolid && !report.solid()) return report;
-    if (format == MeshFileFormat::ThreeMf)
-        writeThreeMf(mesh, file, partName, report.offset);
-    else
-        writeStl(mesh, file, format == MeshFileFormat::AsciiStl ? StlFormat::Ascii : StlFormat::Binary);
+    const Progress writing = work.stage(0.75, 1.0);
+    const bool finished =
+        format == MeshFileFormat::ThreeMf
+            ? writeThreeMf(mesh, file, partName, report.offset, writing)
+            : writeStl(mesh, file, format == MeshFileFormat::AsciiStl ? StlFormat::Ascii : StlFormat::Binary, writing);
+    if (!finished) {
+        report.cancelled = true;
+        return report;
+    }
     std::error_code ec;
     report.bytes = std::filesystem::file_size(file, ec);
     work.report(1.0);

@@ -14,7 +14,7 @@
 
 namespace kerf {
 
-void writeStl(const Mesh& mesh, const std::filesystem::path& file, StlFormat format)
+bool writeStl(const Mesh& mesh, const std::filesystem::path& file, StlFormat format, const Progress& work)
 {
     // OpenMesh's writers log "[STLWriter] : write binary file" to std::clog;
     // kerf's stderr carries one-line errors and progress only.
@@ -25,12 +25,17 @@ void writeStl(const Mesh& mesh, const std::filesystem::path& file, StlFormat for
         throw std::runtime_error(file.string() + ": too many triangles for an STL file");
     OpenMesh::IO::Options options;
     if (format == StlFormat::Binary) options += OpenMesh::IO::Options::Binary;
-    writeFileAtomically(file, [&](std::ostream& out) {
-        mesher::MeshExporter exporter(mesh);
-        // 9 significant digits print every float32 so that it reads back exactly.
-        if (!OpenMesh::IO::IOManager().write(out, ".stl", exporter, options, 9))
-            throw std::runtime_error(file.string() + ": OpenMesh could not write the STL");
-    });
+    try {
+        writeFileAtomically(file, [&](std::ostream& out) {
+            mesher::MeshExporter exporter(mesh, work);
+            // 9 significant digits print every float32 so that it reads back exactly.
+            if (!OpenMesh::IO::IOManager().write(out, ".stl", exporter, options, 9))
+                throw std::runtime_error(file.string() + ": OpenMesh could not write the STL");
+        });
+    } catch (const mesher::MeshExporter::Cancelled&) {
+        return false; // nothing written: the temporary file is gone
+    }
+    return true;
 }
 
 } // namespace kerf

@@ -11,6 +11,7 @@
 // far from the origin loses precision in the file (about 8 micrometres at
 // 100 m), not in the mesh.
 
+#include "kerf/document/Progress.hpp"
 #include "kerf/mesher/Mesh.hpp"
 
 #include <cstdint>
@@ -20,9 +21,12 @@ namespace kerf {
 
 enum class StlFormat { Binary, Ascii };
 
-/// Writes `mesh` to `file`. Throws std::runtime_error naming the file on any
-/// failure (the target is then untouched and no temporary file remains).
-void writeStl(const Mesh& mesh, const std::filesystem::path& file, StlFormat format = StlFormat::Binary);
+/// Writes `mesh` to `file`, reporting to `work` as it goes. Returns false,
+/// with nothing written, when `work` is cancelled. Throws std::runtime_error
+/// naming the file on any failure (the target is then untouched and no
+/// temporary file remains).
+bool writeStl(const Mesh& mesh, const std::filesystem::path& file, StlFormat format = StlFormat::Binary,
+              const Progress& work = {});
 
 /// Size in bytes of the binary STL of `mesh`.
 inline std::uint64_t binaryStlBytes(const Mesh& mesh) { return 84 + 50 * std::uint64_t(mesh.triangles.size()); }

@@ -13,6 +13,7 @@
 // slicer places the item where it wants in any case). The offset must be a
 // float32 value so that the translation is stored exactly.
 
+#include "kerf/document/Progress.hpp"
 #include "kerf/mesher/Mesh.hpp"
 
 #include <glm/vec3.hpp>
@@ -22,9 +23,10 @@
 
 namespace kerf {
 
-/// Writes whole or not at all (kerf::writeFileAtomically). Throws
-/// std::runtime_error naming the file on any failure.
-void writeThreeMf(const Mesh& mesh, const std::filesystem::path& file, const std::string& partName,
-                  const glm::dvec3& offset = glm::dvec3(0.0));
+/// Writes whole or not at all (kerf::writeFileAtomically), reporting to
+/// `work` as lib3mf goes. Returns false, with nothing written, when `work`
+/// is cancelled. Throws std::runtime_error naming the file on any failure.
+bool writeThreeMf(const Mesh& mesh, const std::filesystem::path& file, const std::string& partName,
+                  const glm::dvec3& offset = glm::dvec3(0.0), const Progress& work = {});
 
 } // namespace kerf
