@@ -374,6 +374,7 @@ private slots:
     void brickRendererDrawsTheSamePartAndStepsAsideWhereItCannot();
     void exportDialogWritesAClosedMesh();
     void exportDialogNamesWhatTheToleranceMissed();
+    void exportDialogNamesTheFormatThatHoldsAFarPart();
     void exportDialogSaysWhenTheFileDoesNotMatchThePart();
     void exportDialogSaysWhereDetailHidesBetweenTheCells();
     void exportDialogTakesThePartAsItIsWhenExportIsPressed();
@@ -821,6 +822,49 @@ void MainWindowTest::exportDialogNamesWhatTheToleranceMissed()
     auto* result = dialog->findChild<QLabel*>("export.result");
     QTRY_VERIFY2(result->height() >= result->heightForWidth(result->width()), qPrintable(message));
     saveWidgetShot(*dialog, "export-dialog-tolerance-missed");
+}
+
+// A newcomer exported a 10 mm ball standing 10 km from the origin as STL at
+// its 0.25 mm cells: float32 steps by 1 mm there, the file would not be a
+// solid, and the dialog says why and what holds it, its bar back at 0 (it
+// stood at 98% under "Not exported"); chosen as 3MF, the same part is
+// written and reads back closed.
+void MainWindowTest::exportDialogNamesTheFormatThatHoldsAFarPart()
+{
+    const QString doc = files_.path() + "/far-ball.kerf";
+    QVERIFY(writeTestFile(doc, R"({"format":"kerf","version":1,"settings":{"feature_size":0.25},)"
+                               R"("root":{"id":"ball","type":"sphere","radius":5,"transform":{"translate":[1e7,0,0]}}})"));
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(doc.toStdString()));
+    action(w.get(), "action.export")->trigger();
+    auto* dialog = w->findChild<ExportDialog*>("exportDialog");
+    QVERIFY(dialog);
+    const QString stl = files_.path() + "/far-ball.stl";
+    dialog->findChild<QLineEdit*>("export.path")->setText(stl);
+    QSignalSpy done(dialog, &ExportDialog::finished);
+    QTest::mouseClick(dialog->findChild<QPushButton*>("export.start"), Qt::LeftButton);
+    QVERIFY(done.wait(300000));
+    const QString refused = dialog->outcome().message;
+    QVERIFY2(!dialog->outcome().written, qPrintable(refused));
+    QVERIFY2(refused.startsWith("Not exported: a reader of the file would not get a closed solid") &&
+                 refused.contains("the file's coordinates step by 1 mm where the part reaches, too coarse for cells "
+                                  "of 0.25 mm; a .3mf file keeps the detail"),
+             qPrintable(refused));
+    QVERIFY(!QFile::exists(stl));
+    QCOMPARE(dialog->findChild<QProgressBar*>("export.progress")->value(), 0);
+    saveWidgetShot(*dialog, "export-dialog-far-part-as-stl");
+
+    dialog->findChild<QComboBox*>("export.format")->setCurrentText("3MF");
+    const QString threeMf = dialog->findChild<QLineEdit*>("export.path")->text();
+    QCOMPARE(threeMf, files_.path() + "/far-ball.3mf");
+    QTest::mouseClick(dialog->findChild<QPushButton*>("export.start"), Qt::LeftButton);
+    QVERIFY(done.wait(300000));
+    QVERIFY2(dialog->outcome().written, qPrintable(dialog->outcome().message));
+    QCOMPARE(dialog->findChild<QProgressBar*>("export.progress")->value(), 1000);
+    const MeshReport report = checkMesh(test::readMeshFile(threeMf.toStdString()));
+    QVERIFY(report.watertight());
+    QCOMPARE(report.components, std::size_t(1));
+    saveWidgetShot(*dialog, "export-dialog-far-part-as-3mf");
 }
 
 // A newcomer exported a shelf side at 10 mm cells: its pin holes came out
@@ -1756,6 +1800,7 @@ void MainWindowTest::exportDialogWritesAClosedMesh()
     QVERIFY(done.wait(120000));
     QVERIFY2(dialog->outcome().cancelled, qPrintable(dialog->outcome().message));
     QVERIFY(!QFile::exists(cancelled));
+    QCOMPARE(dialog->findChild<QProgressBar*>("export.progress")->value(), 0); // nothing written: no bar part way
 
     // Refused before any meshing (issue 14): a feature size no machine could
     // mesh, with the size that would fit; a folder as the output, unchanged.

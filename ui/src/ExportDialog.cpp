@@ -483,6 +483,10 @@ void ExportDialog::poll()
     if (outcome_.written) {
         progress_->setValue(1000);
         wroteLast_ = writtenTo_;
+    } else {
+        // A newcomer read a bar left at 98% under "Not exported" as an
+        // export nearly done; nothing was written, as a refusal shows.
+        progress_->setValue(0);
     }
     setFieldsEnabled(true);
     if (!alone_.isEmpty() && outcome_.written)
