@@ -345,7 +345,7 @@ TEST(DocumentExpressions, EveryRefusalNamesTheNodeTheFieldAndTheExpression)
     const Case cases[] = {
         {"\"round(height / 32) - 4\"", "\"rows + 1\"", "field 'parameters.rows': the expression \"rows + 1\" refers back to itself"},
         {"\"thickness\",\n          300", "\"thikness\",\n          300",
-         "node 'board', field 'size[0]': the expression \"thikness\" uses the unknown name 'thikness' (parameters: thickness, height, rows)"},
+         "node 'board', field 'size[0]': the expression \"thikness\" uses the unknown name 'thikness': did you mean 'thickness'? (parameters: thickness, height, rows)"},
         {"\"board.size[0] / 6\"", "\"board.size[0] / (height - 720)\"", "node 'hole', field 'radius': the expression \"board.size[0] / (height - 720)\" divides by zero"},
         {"\"board.size[0] / 6\"", "\"thickness * thickness\"", "node 'hole', field 'radius': the expression \"thickness * thickness\" is a unit mismatch"},
         {"\"board.size[0] / 6\"", "\"thickness - 20\"",

@@ -5,6 +5,7 @@
 #include "kerf/document/GroupedNumber.hpp"
 #include "kerf/document/Limits.hpp"
 #include "kerf/document/NodeTypes.hpp"
+#include "kerf/document/UnknownFields.hpp"
 
 #include "BoundedJsonParser.hpp"
 #include "FieldPath.hpp"
@@ -201,7 +202,7 @@ private:
             if (it == byName_.end()) {
                 std::string known;
                 for (const Param& p : params_) known += (known.empty() ? "" : ", ") + p.spec.name;
-                fail("", "-D " + name, "the document has no parameter '" + name + "'" +
+                fail("", "-D " + name, "the document has no parameter '" + name + "'" + didYouMean(name) +
                                            (known.empty() ? " (it has none)" : " (its parameters: " + known + ")"));
             }
             params_[it->second].spec.expression = value;
@@ -250,6 +251,16 @@ private:
         }
     }
 
+    // ": did you mean 'thickness'?" where a parameter's name is within two
+    // edits of the one given (a typo on the command line or in a formula).
+    std::string didYouMean(std::string_view name) const
+    {
+        std::vector<std::string> names;
+        for (const Param& p : params_) names.push_back(p.spec.name);
+        const std::string closest = closestKnownField(std::string(name), names);
+        return closest.empty() ? std::string() : ": did you mean '" + closest + "'?";
+    }
+
     expr::Resolver resolver()
     {
         expr::Resolver r;
@@ -258,7 +269,7 @@ private:
             if (it == byName_.end()) {
                 std::string known;
                 for (const Param& p : params_) known += (known.empty() ? "" : ", ") + p.spec.name;
-                throw ExpressionError("uses the unknown name '" + std::string(name) + "'" +
+                throw ExpressionError("uses the unknown name '" + std::string(name) + "'" + didYouMean(name) +
                                       (known.empty() ? " (the document has no parameters)" : " (parameters: " + known + ")"));
             }
             return parameterValue(it->second);

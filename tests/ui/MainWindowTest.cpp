@@ -2908,7 +2908,8 @@ void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependen
     // One that does not evaluate is refused under the field, its text kept to mend.
     const Document before = w->session()->document();
     typeInto(field(*w, "size.z"), "=hieght");
-    QVERIFY2(props->errorFor("size.z").contains("unknown name 'hieght'"), qPrintable(props->errorFor("size.z")));
+    QVERIFY2(props->errorFor("size.z").contains("unknown name 'hieght': did you mean 'height'?"),
+             qPrintable(props->errorFor("size.z")));
     QVERIFY(field(*w, "size.z")->findChild<QLineEdit*>()->text().startsWith("=hieght")); // (the unit may follow)
     QVERIFY(w->session()->document() == before);
 
