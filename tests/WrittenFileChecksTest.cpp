@@ -18,6 +18,9 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <random>
 #include <tuple>
@@ -235,6 +238,40 @@ TEST(WrittenFileChecks, ReadBackWeldsByTheFloat32Points)
 // the weld takes the vertices of one point together, each numbered as the
 // first written there, in a sort (compared pairwise, these three runs of
 // 66,667 equal points would be 6.7 billion comparisons).
+// A 3MF coordinate as a reader gets it: lib3mf prints the float32 value
+// with "%f" and the reader parses the decimals. The fast conversion must
+// give exactly what printf and strtod give, for every magnitude a part
+// reaches, negative ones, the values halfway between two sixth decimals
+// (printf rounds them to even) and those that round to zero.
+TEST(WrittenFileChecks, SixDecimalsAreWhatPrintfAndStrtodGive)
+{
+    auto reference = [](double x) {
+        char text[64];
+        std::snprintf(text, sizeof text, "%f", double(float(x)));
+        return std::strtod(text, nullptr);
+    };
+    std::mt19937_64 random(11);
+    std::vector<double> values = {0.0, -0.0, 0.0000005, -0.0000005, 0.0000015, 0.0000025, 1.0000005, 2.5e-7,
+                                  123.4567895, 99999999.0, -1e8, 3.4e38, 1e-30};
+    for (int e = -8; e <= 9; ++e)
+        for (int i = 0; i < 20000; ++i) {
+            const double x = std::ldexp(std::uniform_real_distribution<double>(0.5, 1.0)(random),
+                                        int(std::lround(e * 3.3219)));
+            values.push_back(i % 2 ? -x : x);
+            // Halfway between two sixth decimals, as near as float32 gets.
+            values.push_back(std::round(x * 1e6) / 1e6 + 5e-7);
+        }
+    std::size_t differ = 0;
+    for (const double x : values) {
+        const double fast = writtenCoordinate(x, WrittenFormat::Float32SixDecimals), slow = reference(x);
+        if (!(fast == slow) || std::signbit(fast) != std::signbit(slow)) {
+            if (++differ < 5) ADD_FAILURE() << x << ": " << fast << " against " << slow;
+        }
+    }
+    EXPECT_EQ(differ, 0u) << "of " << values.size();
+    EXPECT_EQ(writtenCoordinate(1.5, WrittenFormat::Float32), 1.5);
+}
+
 TEST(WrittenFileChecks, ReadBackWeldsManyVerticesWrittenToFewPoints)
 {
     Mesh mesh;
