@@ -90,6 +90,15 @@ TEST(Commands, CheckNamesMisspeltFields)
               std::string::npos)
         << err.str();
 
+    EXPECT_TRUE(j.at("tools_cutting_nothing").empty());
+
+    // A hole moved clear of its board, in the JSON too.
+    std::ostringstream holeOut, holeErr;
+    ASSERT_EQ(runCheck({std::string(KERF_CLI_DATA_DIR) + "/hole-off-its-board.kerf", "--json"}, holeOut, holeErr), 0);
+    EXPECT_EQ(nlohmann::json::parse(holeOut.str()).at("tools_cutting_nothing"), nlohmann::json::array({"hole"}));
+    EXPECT_NE(holeErr.str().find("kerf check: warning: the cylinder 'hole' cuts nothing"), std::string::npos)
+        << holeErr.str();
+
     // A bundled example has none, and no warning.
     std::ostringstream exampleOut, exampleErr;
     ASSERT_EQ(runCheck({std::string(KERF_EXAMPLES_DIR) + "/stool.kerf", "--json"}, exampleOut, exampleErr), 0);

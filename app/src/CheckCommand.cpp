@@ -9,6 +9,7 @@
 #include "kerf/app/UnknownFieldWarnings.hpp"
 #include "kerf/app/VoxelizeProgress.hpp"
 #include "kerf/document/DocumentError.hpp"
+#include "kerf/document/NodeBounds.hpp"
 #include "kerf/document/PrintableText.hpp"
 #include "kerf/document/UnknownFields.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
@@ -41,7 +42,8 @@ Options:
                    expression, like 19 or 3/4in) for this check; repeatable
   --help           show this help
 
-Fields Kerf does not know are kept when the document is saved, but the part
+A tool that cuts nothing (a hole moved clear of its board) is named in a
+warning on stderr too. Fields Kerf does not know are kept when the document is saved, but the part
 goes without them: each is named in a warning on stderr, with the field it is
 probably a misspelling of.
 
@@ -65,6 +67,9 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
         const std::filesystem::path file = a.positional()[0];
         const Document doc = Document::load(file, a.defines());
         warnOfUnknownFields(doc, "kerf check", err);
+        // A hole moved off its board is valid, and missing from the part.
+        if (const std::string idle = describeToolsCuttingNothing(doc); !idle.empty())
+            err << "kerf check: warning: " << idle << "\n";
         const std::vector<UnknownField> unknown = unknownFields(doc);
         const DocumentSummary s = summarize(doc, file.parent_path().string());
 
@@ -136,6 +141,7 @@ int runCheck(const std::vector<std::string>& args, std::ostream& out, std::ostre
                 if (!u.suggestion.empty()) uj["did_you_mean"] = u.suggestion;
                 j["unknown_fields"].push_back(std::move(uj));
             }
+            j["tools_cutting_nothing"] = toolsCuttingNothing(doc);
             j["meshes"] = s.meshes;
             j["missing_meshes"] = s.missingMeshes;
             out << j.dump(2) << "\n";

@@ -12,6 +12,7 @@
 #include "kerf/app/VoxelizeProgress.hpp"
 #include "kerf/document/AtomicFile.hpp"
 #include "kerf/document/DocumentError.hpp"
+#include "kerf/document/NodeBounds.hpp"
 #include "kerf/document/PrintableText.hpp"
 #include "kerf/evaluator/TapeCompiler.hpp"
 #include "kerf/tracer/ReferenceTracer.hpp"
@@ -133,6 +134,8 @@ int runRender(const std::vector<std::string>& args, std::ostream& out, std::ostr
 
         const Document doc = Document::load(file, a.defines());
         warnOfUnknownFields(doc, "kerf render", err);
+        if (const std::string idle = describeToolsCuttingNothing(doc); !idle.empty())
+            err << "kerf render: warning: " << idle << "\n";
         const Tape tape = compileTape(doc);
         const double featureSize =
             requested ? requestedSize : doc.settings.featureSize.value_or(defaultFeatureSize(tape.bounds()));
