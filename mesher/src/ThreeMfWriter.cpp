@@ -13,9 +13,9 @@
 #include <array>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <new>
 #include <ostream>
-#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
