@@ -65,7 +65,8 @@ XXH128_hash_t hashContent(const std::vector<NMR::MODELMESHVERTEX>& vertices,
 // A UUID drawn from the content instead of at random (lib3mf's default), so
 // that the same part exported twice is the same file byte for byte, and a
 // different part a different UUID. RFC 9562's version 8 (its bits are the
-// application's); `role` tells the object, the build item and the build
+// application's), in lowercase hex as the production extension's schema
+// (ST_UUID) asks; `role` tells the object, the build item and the build
 // apart.
 std::string contentUuid(const XXH128_hash_t& content, const char* role)
 {
