@@ -420,6 +420,7 @@ private slots:
     void aTurnedProfileIsEditedInItsPointTable();
     void aProfilePointFollowsAParameter();
     void theThicknessChangedInTheParametersPanelCarriesEveryDependentFeature();
+    void aRefusedFormulaOpensAgainToMend();
     void deleteInTheParametersTableIsTheParametersNotTheFeatures();
     void lengthsShownInInchesAreTypedInInchesAndTheDocumentKeepsMillimetres();
     void theGpuVoxelizesWhenAskedAndTheCpuTakesOverWhenItCannot();
@@ -2773,6 +2774,61 @@ void MainWindowTest::deleteInTheParametersTableIsTheParametersNotTheFeatures()
         QVERIFY(cancel.answered());
     }
     QVERIFY(w->session()->document().root == before.root);
+}
+
+// A newcomer typed a long formula with one misspelt name into the
+// Parameters table: it was refused under the table and the cell went back
+// to the old expression, the typing lost. Now the cell's editor opens
+// again on what was typed (the cell itself shows the document), to mend;
+// mended, it is applied; Esc gives it up with its message.
+void MainWindowTest::aRefusedFormulaOpensAgainToMend()
+{
+    auto w = makeWindow(recovery_.path());
+    QVERIFY(w->openFile(std::filesystem::path(KERF_EXAMPLES_DIR) / "bookshelf-side-parametric.kerf"));
+    auto* panel = w->findChild<ParametersPanel*>("parametersPanel");
+    QTableWidget* table = panel->table();
+    int row = -1;
+    for (int r = 0; r < table->rowCount(); ++r)
+        if (table->item(r, ParametersPanel::NameColumn)->text() == "height") row = r;
+    QVERIFY(row >= 0);
+    const QModelIndex index = table->model()->index(row, ParametersPanel::ExpressionColumn);
+    auto typeAndReturn = [&](const QString& text) {
+        table->setCurrentIndex(index);
+        table->edit(index);
+        auto* editor = qobject_cast<QLineEdit*>(table->indexWidget(index));
+        QVERIFY(editor);
+        editor->setText(text);
+        QTest::keyClick(editor, Qt::Key_Return);
+    };
+    const Document before = w->session()->document();
+    typeAndReturn("thicknes*100");
+    // (The delegate commits a Return in a queued call.)
+    QTRY_VERIFY2(panel->error().contains("uses the unknown name 'thicknes': did you mean 'thickness'?"),
+                 qPrintable(panel->error()));
+    QCOMPARE(table->item(row, ParametersPanel::ExpressionColumn)->text(), QString("1800mm")); // the document's
+    QVERIFY(w->session()->document() == before);
+    QTRY_VERIFY(qobject_cast<QLineEdit*>(table->indexWidget(index)));
+    QCOMPARE(qobject_cast<QLineEdit*>(table->indexWidget(index))->text(), QString("thicknes*100"));
+    saveScreenshot(*w, "parameters-refused-formula-to-mend");
+
+    // Mended in the editor it opened: applied, the message gone.
+    auto* editor = qobject_cast<QLineEdit*>(table->indexWidget(index));
+    editor->setText("thickness*100");
+    QTest::keyClick(editor, Qt::Key_Return);
+    QTRY_COMPARE(table->item(row, ParametersPanel::ExpressionColumn)->text(), QString("thickness*100"));
+    QVERIFY2(panel->error().isEmpty(), qPrintable(panel->error()));
+    const auto height = std::find_if(w->session()->document().parameters.begin(),
+                                     w->session()->document().parameters.end(),
+                                     [](const Parameter& p) { return p.name == "height"; });
+    QCOMPARE(height->value, 1800.0);
+
+    // Refused again, then given up with Esc: the editor and its message go.
+    typeAndReturn("thicknes*100");
+    QTRY_VERIFY(qobject_cast<QLineEdit*>(table->indexWidget(index)));
+    QTest::keyClick(qobject_cast<QLineEdit*>(table->indexWidget(index)), Qt::Key_Escape);
+    QTRY_VERIFY(!table->indexWidget(index));
+    QVERIFY2(panel->error().isEmpty(), qPrintable(panel->error()));
+    QCOMPARE(table->item(row, ParametersPanel::ExpressionColumn)->text(), QString("thickness*100"));
 }
 
 void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependentFeature()

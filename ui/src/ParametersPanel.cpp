@@ -18,6 +18,7 @@
 #include <QStyledItemDelegate>
 #include <QSignalBlocker>
 #include <QTableWidget>
+#include <QTimer>
 #include <QVBoxLayout>
 
 namespace kerf::ui {
@@ -173,16 +174,32 @@ void ParametersPanel::onItemChanged(QTableWidgetItem* item)
     if (r < 0 || r >= int(params.size())) return;
     const std::string name = params[std::size_t(r)].name;
     const std::string text = item->text().trimmed().toStdString();
+    // Typed in the cell's editor (not set by the program): a refusal opens
+    // the editor again on what was typed, to mend (a newcomer lost a long
+    // formula to one misspelt name), while the cell shows the document.
+    const bool typed = table_->indexWidget(table_->model()->index(r, item->column())) != nullptr; // its editor is open
+    const QString typedText = item->text();
+    const int column = item->column();
+    const auto reopenIfRefused = [&](bool applied) {
+        if (applied || !typed) return;
+        QTimer::singleShot(0, this, [this, r, column, typedText] {
+            if (error_->isHidden() || r >= table_->rowCount()) return; // given up or overtaken meanwhile
+            table_->setCurrentCell(r, column);
+            const QModelIndex index = table_->model()->index(r, column);
+            table_->edit(index);
+            if (auto* editor = qobject_cast<QLineEdit*>(table_->indexWidget(index))) editor->setText(typedText);
+        });
+    };
     switch (item->column()) {
     case NameColumn:
-        apply(tr("Rename parameter %1").arg(QString::fromStdString(name)),
-              [&](Document& d) { edit::renameParameter(d, name, text); });
+        reopenIfRefused(apply(tr("Rename parameter %1").arg(QString::fromStdString(name)),
+                              [&](Document& d) { edit::renameParameter(d, name, text); }));
         break;
     case ExpressionColumn:
-        apply(tr("Set %1").arg(QString::fromStdString(name)), [&](Document& d) {
+        reopenIfRefused(apply(tr("Set %1").arg(QString::fromStdString(name)), [&](Document& d) {
             for (Parameter& p : d.parameters)
                 if (p.name == name) p.expression = text;
-        });
+        }));
         break;
     case CommentColumn:
         apply(tr("Comment on %1").arg(QString::fromStdString(name)), [&](Document& d) {
