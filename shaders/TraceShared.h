@@ -45,15 +45,15 @@ struct TraceParams {
     KERF_U64 outFeature; // uint, 0xFFFFFFFF where nothing is hit
     KERF_U64 tapes;      // the tiles' exact tapes (TileTapeFormat.h), as 32-bit words
     // TraceQuality::Exact's passes (trace.comp, kPass): what the voxel pass
-    // tells the others per pixel (vec4: RayHit's passedClearance, nearFrom,
-    // nearTo), the pixels the check sends to the refinement (uint,
-    // x + width * y), and the indirect dispatch of that refinement (uint
-    // groups, 1, 1, then the count, then how many were listed from the
-    // list's front and from its back).
+    // tells the others about a pixel it lists (vec4: RayHit's
+    // passedClearance, nearFrom, nearTo), the pixels sent to the refinement
+    // (uint, x + width * y), the indirect dispatches and the lists' counts
+    // (trace.comp, RefineArgs), and the voxel hits the check is to look at
+    // (uint, x + width * y).
     KERF_U64 outVoxelPass;
     KERF_U64 refineList;
     KERF_U64 refineArgs;
-    KERF_U64 unused; // keeps the vectors 16-byte aligned
+    KERF_U64 checkList;
     KERF_VEC4 eye;       // xyz: camera eye relative to the grid origin (mm); w: tile size (mm)
     KERF_VEC4 forward;   // xyz: unit view direction; w: 1 for orthographic, 0 for perspective
     KERF_VEC4 right;     // xyz: unit image right; w: tan(fovY/2) or half the ortho height (mm)

@@ -22,12 +22,19 @@ layout(local_size_x = KERF_TRACE_LOCAL_SIZE, local_size_y = KERF_TRACE_LOCAL_SIZ
 // registers and occupancy; with it, TraceParams.options.x still decides.
 layout(constant_id = 0) const bool kHybrid = false;
 // What a dispatch does. kTraceAll: trace every pixel (TraceQuality Voxels,
-// or ExactEverywhere with kHybrid). TraceQuality::Exact takes three
-// dispatches: kTraceVoxels traces every pixel on its voxels and records
-// the ray's clearance (RayHit::passedClearance); kCheckHits checks each
-// voxel hit on the exact field (tracer/src/VoxelHitCheck.cpp) and lists the
-// pixels it cannot confirm; kTraceListed (with kHybrid) traces those.
-const int kTraceAll = 0, kTraceVoxels = 1, kCheckHits = 2, kTraceListed = 3;
+// or ExactEverywhere with kHybrid). TraceQuality::Exact takes four
+// dispatches: kTraceVoxels traces every pixel on its voxels, records
+// the ray's clearance (RayHit::passedClearance), lists for the refinement
+// the rays that passed too close to a voxel's surface and for the check the
+// other voxel hits; kCheckHits checks each listed voxel hit on the exact
+// field (tracer/src/VoxelHitCheck.cpp) and lists for the refinement those
+// it cannot confirm; kTraceListed (with kHybrid) traces those, and
+// kFinishListed, one lane a listed pixel, takes the exact normal at each
+// refined hit, or the check's Newton steps where the refinement's budget ran
+// out before a voxel hit. Those evaluations of the gradient are a pass of
+// their own so that the listed pass, whose rounds are the exact frame's
+// slowest part, does not hold the dual numbers' registers.
+const int kTraceAll = 0, kTraceVoxels = 1, kCheckHits = 2, kTraceListed = 3, kFinishListed = 4;
 layout(constant_id = 1) const int kPass = kTraceAll;
 // kTraceListed: the lanes that trace one listed ray together (a power of
 // two up to KERF_EDGE_REFINE_MAX_LANES that divides the subgroup).
@@ -45,7 +52,11 @@ layout(buffer_reference, std430, buffer_reference_align = 16) buffer RefineArgs 
     uint groups, y, z; // the refinement's indirect dispatch
     uint count;        // pixels listed
     uint front, back;  // of which listed from the list's front (long stretches) and its back
+    uint finishGroups, finishY, finishZ; // kFinishListed's indirect dispatch: one lane a listed pixel
+    uint checkGroups, checkY, checkZ;    // kCheckHits' indirect dispatch: one lane a voxel hit to check
+    uint checkCount;                     // voxel hits listed for the check
 };
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer CheckList { uint pixel[]; };
 
 layout(push_constant) uniform Push { uint64_t params; } pc;
 
@@ -548,9 +559,16 @@ bool traceTile(uint entry, uint tape, ivec3 tile, vec3 origin, vec3 dir, vec3 in
             if (kPass == kTraceVoxels && w < 0.0 &&
                 least / voxelMm < float(KERF_EDGE_CHECK_CLEARANCE)) {
                 // ReferenceTracer.cpp, cornerClearance.
+                // A loop, not unrolled, over the corners' words again (not
+                // vtx[]): unrolled, its loads were hoisted and held registers
+                // through the whole voxel walk.
+                const uint vertexBase = eVertex + liVertex;
                 const vec3 first = decodeNormal(word(P.vertices, vtx[0] * 2u));
                 float cosine = 1.0;
-                [[unroll]] for (int q = 1; q < 8; ++q) cosine = min(cosine, dot(first, decodeNormal(word(P.vertices, vtx[q] * 2u))));
+                [[dont_unroll]] for (int q = 1; q < 8; ++q) {
+                    const uint corner = ((q < 4 ? ld0 : ld1) >> (8 * (q & 3))) & 0xFFu;
+                    cosine = min(cosine, dot(first, decodeNormal(word(P.vertices, (vertexBase + corner) * 2u))));
+                }
                 allowed = clamp(float(KERF_EDGE_CHECK_CLEARANCE_PER_RADIAN) * acos(clamp(cosine, -1.0, 1.0)),
                                 float(KERF_EDGE_CHECK_SMOOTH_CLEARANCE), float(KERF_EDGE_CHECK_CLEARANCE));
                 clearance = least / voxelMm / allowed;
@@ -808,6 +826,18 @@ int checkVoxelHit(vec3 origin, vec3 dir, inout Hit hit)
     return kVerdictConfirm;
 }
 
+// The exact field's gradient at a refined hit (ReferenceTracer.cpp, traceRay).
+void takeExactNormal(inout Hit h)
+{
+    uint feature = kNoFeature;
+    const vec4 fg = evaluateTileTapeGradient(h.tape, h.point, feature);
+    const float len = length(fg.yzw);
+    h.normal = len > 0.0 ? fg.yzw / len : h.normal;
+    h.feature = feature;
+}
+
+void listVoxelPassPixel(uint i, Hit h);
+
 // One pixel's trace (kTraceAll, kTraceVoxels, kTraceListed): its outputs written.
 void tracePixel(uvec2 px)
 {
@@ -819,34 +849,79 @@ void tracePixel(uvec2 px)
     // A listed ray: only the stretch where the voxels met the surface or came near it.
     const vec2 stretch = kPass == kTraceListed ? ReadVec4s(P.outVoxelPass).v[i].yz : vec2(0.0, kInf);
     Hit h = traceRay(origin, direction, stretch.x, stretch.y);
-    if (kPass == kTraceListed && h.tape == KERF_NO_TAPE && h.depth < kInf &&
-        refineRounds >= KERF_EDGE_REFINE_ROUNDS) {
-        // ReferenceTracer.cpp: the budget ran out before this voxel hit; the check's Newton steps.
-        h.clearance = kInf;
-        const vec3 dir = nonZero(direction);
-        checkVoxelHit(origin, dir, h);
+    if (kPass == kTraceListed) {
+        if (refineLane != 0u) return; // the ray's first lane writes it
+        // What kFinishListed completes, in the normal's w: 1, the refined hit's
+        // point (the normal's xyz) on its tape (the feature); 2, a voxel hit
+        // reached after the budget ran out, for the check's Newton steps
+        // (ReferenceTracer.cpp); 0, nothing.
+        const bool refined = h.tape != KERF_NO_TAPE;
+        const bool spent = !refined && h.depth < kInf && refineRounds >= KERF_EDGE_REFINE_ROUNDS;
+        Floats(P.outDepth).f[i] = h.depth;
+        Vec4s(P.outNormal).v[i] = refined ? vec4(h.point, 1.0) : vec4(h.normal, spent ? 2.0 : 0.0);
+        Uints(P.outFeature).u[i] = refined ? h.tape : h.feature;
+        return;
     }
-    if (kHybrid && h.tape != KERF_NO_TAPE) {
-        // The exact field's gradient at the refined hit (ReferenceTracer.cpp, traceRay).
-        uint feature = kNoFeature;
-        const vec4 fg = evaluateTileTapeGradient(h.tape, h.point, feature);
-        const float len = length(fg.yzw);
-        h.normal = len > 0.0 ? fg.yzw / len : h.normal;
-        h.feature = feature;
-    }
-    if (kPass == kTraceListed && refineLane != 0u) return; // the ray's first lane writes it
+    if (kHybrid && h.tape != KERF_NO_TAPE) takeExactNormal(h);
     Floats(P.outDepth).f[i] = h.depth;
     Vec4s(P.outNormal).v[i] = vec4(h.normal, 0.0);
     Uints(P.outFeature).u[i] = h.feature;
-    if (kPass == kTraceVoxels) Vec4s(P.outVoxelPass).v[i] = vec4(h.clearance, h.nearFrom, h.nearTo, 0.0);
+    if (kPass == kTraceVoxels) listVoxelPassPixel(i, h);
 }
 
-// The check of one pixel's voxel hit (kCheckHits).
-void checkPixel(uvec2 px)
+// Lists pixel i for the refinement, with the stretch of its ray the voxels
+// met or came near the surface in.
+void listForRefinement(uint i, vec2 stretch)
 {
-    const uint i = px.x + P.image.x * px.y;
+    const uint listed = atomicAdd(RefineArgs(P.refineArgs).count, 1u);
+    // A ray's refinement searches a window at every populated voxel of its
+    // stretch: rays with long stretches take the most rounds. They go to
+    // the list's front, the rest to its back, so that the refinement's
+    // first workgroups, which the GPU starts first, take the long ones and
+    // the frame does not wait on a long ray started last.
+    const bool longStretch = stretch.y - stretch.x > float(KERF_EDGE_REFINE_LONG) * P.up.w;
+    const uint slot = longStretch ? atomicAdd(RefineArgs(P.refineArgs).front, 1u)
+                                  : P.image.x * P.image.y - 1u - atomicAdd(RefineArgs(P.refineArgs).back, 1u);
+    RefineList(P.refineList).pixel[slot] = i;
+    // One more workgroup of the refinement's indirect dispatch per 64 lanes listed.
+    if (listed % uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE / kRefineLanes) == 0u)
+        atomicAdd(RefineArgs(P.refineArgs).groups, 1u);
+    // And of the finishing pass's per 64 pixels.
+    if (listed % uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) == 0u)
+        atomicAdd(RefineArgs(P.refineArgs).finishGroups, 1u);
+}
+
+// The voxel pass's verdict on its pixel i: listed for the refinement (the
+// ray passed too close to a voxel's surface), for the check (a voxel hit
+// on the part), or neither (a miss, a section's cap): checkVoxelHit's
+// first two rules, taken where the ray was traced, so that the check runs
+// on the voxel hits alone, packed into whole subgroups. Every invocation
+// of the subgroup that traced a pixel calls this (a ballot).
+void listVoxelPassPixel(uint i, Hit h)
+{
+    const bool refine = h.clearance < 1.0;
+    const bool check = !refine && h.depth < kInf && h.feature != kSectionCap;
+    if (refine || check) Vec4s(P.outVoxelPass).v[i] = vec4(h.clearance, h.nearFrom, h.nearTo, 0.0);
+    if (refine) listForRefinement(i, vec2(h.nearFrom, h.nearTo));
+    const uvec4 votes = subgroupBallot(check);
+    const uint n = subgroupBallotBitCount(votes);
+    if (n == 0u) return;
+    uint base = 0u;
+    if (subgroupElect()) {
+        base = atomicAdd(RefineArgs(P.refineArgs).checkCount, n);
+        atomicMax(RefineArgs(P.refineArgs).checkGroups,
+                  (base + n + uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) - 1u) /
+                      uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE));
+    }
+    base = subgroupBroadcastFirst(base);
+    if (check) CheckList(P.checkList).pixel[base + subgroupBallotExclusiveBitCount(votes)] = i;
+}
+
+// The check of pixel i's voxel hit (kCheckHits), listed by the voxel pass.
+void checkPixel(uint i)
+{
     vec3 origin, direction;
-    cameraRay(px, origin, direction);
+    cameraRay(uvec2(i % P.image.x, i / P.image.x), origin, direction);
     Hit h;
     h.depth = ReadFloats(P.outDepth).f[i];
     h.normal = ReadVec4s(P.outNormal).v[i].xyz;
@@ -860,25 +935,51 @@ void checkPixel(uvec2 px)
         Vec4s(P.outNormal).v[i] = vec4(h.normal, 0.0);
         Uints(P.outFeature).u[i] = h.feature;
     } else if (verdict == kVerdictRefine) {
-        const uint listed = atomicAdd(RefineArgs(P.refineArgs).count, 1u);
-        // A ray's refinement searches a window at every populated voxel of its
-        // stretch: rays with long stretches take the most rounds. They go to
-        // the list's front, the rest to its back, so that the refinement's
-        // first workgroups, which the GPU starts first, take the long ones and
-        // the frame does not wait on a long ray started last.
-        const bool longStretch = voxelPass.z - voxelPass.y > float(KERF_EDGE_REFINE_LONG) * P.up.w;
-        const uint slot = longStretch ? atomicAdd(RefineArgs(P.refineArgs).front, 1u)
-                               : P.image.x * P.image.y - 1u - atomicAdd(RefineArgs(P.refineArgs).back, 1u);
-        RefineList(P.refineList).pixel[slot] = i;
-        // One more workgroup of the refinement's indirect dispatch per 64 lanes listed.
-        if (listed % uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE / kRefineLanes) == 0u)
-            atomicAdd(RefineArgs(P.refineArgs).groups, 1u);
+        listForRefinement(i, voxelPass.yz);
     }
+}
+
+// kFinishListed: what the listed pass left to complete at one listed pixel.
+void finishPixel(uint i)
+{
+    const vec4 left = ReadVec4s(P.outNormal).v[i];
+    if (left.w == 0.0) return;
+    vec3 origin, direction;
+    cameraRay(uvec2(i % P.image.x, i / P.image.x), origin, direction);
+    const vec3 dir = nonZero(direction);
+    Hit h;
+    h.depth = ReadFloats(P.outDepth).f[i];
+    h.feature = Words(P.outFeature).w[i];
+    if (left.w == 1.0) {
+        h.tape = h.feature;
+        h.point = left.xyz;
+        h.normal = -dir; // as the refinement left it
+        takeExactNormal(h);
+    } else {
+        h.normal = left.xyz;
+        h.clearance = kInf;
+        checkVoxelHit(origin, dir, h);
+    }
+    Floats(P.outDepth).f[i] = h.depth;
+    Vec4s(P.outNormal).v[i] = vec4(h.normal, 0.0);
+    Uints(P.outFeature).u[i] = h.feature;
+}
+
+// The pixel of the refinement's list at a slot (the long stretches at its front, the rest at its back).
+uint listedPixel(uint slot)
+{
+    const uint front = RefineArgs(P.refineArgs).front;
+    return RefineList(P.refineList).pixel[slot < front ? slot : P.image.x * P.image.y - 1u - (slot - front)];
 }
 
 void main()
 {
     P = ParamsRef(pc.params).p;
+    if (kPass == kFinishListed) {
+        const uint slot = gl_WorkGroupID.x * uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) + gl_LocalInvocationIndex;
+        if (slot < RefineArgs(P.refineArgs).count) finishPixel(listedPixel(slot));
+        return;
+    }
     if (kPass == kTraceListed) {
         // kRefineLanes consecutive invocations of a subgroup per listed pixel.
         const uint lanes = uint(kRefineLanes);
@@ -887,15 +988,16 @@ void main()
         const uint slot = (gl_WorkGroupID.x * uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) +
                            gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID) / lanes;
         if (slot >= RefineArgs(P.refineArgs).count) return; // the same for the ray's every lane
-        const uint front = RefineArgs(P.refineArgs).front;
-        const uint listed = RefineList(P.refineList).pixel[slot < front ? slot : P.image.x * P.image.y - 1u - (slot - front)];
+        const uint listed = listedPixel(slot);
         tracePixel(uvec2(listed % P.image.x, listed / P.image.x));
+        return;
+    }
+    if (kPass == kCheckHits) {
+        const uint slot = gl_WorkGroupID.x * uint(KERF_TRACE_LOCAL_SIZE * KERF_TRACE_LOCAL_SIZE) + gl_LocalInvocationIndex;
+        if (slot < RefineArgs(P.refineArgs).checkCount) checkPixel(CheckList(P.checkList).pixel[slot]);
         return;
     }
     const uvec2 px = gl_GlobalInvocationID.xy;
     if (px.x >= P.image.x || px.y >= P.image.y) return;
-    if (kPass == kCheckHits)
-        checkPixel(px);
-    else
-        tracePixel(px);
+    tracePixel(px);
 }

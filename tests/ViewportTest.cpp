@@ -56,7 +56,7 @@ TEST_P(EveryExample, MatchesTheCpuReferenceTracer)
         return q == TraceQuality::Exact && lanes == 0 ? TraceQuality::ExactEverywhere : q;
     };
     // Every quality: the voxels alone, the hybrid refinement on every ray,
-    // and where the check of the voxel hits asks for it (three passes on the GPU).
+    // and where the check of the voxel hits asks for it (four passes on the GPU).
     for (const TraceQuality quality : {TraceQuality::Voxels, TraceQuality::ExactEverywhere, TraceQuality::Exact}) {
         SCOPED_TRACE(std::string(traceQualityName(quality)));
         for (const char* view : {"iso", "front", "top"}) {

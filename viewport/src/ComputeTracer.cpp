@@ -32,15 +32,15 @@ struct ComputeTracer::Impl {
     PipelineLayout layout;
     Pipeline voxelPipeline;  // trace.comp without the hybrid refinement's code
     Pipeline hybridPipeline; // with it, every ray (ExactEverywhere); made when first asked for
-    // TraceQuality::Exact's three passes (trace.comp, kPass), made when first asked for.
-    Pipeline voxelPassPipeline, checkPipeline, listedPipeline;
+    // TraceQuality::Exact's four passes (trace.comp, kPass), made when first asked for.
+    Pipeline voxelPassPipeline, checkPipeline, listedPipeline, finishPipeline;
     QueryPool timestamps;
     GridLayout grid;
     GpuBuffer tiles, entries, nodes, leafIndirections, leafData, vertices, tapes;
     std::size_t resident = 0;
     std::uint64_t uploads = 0; // setVoxels() calls: the version of its voxels
     TraceTargets targets;
-    GpuBuffer voxelPass, refineList; // per pixel, for TraceQuality::Exact
+    GpuBuffer voxelPass, refineList, checkList; // per pixel, for TraceQuality::Exact
     GpuBuffer refineArgs;            // the refinement's indirect dispatch and count
     GpuBuffer refineArgsRead;        // its copy the host reads (lastTiming)
     bool lastWasExact = false;
@@ -60,7 +60,7 @@ struct ComputeTracer::Impl {
 };
 
 // trace.comp's kPass values.
-constexpr int kTraceAll = 0, kTraceVoxels = 1, kCheckHits = 2, kTraceListed = 3;
+constexpr int kTraceAll = 0, kTraceVoxels = 1, kCheckHits = 2, kTraceListed = 3, kFinishListed = 4;
 
 void ComputeTracer::Impl::ensureTargets(int w, int h)
 {
@@ -74,6 +74,8 @@ void ComputeTracer::Impl::ensureTargets(int w, int h)
                           "trace voxel pass");
     refineList = GpuBuffer(ctx, pixels * sizeof(std::uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                            GpuBuffer::Kind::DeviceLocal, "refinement list");
+    checkList = GpuBuffer(ctx, pixels * sizeof(std::uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                          GpuBuffer::Kind::DeviceLocal, "check list");
     targets.width = w;
     targets.height = h;
 }
@@ -108,15 +110,25 @@ Pipeline ComputeTracer::Impl::makePipeline(bool hybrid, int pass) const
     return Pipeline(ctx.device(), p);
 }
 
-// TraceQuality::Exact: the voxels everywhere, the check of their hits on the
-// exact field, the refinement of the pixels it listed (an indirect dispatch
-// sized by the check: no lane of it idles on a confirmed pixel).
+// trace.comp's RefineArgs before the check lists a pixel: the listed pass's
+// indirect dispatch (groups, y, z), the count listed, how many from the
+// list's front and its back, the finishing pass's dispatch, the check's
+// dispatch and the count of voxel hits listed for it.
+constexpr std::uint32_t kNoneListed[13] = {0, 1, 1, 0, 0, 0, 0, 1, 1, 0, 1, 1, 0};
+constexpr VkDeviceSize kFinishArgsOffset = 6 * sizeof(std::uint32_t);
+constexpr VkDeviceSize kCheckArgsOffset = 9 * sizeof(std::uint32_t);
+
+// TraceQuality::Exact: the voxels everywhere, the check of the voxel hits
+// they listed on the exact field, the refinement of the pixels listed by
+// either, and the exact normals of the refined (indirect dispatches sized by
+// the lists: no lane idles on a pixel that has nothing to do there).
 void ComputeTracer::Impl::recordExactPasses(VkCommandBuffer cb, int w, int h)
 {
     if (!voxelPassPipeline) {
         voxelPassPipeline = makePipeline(false, kTraceVoxels);
         checkPipeline = makePipeline(false, kCheckHits);
         listedPipeline = makePipeline(true, kTraceListed);
+        finishPipeline = makePipeline(true, kFinishListed);
     }
     const std::uint32_t g = KERF_TRACE_LOCAL_SIZE;
     const auto computeToCompute = [&](VkAccessFlags dstAccess, VkPipelineStageFlags dstStage) {
@@ -127,10 +139,11 @@ void ComputeTracer::Impl::recordExactPasses(VkCommandBuffer cb, int w, int h)
     };
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, voxelPassPipeline);
     vkCmdDispatch(cb, (std::uint32_t(w) + g - 1) / g, (std::uint32_t(h) + g - 1) / g, 1);
-    computeToCompute(VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+    computeToCompute(VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT);
     vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, timestamps, 2);
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, checkPipeline);
-    vkCmdDispatch(cb, (std::uint32_t(w) + g - 1) / g, (std::uint32_t(h) + g - 1) / g, 1);
+    vkCmdDispatchIndirect(cb, refineArgs.buffer(), kCheckArgsOffset);
     computeToCompute(VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT |
                          VK_ACCESS_TRANSFER_READ_BIT,
                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
@@ -145,6 +158,9 @@ void ComputeTracer::Impl::recordExactPasses(VkCommandBuffer cb, int w, int h)
                          nullptr);
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, listedPipeline);
     vkCmdDispatchIndirect(cb, refineArgs.buffer(), 0);
+    computeToCompute(VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, finishPipeline);
+    vkCmdDispatchIndirect(cb, refineArgs.buffer(), kFinishArgsOffset);
 }
 
 ComputeTracer::ComputeTracer(const Context& ctx) : impl_(std::make_unique<Impl>(ctx))
@@ -183,7 +199,7 @@ ComputeTracer::ComputeTracer(const Context& ctx) : impl_(std::make_unique<Impl>(
     impl_->params = GpuBuffer(ctx, sizeof(gpu::TraceParams),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                               GpuBuffer::Kind::DeviceLocal, "trace params");
-    impl_->refineArgs = GpuBuffer(ctx, 8 * sizeof(std::uint32_t),
+    impl_->refineArgs = GpuBuffer(ctx, sizeof kNoneListed,
                                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                       VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                                   GpuBuffer::Kind::DeviceLocal, "refinement dispatch");
@@ -263,6 +279,7 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
     p.section = {plane.x, plane.y, plane.z, plane.w};
     p.outVoxelPass = impl_->voxelPass.address();
     p.refineList = impl_->refineList.address();
+    p.checkList = impl_->checkList.address();
     p.refineArgs = impl_->refineArgs.address();
     // Without tapes (none built, none uploaded) the hybrid has nothing to refine with.
     const bool refine = quality != TraceQuality::Voxels && addr.tapes;
@@ -276,8 +293,7 @@ void ComputeTracer::record(VkCommandBuffer cb, const Camera& camera, const Voxel
                              VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                          VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &reuse, 0, nullptr, 0, nullptr);
     vkCmdUpdateBuffer(cb, impl_->params.buffer(), 0, sizeof p, &p);
-    const std::uint32_t noneListed[6] = {0, 1, 1, 0, 0, 0}; // groups, y, z, count, front, back
-    vkCmdUpdateBuffer(cb, impl_->refineArgs.buffer(), 0, sizeof noneListed, noneListed);
+    vkCmdUpdateBuffer(cb, impl_->refineArgs.buffer(), 0, sizeof kNoneListed, kNoneListed);
     VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     before.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
     before.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
@@ -319,6 +335,7 @@ std::vector<std::pair<std::string, std::vector<std::string>>> ComputeTracer::pip
     add("exact: voxel pass", impl_->voxelPassPipeline);
     add("exact: check", impl_->checkPipeline);
     add("exact: listed rays", impl_->listedPipeline);
+    add("exact: finishing the listed", impl_->finishPipeline);
     return out;
 }
 
