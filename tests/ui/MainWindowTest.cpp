@@ -1022,6 +1022,22 @@ void MainWindowTest::exportDialogTakesThePartAsItIsWhenExportIsPressed()
     QVERIFY(done.wait(120000));
     QVERIFY2(dialog->outcome().written, qPrintable(dialog->outcome().message));
 
+    // "xyz" left for another field, then 0.3 typed over it: the click
+    // exports 0.3 mm (a newcomer was refused for the "xyz" no longer there).
+    tolerance->setFocus();
+    tolerance->selectAll();
+    QTest::keyClicks(tolerance, "xyz");
+    dialog->findChild<QuantityEdit*>("export.featureSize")->setFocus(); // as Tab does
+    QCOMPARE(tolerance->value(), kDefaultExportTolerance);
+    tolerance->setFocus();
+    tolerance->selectAll();
+    QTest::keyClicks(tolerance, "0.3");
+    start->setFocus();
+    QCOMPARE(tolerance->value(), 0.3);
+    QTest::mouseClick(start, Qt::LeftButton);
+    QVERIFY(done.wait(120000));
+    QVERIFY2(dialog->outcome().written, qPrintable(dialog->outcome().message));
+
     // Cells far larger than the box: nothing to write, and the feature size
     // that resolves it is named (it was only "the part is empty").
     dialog->findChild<QuantityEdit*>("export.featureSize")->setValue(1000.0);
@@ -3009,6 +3025,18 @@ void MainWindowTest::theThicknessChangedInTheParametersPanelCarriesEveryDependen
     QCOMPARE(props->expressionFor("size.x"), QString("board + 1"));
     QCOMPARE(panelThickness(), 19.0);
     QCOMPARE(props->errorFor("size.x"), QString());
+    // The completer's list closing gives the field its focus back (as a
+    // popup's focus): what is being typed stays. A newcomer's "=thic" became
+    // the document's expression, selected, and the next key replaced it.
+    sizeX2->selectAll();
+    QTest::keyClicks(sizeX2, "=boa");
+    QFocusEvent fromPopup(QEvent::FocusIn, Qt::PopupFocusReason);
+    QApplication::sendEvent(sizeX2, &fromPopup);
+    QCOMPARE(sizeX2->findChild<QLineEdit*>()->text(), QString("=boa"));
+    QTest::keyClicks(sizeX2, "rd + 2");
+    QTest::keyClick(sizeX2, Qt::Key_Return);
+    QCOMPARE(props->expressionFor("size.x"), QString("board + 2"));
+    QCOMPARE(panelThickness(), 20.0);
     // A number is not a name: "=18" offers nothing.
     sizeX2->selectAll();
     QTest::keyClicks(sizeX2, "=18");

@@ -245,6 +245,11 @@ ExportDialog::ExportDialog(std::function<Document()> document, std::string partN
             [this](const QString& why) { noteUnreadable(featureSize_, tr("Feature size"), why); });
     connect(tolerance_, &QuantityEdit::unreadable, this,
             [this](const QString& why) { noteUnreadable(tolerance_, tr("Tolerance"), why); });
+    // Typed in again since ("xyz" left, then 0.3 typed over it): the refusal
+    // was for text no longer there; the click exports what the field shows
+    // (or is refused anew, when the new text reads as no number either).
+    for (QuantityEdit* field : {featureSize_, tolerance_})
+        connect(field->findChild<QLineEdit*>(), &QLineEdit::textEdited, this, [this] { unreadable_.clear(); });
     connect(format_, &QComboBox::currentIndexChanged, this, &ExportDialog::formatChosen);
     connect(path_, &QLineEdit::textChanged, this, &ExportDialog::pathEdited);
     format_->setCurrentIndex(std::clamp(choices.format, 0, int(std::size(kFormats)) - 1));

@@ -124,6 +124,12 @@ void QuantityEdit::completeNames(std::function<QStringList()> names)
 void QuantityEdit::focusInEvent(QFocusEvent* event)
 {
     QDoubleSpinBox::focusInEvent(event);
+    // Only focus that enters the field shows the expression to edit,
+    // selected. Focus back from a popup (the name completer's list closing
+    // as a name is typed out) leaves the typing be: a newcomer's "=thic"
+    // became the document's "=thickness", selected, and the next key "+"
+    // replaced it all, which entered as the number 3.
+    if (event->reason() == Qt::PopupFocusReason || lineEdit()->isModified()) return;
     if (!expression_.isEmpty()) {
         showEnteredText();
         lineEdit()->selectAll();
